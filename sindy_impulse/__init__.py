@@ -1,0 +1,46 @@
+"""sindy-impulse: differential equations from short, strongly damped impulse responses.
+
+An extension layer on PySINDy implementing Stender, Oberst & Hoffmann (2019), "Recovery of Differential
+Equations from Impulse Response Time Series Data for Model Identification and Feature Extraction",
+Vibration 2(1), 25-46.
+
+Public names are imported lazily, so ``import sindy_impulse`` stays fast.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+__version__ = "0.1.0"
+
+_PUBLIC = {
+    "TVRegDiff": "sindy_impulse.differentiation",
+    "DelayEmbedding": "sindy_impulse.embedding",
+    "MechanicalLibrary": "sindy_impulse.feature_library",
+    "ThresholdSweep": "sindy_impulse.optimizers",
+    "ImpulseSINDy": "sindy_impulse.estimator",
+    "gamma": "sindy_impulse.metrics",
+    "CompiledModel": "sindy_impulse.simulation",
+    "refine_coefficients": "sindy_impulse.refinement",
+    "SINDyFeatures": "sindy_impulse.features",
+    "damped_oscillator": "sindy_impulse.datasets",
+    "add_noise": "sindy_impulse.datasets",
+    "analysis": "sindy_impulse.analysis",
+    "plotting": "sindy_impulse.plotting",
+    "datasets": "sindy_impulse.datasets",
+}
+
+__all__ = sorted(_PUBLIC)
+
+
+def __getattr__(name: str):
+    if name in _PUBLIC:
+        module = importlib.import_module(_PUBLIC[name])
+        value = module if module.__name__.endswith("." + name) else getattr(module, name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'sindy_impulse' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(list(globals()) + __all__)

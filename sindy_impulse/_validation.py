@@ -1,0 +1,171 @@
+"""Input validation shared by every public entry point.
+
+One place for the checks a data logger's output needs (NaN/inf, shape, dtype, time vector), so that
+every class and function raises the same clear ``ValueError``/``TypeError`` naming the argument.
+"""
+
+from __future__ import annotations
+
+from numbers import Real
+
+import numpy as np
+
+__all__ = ["check_signal", "check_time", "check_trajectories", "time_vector"]
+
+
+def _as_float_array(x, name: str) -> np.ndarray:
+    """Convert ``x`` to a float array, refusing complex, non-numeric and empty input."""
+    if x is None:
+        raise TypeError(f"{name} is None; expected an array of numbers")
+    if hasattr(x, "to_numpy"):  # pandas DataFrame / Series
+        x = x.to_numpy()
+    arr = np.asarray(x)
+    if arr.dtype == object:
+        try:
+            arr = arr.astype(float)
+        except (TypeError, ValueError):
+            raise TypeError(f"{name} contains non-numeric entries") from None
+    if np.iscomplexobj(arr):
+        raise TypeError(f"{name} is complex; expected real-valued data")
+    if not (np.issubdtype(arr.dtype, np.number) or arr.dtype == bool):
+        raise TypeError(f"{name} has non-numeric dtype {arr.dtype}")
+    if arr.size == 0:
+        raise ValueError(f"{name} is empty")
+    return arr.astype(float, copy=False)
+
+
+def check_signal(
+    x,
+    name: str = "x",
+    *,
+    ndim: tuple[int, ...] = (1, 2),
+    min_samples: int = 1,
+    as_2d: bool = True,
+) -> np.ndarray:
+    """Validate one measured signal or trajectory.
+
+    Parameters
+    ----------
+    x : array-like
+        Samples along axis 0 (time), states along axis 1.
+    name : str
+        Argument name used in error messages.
+    ndim : tuple of int
+        Accepted numbers of dimensions.
+    min_samples : int
+        Fewest samples (rows) the caller can use.
+    as_2d : bool
+        Return a 1-D input as a (n, 1) column.
+
+    Returns
+    -------
+    numpy.ndarray
+        A float copy-free view of the data.
+
+    Examples
+    --------
+    >>> check_signal([1.0, 2.0, 3.0]).shape
+    (3, 1)
+    """
+    arr = _as_float_array(x, name)
+    if arr.ndim not in ndim:
+        expected = " or ".join(f"{d}-D" for d in ndim)
+        raise ValueError(f"{name} must be {expected}, got an array of shape {arr.shape}")
+    bad = ~np.isfinite(arr)
+    if bad.any():
+        idx = np.argwhere(bad)[0]
+        kind = "NaN" if np.isnan(arr[tuple(idx)]) else "inf"
+        raise ValueError(
+            f"{name} contains {int(bad.sum())} non-finite value(s) ({kind} first at index "
+            f"{tuple(int(i) for i in idx)}); remove or interpolate them first"
+        )
+    if arr.shape[0] < min_samples:
+        raise ValueError(
+            f"{name} has {arr.shape[0]} samples; at least {min_samples} are needed"
+        )
+    if as_2d and arr.ndim == 1:
+        arr = arr[:, None]
+    return arr
+
+
+def check_time(t, n_samples: int, name: str = "t") -> float | np.ndarray:
+    """Validate a time step or a time vector for ``n_samples`` samples.
+
+    Returns the step as a float when ``t`` is a scalar, otherwise the strictly increasing 1-D time
+    vector as a float array.
+
+    Examples
+    --------
+    >>> check_time(0.01, 5)
+    0.01
+    >>> check_time([0.0, 0.1, 0.2], 3)
+    array([0. , 0.1, 0.2])
+    """
+    if isinstance(t, Real) and not isinstance(t, bool):
+        dt = float(t)
+        if not np.isfinite(dt) or dt <= 0:
+            raise ValueError(f"{name} (time step) must be a positive finite number, got {t!r}")
+        return dt
+    arr = _as_float_array(t, name)
+    if arr.ndim == 0:
+        return check_time(float(arr), n_samples, name)
+    if arr.ndim != 1:
+        raise ValueError(f"{name} must be a scalar time step or a 1-D time vector, got shape {arr.shape}")
+    if arr.shape[0] != n_samples:
+        raise ValueError(
+            f"{name} has {arr.shape[0]} entries but the data have {n_samples} samples"
+        )
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} contains NaN or inf")
+    steps = np.diff(arr)
+    if np.any(steps <= 0):
+        i = int(np.argmax(steps <= 0))
+        raise ValueError(
+            f"{name} must be strictly increasing; {name}[{i + 1}]={arr[i + 1]!r} <= "
+            f"{name}[{i}]={arr[i]!r}"
+        )
+    return arr
+
+
+def time_vector(t: float | np.ndarray, n_samples: int) -> np.ndarray:
+    """The time vector for validated ``t`` (a step gives 0, dt, 2 dt, ...)."""
+    if np.ndim(t) == 0:
+        return np.arange(n_samples) * float(t)
+    return np.asarray(t, dtype=float)
+
+
+def check_trajectories(
+    x, name: str = "x", *, min_samples: int = 1
+) -> tuple[list[np.ndarray], bool]:
+    """Validate one trajectory or a list of them.
+
+    A list or tuple whose items are arrays (numpy arrays or DataFrames) is several trajectories, as in
+    PySINDy; anything else (including a nested list of numbers) is one trajectory.
+
+    Returns
+    -------
+    (list of numpy.ndarray, bool)
+        The validated (n_i, n_states) arrays and whether the input was a list of trajectories.
+
+    Examples
+    --------
+    >>> trajs, multiple = check_trajectories([np.zeros((5, 2)), np.ones((4, 2))])
+    >>> len(trajs), multiple
+    (2, True)
+    """
+    if isinstance(x, (list, tuple)):
+        if len(x) == 0:
+            raise ValueError(f"{name} is an empty list")
+        if all(hasattr(xi, "shape") for xi in x):
+            arrs = [
+                check_signal(xi, f"{name}[{i}]", min_samples=min_samples)
+                for i, xi in enumerate(x)
+            ]
+            widths = {a.shape[1] for a in arrs}
+            if len(widths) != 1:
+                raise ValueError(
+                    f"all trajectories in {name} must have the same number of states, "
+                    f"got {sorted(widths)}"
+                )
+            return arrs, True
+    return [check_signal(x, name, min_samples=min_samples)], False

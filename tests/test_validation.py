@@ -1,0 +1,49 @@
+import numpy as np
+import pytest
+
+from sindy_impulse._validation import check_signal, check_time, check_trajectories
+
+
+def test_check_signal_reshapes_1d():
+    assert check_signal([1.0, 2.0, 3.0]).shape == (3, 1)
+
+
+@pytest.mark.parametrize(
+    "bad, exc, match",
+    [
+        ([1.0, np.nan, 2.0], ValueError, "NaN"),
+        ([1.0, np.inf], ValueError, "inf"),
+        ([], ValueError, "empty"),
+        (np.array([1 + 1j, 2]), TypeError, "complex"),
+        (np.array(["a", "b"]), TypeError, "non-numeric"),
+        (np.zeros((2, 2, 2)), ValueError, "1-D or 2-D"),
+    ],
+)
+def test_check_signal_rejects(bad, exc, match):
+    with pytest.raises(exc, match=match):
+        check_signal(bad, "x")
+
+
+def test_check_signal_min_samples_names_numbers():
+    with pytest.raises(ValueError, match="3 samples; at least 10"):
+        check_signal(np.zeros(3), "x", min_samples=10)
+
+
+def test_check_time():
+    assert check_time(0.5, 3) == 0.5
+    np.testing.assert_array_equal(check_time([0, 1, 2], 3), [0, 1, 2])
+    with pytest.raises(ValueError, match="strictly increasing"):
+        check_time([0, 2, 1], 3)
+    with pytest.raises(ValueError, match="3 entries but the data have 4"):
+        check_time([0, 1, 2], 4)
+    with pytest.raises(ValueError, match="positive"):
+        check_time(-1.0, 3)
+
+
+def test_check_trajectories():
+    trajs, multi = check_trajectories([np.zeros((5, 2)), np.ones((4, 2))])
+    assert multi and len(trajs) == 2
+    one, multi = check_trajectories([[1.0, 2.0], [3.0, 4.0]])
+    assert not multi and one[0].shape == (2, 2)
+    with pytest.raises(ValueError, match="same number of states"):
+        check_trajectories([np.zeros((5, 2)), np.ones((4, 3))])
