@@ -1,0 +1,5 @@
+"""Optimizers (PySINDy ``BaseOptimizer`` plugins)."""
+
+from .sweep import ThresholdSweep, threshold_path
+
+__all__ = ["ThresholdSweep", "threshold_path"]

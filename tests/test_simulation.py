@@ -1,0 +1,81 @@
+import numpy as np
+import pysindy as ps
+import pytest
+from scipy.integrate import solve_ivp
+
+from sindy_impulse.datasets import damped_oscillator
+from sindy_impulse.feature_library import MechanicalLibrary, TermTable
+from sindy_impulse.simulation import CompiledModel
+
+
+def _poly_model(coef_entries, x, degree=3):
+    lib = ps.PolynomialLibrary(degree=degree).fit(x)
+    names = lib.get_feature_names()
+    coef = np.zeros((2, len(names)))
+    for (row, name), value in coef_entries.items():
+        coef[row, names.index(name)] = value
+    return CompiledModel(coef, TermTable.polynomial(lib.powers_), reference=x), coef, lib
+
+
+@pytest.mark.parametrize("k_nl", [0.0, 10.0])
+def test_agrees_with_solve_ivp(k_nl):
+    t, x, _ = damped_oscillator(k_nl=k_nl, x0=(2.0, 0.0))
+    model, _, _ = _poly_model({(0, "x1"): 1.0, (1, "x0"): -64, (1, "x1"): -3.2, (1, "x0^3"): -k_nl}, x)
+    sim = model.simulate(x[0], t)
+    ref = solve_ivp(
+        lambda _t, y: [y[1], -64 * y[0] - 3.2 * y[1] - k_nl * y[0] ** 3], (0, 4), x[0], t_eval=t,
+        rtol=1e-10, atol=1e-12,
+    ).y.T
+    rel = np.max(np.abs(sim - ref), axis=0) / np.max(np.abs(ref), axis=0)
+    assert np.all(rel < 1e-6)
+
+
+def test_rhs_matches_library_transform():
+    t, x, _ = damped_oscillator()
+    model, coef, lib = _poly_model({(0, "x1"): 1.0, (1, "x0"): -64, (1, "x0 x1^2"): 0.5, (1, "1"): 0.1}, x)
+    np.testing.assert_allclose(model.rhs(x), lib.transform(x) @ coef.T, rtol=1e-12, atol=1e-12)
+
+
+def test_mechanical_terms_match_solve_ivp():
+    t, x, _ = damped_oscillator()
+    lib = MechanicalLibrary(degree=1).fit(x)
+    names = lib.get_feature_names()
+    coef = np.zeros((2, len(names)))
+    coef[0, names.index("x1")] = 1
+    coef[1, names.index("x0")] = -64
+    coef[1, names.index("x1|x1|")] = -0.4
+    coef[1, names.index("sgn(x1)")] = -0.5
+    model = CompiledModel(coef, lib.term_table_, reference=x)
+    w = lib.friction_scale_[1]
+    ref = solve_ivp(
+        lambda _t, y: [y[1], -64 * y[0] - 0.4 * y[1] * abs(y[1]) - 0.5 * np.tanh(y[1] / w)], (0, 4), x[0],
+        t_eval=t, rtol=1e-10, atol=1e-12,
+    ).y.T
+    sim = model.simulate(x[0], t)
+    assert np.max(np.abs(sim - ref)) / np.max(np.abs(ref)) < 1e-6
+    np.testing.assert_allclose(model.rhs(x), lib.transform(x) @ coef.T, rtol=1e-12, atol=1e-12)
+
+
+def test_divergence_is_stopped_with_nan():
+    t, x, _ = damped_oscillator()
+    model, _, _ = _poly_model({(0, "x1"): 1.0, (1, "x0"): -64, (1, "x0^3"): 500.0, (1, "x0^2"): 80.0}, x)
+    sim = model.simulate(x[0], t)
+    assert np.isnan(sim[-1]).all()
+    first_nan = np.argmax(np.isnan(sim[:, 0]))
+    assert np.all(np.isfinite(sim[:first_nan]))
+
+
+def test_unit_invariant_substeps():
+    t, x, _ = damped_oscillator()
+    a, _, _ = _poly_model({(0, "x1"): 1.0, (1, "x0"): -64, (1, "x1"): -3.2}, x)
+    b, _, _ = _poly_model({(0, "x1"): 1.0, (1, "x0"): -64, (1, "x1"): -3.2}, x * 1e6)
+    assert a.substeps(t) == b.substeps(t)
+
+
+def test_shape_errors():
+    terms = TermTable.polynomial([[1, 0], [0, 1]])
+    with pytest.raises(ValueError, match="columns"):
+        CompiledModel(np.zeros((2, 3)), terms)
+    model = CompiledModel([[0, 1.0], [-1.0, 0]], terms)
+    with pytest.raises(ValueError, match="x0 has 3 entries"):
+        model.simulate([1, 2, 3], np.arange(3.0))
