@@ -22,6 +22,7 @@ from numbers import Integral, Real
 
 import numpy as np
 from pysindy.differentiation import BaseDifferentiation
+from scipy.sparse import issparse
 from sklearn.base import TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
@@ -109,8 +110,8 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         plotting, ``"gcv"``, ``"consistency"`` (paper's error, data units), ``"residual"`` (RMS of
         input minus smoothed, data units) and ``"dof"`` (effective number of parameters). Empty arrays
         for a given alpha or a constant column.
-    n_iter_ : ndarray of shape (n_coord,)
-        Lagged-diffusivity iterations of the final solve per column.
+    n_iter_ : int
+        Most lagged-diffusivity iterations of the final solve over the columns.
     n_features_in_ : int
         Number of columns seen by the last ``fit``/differentiation.
 
@@ -206,17 +207,18 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
     def fit(self, X, y=None):
         """Choose ``alpha_`` for each column of ``X`` (sampled every ``dt``); returns ``self``."""
         self._check_params()
-        self._run(X, self.dt, None)
+        self._run(_check_2d(X), self.dt, None)
         return self
 
     def transform(self, X):
         """Derivative of each column of ``X`` (sampled every ``dt``) with the fitted ``alpha_``."""
         check_is_fitted(self, "alpha_")
         self._check_params()
-        arr = check_signal(X, "X", ndim=(2,), min_samples=self._min_samples())
+        arr = check_signal(_check_2d(X), "X", ndim=(2,), min_samples=self._min_samples())
         if arr.shape[1] != self.n_features_in_:
             raise ValueError(
-                f"X has {arr.shape[1]} features, but TVRegDiff was fitted with {self.n_features_in_} features"
+                f"X has {arr.shape[1]} features, but TVRegDiff is expecting {self.n_features_in_} features "
+                "as input"
             )
         alphas = [0.0 if not np.isfinite(a) else float(a) for a in self.alpha_]
         fitted = {k: getattr(self, k) for k in ("alpha_", "alpha_curve_", "n_iter_", "smoothed_x_")}
@@ -228,7 +230,7 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
     def fit_transform(self, X, y=None, **fit_params):
         """Choose ``alpha_`` per column and return the derivative, in one pass."""
         self._check_params()
-        x_dot, _ = self._run(X, self.dt, None)
+        x_dot, _ = self._run(_check_2d(X), self.dt, None)
         return x_dot
 
     def __sklearn_tags__(self):
@@ -304,7 +306,7 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         self.smoothed_x_ = smoothed[:, 0] if one_d else smoothed
         self.alpha_ = alpha_used
         self.alpha_curve_ = curves
-        self.n_iter_ = n_iter
+        self.n_iter_ = int(n_iter.max())
         self.n_features_in_ = n_coord
         return (x_dot[:, 0] if one_d else x_dot), smoothed
 
@@ -366,6 +368,24 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
             "dof": table[:, 3],
         }
         return y_sel, lam_best, curve, its_sel
+
+
+def _check_2d(X):
+    """scikit-learn conventions for the transformer API (PySINDy's path accepts 1-D input)."""
+    if issparse(X):
+        raise TypeError("TVRegDiff does not support sparse input; pass a dense array")
+    X = np.asarray(X.to_numpy() if hasattr(X, "to_numpy") else X)
+    if np.iscomplexobj(X):
+        raise ValueError("Complex data not supported by TVRegDiff")
+    ndim = np.ndim(X)
+    if ndim != 2:
+        raise ValueError(
+            f"Expected a 2-D array X of shape (n_samples, n_features), got {ndim}-D. Reshape your data "
+            "with X.reshape(-1, 1) for a single signal."
+        )
+    if np.shape(X)[1] == 0:
+        raise ValueError(f"0 feature(s) (shape={np.shape(X)}) while a minimum of 1 is required.")
+    return X
 
 
 def _consistency_error(g, y, tau_grid, trim):
