@@ -125,7 +125,7 @@ class ImpulseSINDy(ps.SINDy):
     >>> t, x, x_dot = damped_oscillator()
     >>> model = ImpulseSINDy().fit(x, t=t)
     >>> model.print(precision=2)
-    (x0)' = 1.00 x1
+    (x0)' =  1.00 x1
     (x1)' = -64.00 x0 + -3.20 x1
     """
 
@@ -273,7 +273,9 @@ class ImpulseSINDy(ps.SINDy):
 
         gammas = np.array([simulation_gamma(compile_(c), filtered, times) for c in candidates])
         n_terms = np.array([np.count_nonzero(c) for c in candidates])
-        if not np.any(np.isfinite(gammas)):
+        # The empty model (x' = 0) stays on the path for plotting but is never selected.
+        usable = np.isfinite(gammas) & (n_terms > 0)
+        if not np.any(usable):
             raise RuntimeError(
                 "every candidate model diverged when simulated from the first sample; check the data "
                 "(units of t, trends, clipping) or use a smaller feature library"
@@ -292,7 +294,9 @@ class ImpulseSINDy(ps.SINDy):
             return coef, g, res.history
 
         noise = self._noise_gamma(trajectories, filtered)
-        index, (coef, g, history) = select_candidate(self.selection, gammas, n_terms, refined, noise)
+        index, (coef, g, history) = select_candidate(
+            self.selection, np.where(usable, gammas, np.inf), n_terms, refined, noise
+        )
 
         self.path_ = SweepPath(thresholds, gammas, n_terms, candidates, index)
         self.threshold_ = float(thresholds[index])
@@ -354,12 +358,12 @@ class ImpulseSINDy(ps.SINDy):
         return self.feature_library_.get_feature_names(input_features=self.feature_names_)
 
     def equations(self, precision: int = 3) -> list[str]:
-        """Right-hand sides as strings, e.g. ``'-64.000 x0 + -3.200 x1'``."""
+        """Right-hand sides as strings, formatted as PySINDy does (``'-64.000 x0 + -3.200 x1'``)."""
         names = self.get_feature_names()
         out = []
         for row in self.coefficients():
-            terms = [f"{c:.{precision}f} {n}" for c, n in zip(row, names) if np.round(c, precision) != 0]
-            out.append(" + ".join(terms) if terms else f"{0:.{precision}f}")
+            terms = [f"{c: .{precision}f} {n}" for c, n in zip(row, names) if np.round(c, precision) != 0]
+            out.append(" + ".join(terms) if terms else f"{0: .{precision}f}")
         return out
 
     def print(self, lhs=None, precision: int = 3, **kwargs) -> None:
