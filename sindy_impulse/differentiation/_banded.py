@@ -3,8 +3,12 @@
 Everything here works in *sample units*: the time axis is ``tau = t / mean(dt)`` (so a uniform grid has
 unit spacing) and the signal is already normalized by the caller. All operations are O(N) in time and
 memory for a fixed difference order ``m``: the difference operator is stored as its ``m + 1`` stencil
-coefficients per row, and the normal matrix ``I + lam D^T W D`` in the lower banded form that
+coefficients per row, and the normal matrix ``G + lam D^T W D`` in the lower banded form that
 :func:`scipy.linalg.solveh_banded` expects.
+
+The smoothed signal is ``y = B c``: ``B`` is the identity (``c`` are the smoothed samples, ``G = I``) or,
+for long records, a uniform cubic B-spline basis with fewer coefficients than samples (P-splines, Eilers &
+Marx 1996; ``G = B^T B`` banded). The penalty acts on differences of ``c``.
 """
 
 from __future__ import annotations
@@ -22,6 +26,10 @@ __all__ = [
     "lambda_max",
     "tv_smooth",
     "trace_inverse",
+    "IdentityBasis",
+    "SplineBasis",
+    "penalty_weight",
+    "polynomial_residual",
 ]
 
 # Upper bound on lam * w (normalized units): keeps I + lam D^T W D numerically positive definite where
@@ -71,103 +79,191 @@ def apply_difference_transpose(coef: np.ndarray, v: np.ndarray) -> np.ndarray:
     return out
 
 
-def normal_band(coef: np.ndarray, weight: np.ndarray, n: int) -> np.ndarray:
-    """``I + D^T diag(weight) D`` in lower banded storage, shape (m + 1, n).
+def normal_band(coef: np.ndarray, weight: np.ndarray, n: int, gram: np.ndarray | None = None) -> np.ndarray:
+    """``G + D^T diag(weight) D`` in lower banded storage (``G = I`` when ``gram`` is None).
 
     ``band[s, j]`` holds the entry (j + s, j). Cost: (m + 1)(m + 2)/2 vector operations of length n.
     """
     m = coef.shape[1] - 1
     rows = n - m
-    band = np.zeros((m + 1, n))
-    band[0] = 1.0
+    width = m if gram is None else max(m, gram.shape[0] - 1)
+    band = np.zeros((width + 1, n))
+    if gram is None:
+        band[0] = 1.0
+    else:
+        band[: gram.shape[0]] = gram
     for s in range(m + 1):
         for p in range(m + 1 - s):
             band[s, p : p + rows] += weight * (coef[:, p] * coef[:, p + s])
     return band
 
 
-def lambda_max(f: np.ndarray, tau: np.ndarray, coef: np.ndarray, h: np.ndarray) -> float:
-    """Smallest ``lam`` for which the (eps = 0) TV solution is the least-squares polynomial of degree m-1.
+class IdentityBasis:
+    """``y = c``: one coefficient per sample (``tau`` in units of the mean sample spacing)."""
 
-    It is ``max |v / h|`` with ``D^T v = f - p`` (Kim, Koh, Boyd & Gorinevsky 2009, for l1 trend filtering);
-    ``D^T v = r`` is solved exactly and in O(N) by forward substitution, i.e. repeated cumulative sums,
-    never forming ``D D^T`` (whose condition number grows like N^(2m)).
+    def __init__(self, tau: np.ndarray):
+        self.tau = tau
+        self.n_coef = tau.shape[0]
+        self.gram = None
+        self.spacing = 1.0
+
+    def rhs(self, f: np.ndarray) -> np.ndarray:
+        return f
+
+    def values(self, c: np.ndarray) -> np.ndarray:
+        return c
+
+    def slopes(self, c: np.ndarray) -> np.ndarray:
+        """d y / d tau at the samples: centred differences (second order, no lag)."""
+        return np.gradient(c, self.tau)
+
+    def start(self, f: np.ndarray) -> np.ndarray:
+        return f.copy()
+
+
+class SplineBasis:
+    """Uniform cubic B-splines with ``n_intervals`` knot intervals spanning ``tau`` (P-splines).
+
+    ``y(tau) = sum_k c_k B_k(tau)``; each sample touches 4 coefficients, so ``G = B^T B`` has 3
+    off-diagonals and ``B^T f`` is 4 weighted bincounts: O(N). The derivative is the exact derivative of
+    the spline, so ``y`` is exactly the time integral of the derivative.
+    """
+
+    def __init__(self, tau: np.ndarray, n_intervals: int):
+        self.tau = tau
+        self.n_coef = n_intervals + 3
+        self.spacing = float(tau[-1] - tau[0]) / n_intervals
+        pos = (tau - tau[0]) / self.spacing
+        self.start_index = np.clip(np.floor(pos).astype(int), 0, n_intervals - 1)
+        u = pos - self.start_index
+        self.w = np.column_stack(
+            [(1 - u) ** 3, 3 * u**3 - 6 * u**2 + 4, -3 * u**3 + 3 * u**2 + 3 * u + 1, u**3]
+        ) / 6.0
+        self.dw = np.column_stack(
+            [-((1 - u) ** 2), 3 * u**2 - 4 * u, -3 * u**2 + 2 * u + 1, u**2]
+        ) / (2.0 * self.spacing)
+        gram = np.zeros((4, self.n_coef))
+        for s in range(4):
+            for a in range(4 - s):
+                gram[s] += np.bincount(
+                    self.start_index + a, self.w[:, a] * self.w[:, a + s], minlength=self.n_coef
+                )
+        # a tiny ridge keeps G + lam P positive definite where knot intervals hold no sample
+        gram[0] += 1e-10 * max(float(np.max(gram[0])), 1.0)
+        self.gram = gram
+
+    def rhs(self, f: np.ndarray) -> np.ndarray:
+        out = np.zeros(self.n_coef)
+        for a in range(4):
+            out += np.bincount(self.start_index + a, self.w[:, a] * f, minlength=self.n_coef)
+        return out
+
+    def values(self, c: np.ndarray) -> np.ndarray:
+        j = self.start_index
+        return sum(self.w[:, a] * c[j + a] for a in range(4))
+
+    def slopes(self, c: np.ndarray) -> np.ndarray:
+        j = self.start_index
+        return sum(self.dw[:, a] * c[j + a] for a in range(4))
+
+    def start(self, f: np.ndarray) -> np.ndarray:
+        centres = self.tau[0] + (np.arange(self.n_coef) - 1) * self.spacing
+        return np.interp(centres, self.tau, f)
+
+
+def lambda_max(grad: np.ndarray, coef: np.ndarray, h: np.ndarray) -> float:
+    """Smallest ``lam`` for which the (eps = 0) TV solution lies in the null space of ``D``.
+
+    ``grad = B^T (f - p)`` with ``p`` the least-squares polynomial of degree m - 1 (so ``grad`` is
+    orthogonal to the null space). The answer is ``max |v / h|`` with ``D^T v = grad`` (Kim, Koh, Boyd &
+    Gorinevsky 2009, for l1 trend filtering), solved exactly and in O(N) by forward substitution, i.e.
+    repeated cumulative sums, never forming ``D D^T`` (whose condition number grows like N^(2m)).
     """
     m = coef.shape[1] - 1
-    n = f.shape[0]
-    x = (tau - tau[0]) / max(tau[-1] - tau[0], 1e-300) * 2.0 - 1.0
-    vander = np.polynomial.legendre.legvander(x, m - 1)
-    p = vander @ np.linalg.lstsq(vander, f, rcond=None)[0]
-    resid = f - p
-    # Forward substitution on the lower-triangular top (n - m) x (n - m) block of D^T.
-    # (D^T v)[i] = sum_{q=0..m} coef[i - q, q] v[i - q]; the diagonal coefficient of row i is coef[i, 0].
-    rows = n - m
+    rows = grad.shape[0] - m
+    if rows <= 0:
+        return 0.0
     if coef.shape[0] == 1:
         # Uniform grid: D = Delta^m, and Delta^T z = r is solved by z = -cumsum(r)[:-1].
-        z = resid
+        v = grad
         for _ in range(m):
-            z = -np.cumsum(z)[:-1]
-        v = z
+            v = -np.cumsum(v)[:-1]
     else:
+        # (D^T v)[i] = sum_q coef[i - q, q] v[i - q]; the diagonal coefficient of row i is coef[i, 0].
         v = np.zeros(rows)
         c0 = coef[:, 0]
         for i in range(rows):
-            acc = resid[i]
+            acc = grad[i]
             for q in range(1, min(m, i) + 1):
                 acc -= coef[i - q, q] * v[i - q]
             v[i] = acc / c0[i]
-    return float(np.max(np.abs(v / h))) if rows > 0 else 0.0
+    return float(np.max(np.abs(v / h)))
+
+
+def polynomial_residual(f: np.ndarray, tau: np.ndarray, degree: int) -> np.ndarray:
+    """``f`` minus its least-squares polynomial fit of ``degree`` in ``tau`` (Legendre basis)."""
+    x = (tau - tau[0]) / max(float(tau[-1] - tau[0]), 1e-300) * 2.0 - 1.0
+    vander = np.polynomial.legendre.legvander(x, degree)
+    return f - vander @ np.linalg.lstsq(vander, f, rcond=None)[0]
 
 
 def tv_smooth(
-    f: np.ndarray,
+    rhs: np.ndarray,
     coef: np.ndarray,
     h: np.ndarray,
     lam: float,
-    y0: np.ndarray | None = None,
+    c0: np.ndarray,
+    gram: np.ndarray | None = None,
     *,
     max_iter: int = 30,
     tol: float = 1e-4,
-    eps_rel: float = 1e-3,
+    eps_rel: float = 1.0,
 ) -> tuple[np.ndarray, int]:
-    """Minimize ``1/2 ||y - f||^2 + lam * sum_r h_r |(D y)_r|`` by lagged diffusivity.
+    """Minimize ``1/2 ||B c - f||^2 + lam * sum_r h_r |(D c)_r|`` by lagged diffusivity.
 
-    Each iteration solves the banded SPD system ``(I + lam D^T W D) y = f`` with
-    ``W = diag(h / sqrt((D y_old)^2 + eps^2))``, ``eps = eps_rel * rms(D y_old)`` (scale free;
-    ``eps_rel -> 0`` is pure TV), in O(N) with :func:`scipy.linalg.solveh_banded`. Stops when the
-    relative change of ``y`` is below ``tol``.
+    ``rhs = B^T f`` and ``gram = B^T B`` (None: ``B = I``). Each iteration solves the banded SPD system
+    ``(G + lam D^T W D) c = B^T f`` with ``W = diag(h / sqrt((D c_old)^2 + eps^2))``,
+    ``eps = eps_rel * rms(D c_old)`` (scale free; ``eps_rel -> 0`` is pure TV), in O(N) with
+    :func:`scipy.linalg.solveh_banded`, starting from ``c0``. Stops when the RMS change of ``c`` is below
+    ``tol`` times the RMS of ``c0``.
 
-    Returns the smoothed signal and the number of iterations used.
+    Returns the coefficients and the number of iterations used.
     """
-    n = f.shape[0]
-    if lam <= 0:
-        return f.copy(), 0
-    y = f.copy() if y0 is None else y0.copy()
-    scale = max(float(np.sqrt(np.mean(f**2))), 1e-300)
+    n = rhs.shape[0]
+    c = c0.copy()
+    if lam <= 0 and gram is None:
+        return rhs.copy(), 0
+    scale = max(float(np.sqrt(np.mean(c0**2))), 1e-300)
     it = 0
     for it in range(1, max_iter + 1):  # noqa: B007
-        d = apply_difference(coef, y)
-        rms = float(np.sqrt(np.mean(d**2)))
-        eps = max(eps_rel * rms, 1e-14 * scale)
-        weight = np.minimum(lam * h / np.sqrt(d * d + eps * eps), _MAX_PENALTY_WEIGHT)
-        band = normal_band(coef, weight, n)
+        weight = penalty_weight(coef, h, lam, c, eps_rel)
+        band = normal_band(coef, weight, n, gram)
         try:
-            y_new = solveh_banded(band, f, lower=True, check_finite=False)
+            c_new = solveh_banded(band, rhs, lower=True, check_finite=False)
         except LinAlgError:  # pragma: no cover - only for pathological weights
             band[0] += 1e-10 * np.max(band[0])
-            y_new = solveh_banded(band, f, lower=True, check_finite=False)
-        change = float(np.sqrt(np.mean((y_new - y) ** 2)))
-        y = y_new
-        if change <= tol * scale:
+            c_new = solveh_banded(band, rhs, lower=True, check_finite=False)
+        change = float(np.sqrt(np.mean((c_new - c) ** 2)))
+        c = c_new
+        if change <= tol * scale or lam <= 0:
             break
-    return y, it
+    return c, it
 
 
-def _trace_inverse_py(band: np.ndarray) -> float:
-    """``trace(A^-1)`` for a symmetric positive definite banded ``A`` (lower storage), in O(N b^2).
+def penalty_weight(coef: np.ndarray, h: np.ndarray, lam: float, c: np.ndarray, eps_rel: float) -> np.ndarray:
+    """Lagged-diffusivity weights ``lam * h / sqrt(d^2 + eps^2)``, ``d = D c``, capped for conditioning."""
+    d = apply_difference(coef, c)
+    rms = float(np.sqrt(np.mean(d**2)))
+    eps = max(eps_rel * rms, 1e-14 * max(float(np.max(np.abs(c))), 1e-300))
+    return np.minimum(lam * h / np.sqrt(d * d + eps * eps), _MAX_PENALTY_WEIGHT)
+
+
+def _trace_inverse_py(band: np.ndarray, gram: np.ndarray) -> float:
+    """``trace(A^-1 G)`` for SPD banded ``A`` and symmetric banded ``G`` (lower storage), in O(N b^2).
 
     LDL^T factorization followed by the selected-inversion recursion of Hutchinson & de Hoog (1985):
-    only the entries of ``A^-1`` inside the band are computed, from the last row upwards.
+    only the entries of ``A^-1`` inside the band of ``A`` are computed, from the last row upwards; ``G``'s
+    band must not be wider than ``A``'s.
     """
     b = band.shape[0] - 1
     n = band.shape[1]
@@ -207,15 +303,19 @@ def _trace_inverse_py(band: np.ndarray) -> float:
                 break
             acc -= low[q, i] * inv[q, i]
         inv[0, i] = acc
-        trace += acc
+        trace += acc * gram[0, i]
+        for s in range(1, gram.shape[0]):
+            if i + s >= n:
+                break
+            trace += 2.0 * inv[s, i] * gram[s, i]
     return trace
 
 
 _trace_inverse_jit = None
 
 
-def trace_inverse(band: np.ndarray) -> float:
-    """``trace((I + lam D^T W D)^-1)``, the effective number of parameters of the linearized smoother.
+def trace_inverse(band: np.ndarray, gram: np.ndarray | None = None) -> float:
+    """``trace((G + lam D^T W D)^-1 G)``: the effective number of parameters of the linearized smoother.
 
     Compiled with numba on first use (cached on disk); the pure-Python version is the fallback.
     """
@@ -227,4 +327,6 @@ def trace_inverse(band: np.ndarray) -> float:
             _trace_inverse_jit = numba.njit(cache=True)(_trace_inverse_py)
         except Exception:  # pragma: no cover - numba missing or broken
             _trace_inverse_jit = _trace_inverse_py
-    return float(_trace_inverse_jit(np.ascontiguousarray(band)))
+    if gram is None:
+        gram = np.ones((1, band.shape[1]))
+    return float(_trace_inverse_jit(np.ascontiguousarray(band), np.ascontiguousarray(gram)))

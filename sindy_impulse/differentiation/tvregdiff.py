@@ -28,10 +28,13 @@ from sklearn.utils.validation import check_is_fitted
 
 from .._validation import check_signal, check_time
 from ._banded import (
-    apply_difference,
+    IdentityBasis,
+    SplineBasis,
     difference_stencil,
     lambda_max,
     normal_band,
+    penalty_weight,
+    polynomial_residual,
     trace_inverse,
     tv_smooth,
 )
@@ -44,9 +47,6 @@ _SELECTIONS = ("gcv", "consistency")
 _GCV_GAMMA = 1.4
 _GRID_STEP = 0.5  # decades between alphas of the coarse scan, refined to a quarter decade at the minimum
 _GRID_DECADES = 12.0  # alphas scanned from alpha_max down to alpha_max * 10**-12
-# Non-uniform grids are supported down to this smallest/mean step ratio: the divided differences of
-# closer samples make the banded system too ill-conditioned (condition ~ ratio^-(2 order + 2)).
-_MIN_STEP_RATIO = 0.2
 
 
 class TVRegDiff(TransformerMixin, BaseDifferentiation):
@@ -96,6 +96,13 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         Lagged-diffusivity iterations per alpha.
     tol : float, default=1e-4
         Stop iterating when the RMS change of the normalized smoothed signal is below ``tol``.
+    max_knots : int or None, default=500
+        Columns longer than this, and non-uniformly sampled columns, are smoothed as a cubic spline with
+        ``min(n_samples, max_knots)`` uniformly spaced coefficients (P-splines) instead of one value per
+        sample: the banded system of the strongly smoothing high-order penalty a finely sampled record needs
+        is otherwise too ill-conditioned for double precision (and it is faster). The derivative is then
+        the spline's exact derivative. Keep at least ~10 knots per oscillation period; ``None`` uses one
+        value per sample for uniform sampling whatever the length.
     dt : float, default=1.0
         Sample spacing used by ``fit``/``transform`` (PySINDy passes the time to ``_differentiate``).
 
@@ -145,6 +152,7 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         eps: float = 1.0,
         max_iter: int = 30,
         tol: float = 1e-4,
+        max_knots: int | None = 500,
         dt: float = 1.0,
     ):
         self.alpha = alpha
@@ -154,6 +162,7 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         self.eps = eps
         self.max_iter = max_iter
         self.tol = tol
+        self.max_knots = max_knots
         self.dt = dt
 
     # ------------------------------------------------------------------ validation
@@ -170,6 +179,8 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
                 raise ValueError(f"{name} must be a positive finite number, got {value!r}")
         if not isinstance(self.max_iter, Integral) or self.max_iter < 1:
             raise ValueError(f"max_iter must be a positive integer, got {self.max_iter!r}")
+        if self.max_knots is not None and (not isinstance(self.max_knots, Integral) or self.max_knots < 20):
+            raise ValueError(f"max_knots must be None or an integer >= 20, got {self.max_knots!r}")
         if not (isinstance(self.alpha, str) and self.alpha == "auto"):
             if isinstance(self.alpha, str):
                 raise ValueError(f'alpha must be "auto" or a non-negative number, got {self.alpha!r}')
@@ -247,27 +258,27 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         arr = check_signal(x, "x", min_samples=self._min_samples())
         n, n_coord = arr.shape
         t_checked = check_time(t, n)
+        uniform = True
         if np.ndim(t_checked) == 0:
-            dt_mean, tau = float(t_checked), None
-            t_phys = np.arange(n) * dt_mean
+            dt_mean = float(t_checked)
         else:
-            t_phys = t_checked
-            steps = np.diff(t_phys)
+            steps = np.diff(t_checked)
             dt_mean = float(np.mean(steps))
-            uniform = np.max(np.abs(steps - dt_mean)) <= 1e-9 * dt_mean
-            if np.min(steps) < _MIN_STEP_RATIO * dt_mean:
-                i = int(np.argmin(steps))
-                raise ValueError(
-                    f"t is too irregular for TVRegDiff: the step t[{i + 1}] - t[{i}] = {steps[i]:.3g} is "
-                    f"below {_MIN_STEP_RATIO:g} x the mean step {dt_mean:.3g}; resample to a (nearly) "
-                    "uniform grid"
-                )
-            tau = None if uniform else (t_phys - t_phys[0]) / dt_mean
-        tau_grid = np.arange(n, dtype=float) if tau is None else tau
+            uniform = bool(np.max(np.abs(steps - dt_mean)) <= 1e-6 * dt_mean)  # logger rounding
+        tau = np.arange(n, dtype=float) if uniform else (t_checked - t_checked[0]) / dt_mean
         m = self.order + 1
-        coef, h = difference_stencil(tau, n, m)
+        n_knots = n if self.max_knots is None else min(n, self.max_knots)
+        if uniform and n_knots == n:
+            basis = IdentityBasis(tau)
+        else:
+            # long records, and non-uniform sampling (uniform knots keep the system well conditioned)
+            basis = SplineBasis(tau, max(n_knots - 3, 1))
+        coef, h = difference_stencil(None, basis.n_coef, m)
         if alphas is None:
             alphas = self._alphas_for(n_coord)
+        # alpha (data units) <-> lam (normalized): the penalty is alpha * dtc^(1 - m) * h |D c| with
+        # dtc the physical spacing of the coefficients and c = scale * (normalized coefficients)
+        dt_coef = basis.spacing * dt_mean
 
         x_dot = np.empty((n, n_coord))
         smoothed = np.empty((n, n_coord))
@@ -286,16 +297,16 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
                 curves.append(_empty_curve())
                 continue
             g = (f - center) / scale
-            # alpha (data units) <-> lam (normalized): alpha * dt^(1-m) * h |D y| with y = scale * g
-            to_alpha = scale * dt_mean ** (m - 1)
+            to_alpha = scale * dt_coef ** (m - 1)
+            problem = _Problem(g, basis, coef, h, self)
             if alphas[j] is None:
-                y, lam, curve, its = self._select(g, tau_grid, coef, h, to_alpha, scale)
+                c, lam, curve, its = self._select(problem, to_alpha, scale)
             else:
                 lam = alphas[j] / to_alpha
-                y, its = tv_smooth(g, coef, h, lam, max_iter=self.max_iter, tol=self.tol, eps_rel=self.eps)
+                c, its = problem.smooth(lam)
                 curve = _empty_curve()
-            smoothed[:, j] = center + scale * y
-            x_dot[:, j] = scale * np.gradient(y, tau_grid) / dt_mean
+            smoothed[:, j] = center + scale * basis.values(c)
+            x_dot[:, j] = scale * basis.slopes(c) / dt_mean
             alpha_used[j] = lam * to_alpha
             n_iter[j] = its
             curves.append(curve)
@@ -310,35 +321,20 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         self.n_features_in_ = n_coord
         return (x_dot[:, 0] if one_d else x_dot), smoothed
 
-    def _solve_and_score(self, g, tau_grid, coef, h, lam, y_start):
-        """Smooth at one alpha and evaluate both criteria (normalized units)."""
-        n = g.shape[0]
-        y, its = tv_smooth(g, coef, h, lam, y_start, max_iter=self.max_iter, tol=self.tol, eps_rel=self.eps)
-        # linearized smoother at the converged weights, same weights as the last iteration would use
-        d = apply_difference(coef, y)
-        rms = float(np.sqrt(np.mean(d**2)))
-        eps = max(self.eps * rms, 1e-14)
-        weight = np.minimum(lam * h / np.sqrt(d * d + eps * eps), 1e12)
-        dof = trace_inverse(normal_band(coef, weight, n))
-        rss = float(np.sum((g - y) ** 2))
-        denom = n - _GCV_GAMMA * dof
-        gcv = n * rss / denom**2 if denom > 0 and 0 < dof <= n else np.inf
-        consistency = _consistency_error(g, y, tau_grid, self.trim)
-        return y, its, gcv, consistency, float(np.sqrt(rss / n)), dof
-
-    def _select(self, g, tau_grid, coef, h, to_alpha, scale):
+    def _select(self, problem: _Problem, to_alpha: float, scale: float):
         """Scan alpha from alpha_max downwards (warm starts) and return the best solution."""
-        lam_max = lambda_max(g, tau_grid, coef, h)
+        lam_max = problem.lambda_max()
         if not np.isfinite(lam_max) or lam_max <= 0:  # g is a polynomial the penalty cannot see
-            curve = _empty_curve()
-            return g.copy(), 0.0, curve, 0
+            c, its = problem.smooth(0.0)
+            return c, 0.0, _empty_curve(), its
         use_gcv = self.alpha_selection == "gcv"
-        records = {}  # exponent r (alpha = lam_max * 10**-r) -> (score tuple, y, its)
-        y = None
+        n = problem.g.shape[0]
+        records = {}  # exponent r (alpha = lam_max * 10**-r) -> (gcv, consistency, residual, dof, c)
+        c = None
         for r in np.arange(0.0, _GRID_DECADES + 1e-9, _GRID_STEP):
-            y, its, gcv, cons, res, dof = self._solve_and_score(g, tau_grid, coef, h, lam_max * 10**-r, y)
-            records[r] = (gcv, cons, res, dof, y, its)
-            if use_gcv and dof * _GCV_GAMMA >= g.shape[0]:
+            c, _ = problem.smooth(lam_max * 10**-r, c)
+            records[r] = problem.score(lam_max * 10**-r, c) + (c,)
+            if use_gcv and records[r][3] * _GCV_GAMMA >= n:
                 break  # dof > N / gamma: GCV undefined for this and every smaller alpha
         key = 0 if use_gcv else 1
 
@@ -346,17 +342,15 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
             return min(records, key=lambda r: (records[r][key], r))
 
         r_best = best_exponent()
-        y_best = records[r_best][4]
+        c_best = records[r_best][4]
         for r in (r_best - _GRID_STEP / 2, r_best + _GRID_STEP / 2):
             if r >= 0:
-                out = self._solve_and_score(g, tau_grid, coef, h, lam_max * 10**-r, y_best)
-                records[r] = (out[2], out[3], out[4], out[5], out[0], out[1])
+                c, _ = problem.smooth(lam_max * 10**-r, c_best)
+                records[r] = problem.score(lam_max * 10**-r, c) + (c,)
         r_best = best_exponent()
         lam_best = lam_max * 10**-r_best
-        # Final solve from a cold start, so that alpha=alpha_ (and transform) reproduce the result exactly.
-        y_sel, its_sel = tv_smooth(
-            g, coef, h, lam_best, max_iter=self.max_iter, tol=self.tol, eps_rel=self.eps
-        )
+        # Final solve from a cold start, so that alpha=alpha_ (and transform) reproduce the result.
+        c_sel, its_sel = problem.smooth(lam_best)
         order = sorted(records, reverse=True)  # increasing alpha
         table = np.array([records[r][:4] for r in order], dtype=float).reshape(-1, 4)
         curve = {
@@ -367,7 +361,43 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
             "residual": table[:, 2] * scale,
             "dof": table[:, 3],
         }
-        return y_sel, lam_best, curve, its_sel
+        return c_sel, lam_best, curve, its_sel
+
+
+class _Problem:
+    """One normalized column: smoothing at a given lam and the selection criteria."""
+
+    def __init__(self, g, basis, coef, h, est: TVRegDiff):
+        self.g = g
+        self.basis = basis
+        self.coef = coef
+        self.h = h
+        self.rhs = basis.rhs(g)
+        self.c_start = basis.start(g)
+        self.options = {"max_iter": est.max_iter, "tol": est.tol, "eps_rel": est.eps}
+        self.trim = est.trim
+        self.m = coef.shape[1] - 1
+
+    def smooth(self, lam: float, c0=None):
+        start = self.c_start if c0 is None else c0
+        return tv_smooth(self.rhs, self.coef, self.h, lam, start, self.basis.gram, **self.options)
+
+    def lambda_max(self) -> float:
+        resid = polynomial_residual(self.g, self.basis.tau, self.m - 1)
+        return lambda_max(self.basis.rhs(resid), self.coef, self.h)
+
+    def score(self, lam: float, c):
+        """(modified GCV, paper's consistency error, RMS residual, effective dof), normalized units."""
+        n = self.g.shape[0]
+        weight = penalty_weight(self.coef, self.h, lam, c, self.options["eps_rel"])
+        gram = self.basis.gram
+        dof = trace_inverse(normal_band(self.coef, weight, c.shape[0], gram), gram)
+        y = self.basis.values(c)
+        rss = float(np.sum((self.g - y) ** 2))
+        denom = n - _GCV_GAMMA * dof
+        gcv = n * rss / denom**2 if denom > 0 and 0 < dof <= n else np.inf
+        consistency = _consistency_error(self.g, y, self.basis.slopes(c), self.basis.tau, self.trim)
+        return gcv, consistency, float(np.sqrt(rss / n)), dof
 
 
 def _check_2d(X):
@@ -388,13 +418,12 @@ def _check_2d(X):
     return X
 
 
-def _consistency_error(g, y, tau_grid, trim):
+def _consistency_error(g, y, slopes, tau, trim):
     """Paper's criterion: RMS(input - time-integrated derivative) on the kept samples, offset free."""
     n = g.shape[0]
     lo, hi = trim, n - trim
-    u = np.gradient(y, tau_grid)[lo:hi]
-    tau = tau_grid[lo:hi]
-    integral = np.concatenate(([0.0], np.cumsum(0.5 * (u[1:] + u[:-1]) * np.diff(tau))))
+    u = slopes[lo:hi]
+    integral = np.concatenate(([0.0], np.cumsum(0.5 * (u[1:] + u[:-1]) * np.diff(tau[lo:hi]))))
     diff = g[lo:hi] - integral
     diff -= np.mean(diff)  # free integration constant (least squares)
     return float(np.sqrt(np.mean(diff**2)))
