@@ -17,20 +17,24 @@ def _as_float_array(x, name: str) -> np.ndarray:
     """Convert ``x`` to a float array, refusing complex, non-numeric and empty input."""
     if x is None:
         raise TypeError(f"{name} is None; expected an array of numbers")
+    if hasattr(x, "tocsr") or type(x).__module__.startswith("scipy.sparse"):
+        raise TypeError(f"{name} is a sparse matrix; sparse input is not supported, pass a dense array")
     if hasattr(x, "to_numpy"):  # pandas DataFrame / Series
         x = x.to_numpy()
     arr = np.asarray(x)
     if arr.dtype == object:
         try:
             arr = arr.astype(float)
-        except (TypeError, ValueError):
-            raise TypeError(f"{name} contains non-numeric entries") from None
+        except (TypeError, ValueError) as err:
+            raise TypeError(f"{name} contains non-numeric entries ({err})") from None
     if np.iscomplexobj(arr):
-        raise TypeError(f"{name} is complex; expected real-valued data")
+        raise ValueError(f"{name} is complex: Complex data not supported, expected real-valued data")
     if not (np.issubdtype(arr.dtype, np.number) or arr.dtype == bool):
         raise TypeError(f"{name} has non-numeric dtype {arr.dtype}")
+    if arr.ndim == 2 and arr.shape[0] > 0 and arr.shape[1] == 0:
+        raise ValueError(f"{name} has 0 feature(s) (shape={arr.shape}) while a minimum of 1 is required.")
     if arr.size == 0:
-        raise ValueError(f"{name} is empty")
+        raise ValueError(f"{name} is empty (shape={arr.shape}): 0 sample(s)")
     return arr.astype(float, copy=False)
 
 
@@ -80,9 +84,7 @@ def check_signal(
             f"{tuple(int(i) for i in idx)}); remove or interpolate them first"
         )
     if arr.shape[0] < min_samples:
-        raise ValueError(
-            f"{name} has {arr.shape[0]} samples; at least {min_samples} are needed"
-        )
+        raise ValueError(f"{name} has {arr.shape[0]} samples; at least {min_samples} are needed")
     if as_2d and arr.ndim == 1:
         arr = arr[:, None]
     return arr
@@ -112,9 +114,7 @@ def check_time(t, n_samples: int, name: str = "t") -> float | np.ndarray:
     if arr.ndim != 1:
         raise ValueError(f"{name} must be a scalar time step or a 1-D time vector, got shape {arr.shape}")
     if arr.shape[0] != n_samples:
-        raise ValueError(
-            f"{name} has {arr.shape[0]} entries but the data have {n_samples} samples"
-        )
+        raise ValueError(f"{name} has {arr.shape[0]} entries but the data have {n_samples} samples")
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} contains NaN or inf")
     steps = np.diff(arr)
@@ -134,9 +134,7 @@ def time_vector(t: float | np.ndarray, n_samples: int) -> np.ndarray:
     return np.asarray(t, dtype=float)
 
 
-def check_trajectories(
-    x, name: str = "x", *, min_samples: int = 1
-) -> tuple[list[np.ndarray], bool]:
+def check_trajectories(x, name: str = "x", *, min_samples: int = 1) -> tuple[list[np.ndarray], bool]:
     """Validate one trajectory or a list of them.
 
     A list or tuple whose items are arrays (numpy arrays or DataFrames) is several trajectories, as in
@@ -157,10 +155,7 @@ def check_trajectories(
         if len(x) == 0:
             raise ValueError(f"{name} is an empty list")
         if all(hasattr(xi, "shape") for xi in x):
-            arrs = [
-                check_signal(xi, f"{name}[{i}]", min_samples=min_samples)
-                for i, xi in enumerate(x)
-            ]
+            arrs = [check_signal(xi, f"{name}[{i}]", min_samples=min_samples) for i, xi in enumerate(x)]
             widths = {a.shape[1] for a in arrs}
             if len(widths) != 1:
                 raise ValueError(

@@ -276,10 +276,20 @@ class ImpulseSINDy(ps.SINDy):
         # The empty model (x' = 0) stays on the path for plotting but is never selected.
         usable = np.isfinite(gammas) & (n_terms > 0)
         if not np.any(usable):
-            raise RuntimeError(
-                "every candidate model diverged when simulated from the first sample; check the data "
-                "(units of t, trends, clipping) or use a smaller feature library"
+            if not np.any(np.isfinite(gammas)):
+                raise RuntimeError(
+                    "every candidate model diverged when simulated from the first sample; check the data "
+                    "(units of t, trends, clipping) or use a smaller feature library"
+                )
+            # Only the empty model reproduces the data without diverging (e.g. white noise): that is
+            # the honest answer, "no deterministic dynamics found".
+            warnings.warn(
+                "every non-trivial candidate model diverged when simulated; the fitted model is x' = 0 "
+                "(no deterministic dynamics found in the data)",
+                RuntimeWarning,
+                stacklevel=2,
             )
+            usable = np.isfinite(gammas)
 
         def refined(index):
             if not self.refine:
@@ -377,15 +387,28 @@ class ImpulseSINDy(ps.SINDy):
         """Number of non-zero coefficients."""
         return int(np.count_nonzero(self.coefficients()))
 
+    def _check_states(self, x, min_samples: int = 1):
+        """Validate states for a fitted model: one column per state."""
+        if np.ndim(x) == 1 and self.n_features_in_ > 1:
+            raise ValueError(
+                f"x is 1-D but the model has {self.n_features_in_} states: Reshape your data to "
+                f"(n_samples, {self.n_features_in_})"
+            )
+        trajectories, multiple = check_trajectories(x, "x", min_samples=min_samples)
+        for xi in trajectories:
+            if xi.shape[1] != self.n_features_in_:
+                raise ValueError(
+                    f"X has {xi.shape[1]} features, but {type(self).__name__} is expecting "
+                    f"{self.n_features_in_} features as input (x must have one column per state)"
+                )
+        return trajectories, multiple
+
     def predict(self, x, u=None):
         """The model's right-hand side at states ``x`` (or a list of state arrays)."""
         check_is_fitted(self, "optimizer_")
         if u is not None:
             raise ValueError("control inputs u are not supported")
-        trajectories, multiple = check_trajectories(x, "x")
-        for xi in trajectories:
-            if xi.shape[1] != self.n_features_in_:
-                raise ValueError(f"x has {xi.shape[1]} states but the model has {self.n_features_in_}")
+        trajectories, multiple = self._check_states(x)
         if self.model_ is not None:
             out = [self.model_.rhs(xi) for xi in trajectories]
         else:
@@ -436,7 +459,7 @@ class ImpulseSINDy(ps.SINDy):
         Used by scikit-learn's model selection (e.g. ``GridSearchCV``).
         """
         check_is_fitted(self, "optimizer_")
-        trajectories, _ = check_trajectories(x, "x", min_samples=2)
+        trajectories, _ = self._check_states(x, min_samples=2)
         times = self._times(t, trajectories)
         total = 0.0
         for xi, ti in zip(trajectories, times):

@@ -14,7 +14,8 @@ def test_check_signal_reshapes_1d():
         ([1.0, np.nan, 2.0], ValueError, "NaN"),
         ([1.0, np.inf], ValueError, "inf"),
         ([], ValueError, "empty"),
-        (np.array([1 + 1j, 2]), TypeError, "complex"),
+        (np.array([1 + 1j, 2]), ValueError, "complex"),
+        (np.zeros((5, 0)), ValueError, "0 feature"),
         (np.array(["a", "b"]), TypeError, "non-numeric"),
         (np.zeros((2, 2, 2)), ValueError, "1-D or 2-D"),
     ],
@@ -47,3 +48,10 @@ def test_check_trajectories():
     assert not multi and one[0].shape == (2, 2)
     with pytest.raises(ValueError, match="same number of states"):
         check_trajectories([np.zeros((5, 2)), np.ones((4, 3))])
+
+
+def test_sparse_refused():
+    from scipy import sparse
+
+    with pytest.raises(TypeError, match="sparse"):
+        check_signal(sparse.csr_matrix(np.eye(3)), "x")
