@@ -14,6 +14,11 @@ step. ``f0`` is free (it is ``y[0]``), not pinned to the noisy first sample. The
 iteration becomes a banded symmetric positive definite system ``(I + alpha D^T W D) y = f`` solved in O(N)
 time and memory; ``u`` is then the centred derivative of ``y`` (second order, no lag), and ``y`` itself is
 the filtered state of the paper, exactly the time integral of the midpoint derivative ``diff(y) / dt``.
+
+Long records (more than ``max_knots`` samples) and non-uniformly sampled ones use ``y = B c`` with ``B`` a
+uniform cubic B-spline basis and the penalty on the differences of ``c`` (P-splines): the system stays
+banded, ``(B^T B + alpha D^T W D) c = B^T f``, is far better conditioned, and ``u`` is the exact derivative
+of the spline ``y``.
 """
 
 from __future__ import annotations
@@ -59,7 +64,8 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
     ``1/2 sum (y - f)^2 + alpha * sum_r dt_r * |d^(order) u / dt^(order)|_r`` with ``u = dy/dt`` (see the
     module docstring). The lagged-diffusivity iteration solves a banded system per step, so the cost is O(N)
     per iteration, memory O(N). ``smoothed_x_`` is ``y`` (the time integral of the derivative, the filtered
-    states of Stender et al. 2019), the derivative ``u`` is the centred difference of ``y``.
+    states of Stender et al. 2019), the derivative ``u`` is the centred difference of ``y`` (the exact
+    derivative of the spline ``y`` for long or non-uniformly sampled records, see ``max_knots``).
 
     Parameters
     ----------
@@ -67,9 +73,12 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         Regularization weight. ``"auto"`` chooses it per column with ``alpha_selection`` after normalizing
         the column (mean 0, standard deviation 1, unit sample spacing), so the choice does not depend on
         the units of the data or of time. A float (or one per column) is used as given, in the units of
-        the functional above: it scales linearly with the signal amplitude, and, since the data term is a
-        sum over samples, for a fixed duration it grows roughly in proportion to the number of samples.
-        ``alpha_`` after an ``"auto"`` run is a value in these units that reproduces the result.
+        the functional above (data units x time units^order): it scales linearly with the signal
+        amplitude. Because the penalty is written as a time integral, the best alpha depends little on
+        the sampling rate: on the benchmark ring-down (30 dB, 4 s) the automatic choice changed by less
+        than 1.6x between 201 and 1601 samples, for order 1 and 3 (Chartrand's unscaled sum over samples
+        would need alpha proportional to N instead). ``alpha_`` after an ``"auto"`` run is a value in
+        these units that reproduces the result.
     order : {1, 2, 3}, default=3
         Penalized derivative of ``u``: 1 is Chartrand's total variation (piecewise-constant derivative),
         2 and 3 penalize the variation of the 2nd and 3rd derivative. Smooth ring-downs favour 3 (about
@@ -78,8 +87,9 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         Criterion for ``alpha="auto"``, minimized over a log grid of alphas:
 
         - ``"gcv"``: modified generalized cross-validation ``N * RSS / (N - 1.4 * df)^2`` with ``df`` the
-          trace of the linearized smoother ``(I + alpha D^T W D)^-1`` (computed in O(N) from the banded
-          factorization). Fully automatic on noisy and clean data.
+          trace of the linearized smoother ``(I + alpha D^T W D)^-1`` at the converged weights (computed
+          in O(N) from the banded factorization). Fully automatic on noisy and clean data: within 2-6% of
+          the best alpha in hindsight on the paper's ring-down at 20-40 dB SNR.
         - ``"consistency"``: the paper's criterion (Fig 3, Fig 7a), the RMS difference between the input
           and the time-integrated derivative over the untrimmed samples. On noisy data it decreases down
           to the smallest alpha (the paper calls it semi-automated): inspect ``alpha_curve_``.
@@ -121,6 +131,11 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         Most lagged-diffusivity iterations of the final solve over the columns.
     n_features_in_ : int
         Number of columns seen by the last ``fit``/differentiation.
+
+    Notes
+    -----
+    The paper's Fig 7a for column ``j``:
+    ``plt.semilogx(est.alpha_curve_[j]["alpha"], est.alpha_curve_[j]["consistency"])``.
 
     Examples
     --------
