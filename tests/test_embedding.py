@@ -258,6 +258,27 @@ def test_noise_only_warns_and_still_returns_a_dimension():
     noise = np.random.default_rng(0).standard_normal(300)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        emb = DelayEmbedding(max_dimension=4).fit(noise)
+        emb = DelayEmbedding(max_dimension=4, denoise=False).fit(noise)
     assert any("no dimension in 1..4" in str(w.message) for w in caught)
     assert 1 <= emb.dimension_ <= 4
+
+
+@pytest.mark.parametrize("snr", [40, 30])
+def test_denoise_keeps_paper_parameters_on_noisy_x1(snr):
+    raw_dims = []
+    for seed in range(5):
+        s = damped_oscillator(snr_db=snr, random_state=seed).x[:, 0]
+        emb = DelayEmbedding().fit(s)
+        assert (emb.tau_, emb.dimension_) == (18, 2)
+        raw_dims.append(DelayEmbedding(denoise=False).fit(s).dimension_)
+    if snr == 30:  # the raw signal's false neighbours are noise: the reason for denoise=True
+        assert max(raw_dims) == 3
+
+
+def test_denoise_does_not_change_transform():
+    s = damped_oscillator(snr_db=30, random_state=0).x[:, 0]
+    emb = DelayEmbedding().fit(s)
+    q = emb.transform(s)
+    np.testing.assert_array_equal(q[:, -1], s[emb.offset_ :])
+    with pytest.raises(TypeError, match="denoise"):
+        DelayEmbedding(denoise="yes").fit(s)

@@ -378,3 +378,14 @@ def test_transformer_fit_transform():
     np.testing.assert_allclose(d, TVRegDiff()(f, 0.01), atol=1e-8)
     with pytest.raises(ValueError, match="features"):
         est.transform(f[:, :1])
+
+
+def test_long_ring_down_with_many_periods_is_not_oversmoothed():
+    # 20,001 samples, about 250 periods: more than max_knots / 10 periods, so the spline gets more knots
+    ring = damped_oscillator(c=0.02, t_end=200.0)
+    diff = TVRegDiff()
+    x_dot = diff(ring.x[:, :1], ring.t[1] - ring.t[0])
+    interior = slice(10, -10)
+    err = np.abs(x_dot[interior, 0] - ring.x_dot[interior, 0]).max() / np.abs(ring.x_dot[:, 0]).max()
+    assert err < 1e-2
+    assert np.abs(np.asarray(diff.smoothed_x_)[:, 0] - ring.x[:, 0]).max() < 1e-2

@@ -111,8 +111,9 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         ``min(n_samples, max_knots)`` uniformly spaced coefficients (P-splines) instead of one value per
         sample: the banded system of the strongly smoothing high-order penalty a finely sampled record needs
         is otherwise too ill-conditioned for double precision (and it is faster). The derivative is then
-        the spline's exact derivative. Keep at least ~10 knots per oscillation period; ``None`` uses one
-        value per sample for uniform sampling whatever the length.
+        the spline's exact derivative. The number of coefficients is raised above ``max_knots`` when the
+        record holds many oscillations (20 coefficients per period counted in the data), so long ring-downs
+        are never over-smoothed; ``None`` uses one value per sample for uniform sampling whatever the length.
     dt : float, default=1.0
         Sample spacing used by ``fit``/``transform`` (PySINDy passes the time to ``_differentiate``).
 
@@ -282,7 +283,7 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
             uniform = bool(np.max(np.abs(steps - dt_mean)) <= 1e-6 * dt_mean)  # logger rounding
         tau = np.arange(n, dtype=float) if uniform else (t_checked - t_checked[0]) / dt_mean
         m = self.order + 1
-        n_knots = n if self.max_knots is None else min(n, self.max_knots)
+        n_knots = n if self.max_knots is None else min(n, max(self.max_knots, _knots_needed(arr)))
         if uniform and n_knots == n:
             basis = IdentityBasis(tau)
         else:
@@ -413,6 +414,26 @@ class _Problem:
         gcv = n * rss / denom**2 if denom > 0 and 0 < dof <= n else np.inf
         consistency = _consistency_error(self.g, y, self.basis.slopes(c), self.basis.tau, self.trim)
         return gcv, consistency, float(np.sqrt(rss / n)), dof
+
+
+#: Spline coefficients per oscillation period: below ~10 the spline cannot follow the oscillation.
+KNOTS_PER_PERIOD = 20
+
+
+def _knots_needed(arr: np.ndarray) -> int:
+    """Spline coefficients needed to follow the fastest-oscillating column.
+
+    Periods are counted as half the number of sign changes of the centred signal, with hysteresis at
+    +-0.1 standard deviations so that noise around zero does not count as oscillation.
+    """
+    centred = arr - arr.mean(axis=0)
+    band = 0.1 * centred.std(axis=0)
+    most = 0
+    for j in range(arr.shape[1]):
+        col = centred[:, j]
+        signs = np.sign(col[np.abs(col) > band[j]])
+        most = max(most, int(np.count_nonzero(np.diff(signs))))
+    return KNOTS_PER_PERIOD * (most // 2 + 1)
 
 
 def _check_2d(X):
