@@ -382,7 +382,7 @@ class DelayEmbedding(TransformerMixin, BaseEstimator):
 
         if signal.size < 16:  # too short to filter meaningfully; estimate on the raw samples
             return signal
-        diff = TVRegDiff()
+        diff = TVRegDiff(tol=1e-2)  # a loose tolerance is plenty for estimating tau and m (3x faster)
         diff(signal[:, None], 1.0)
         return np.asarray(diff.smoothed_x_, dtype=float)[:, 0]
 

@@ -352,6 +352,8 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
             records[r] = problem.score(lam_max * 10**-r, c) + (c,)
             if use_gcv and records[r][3] * _GCV_GAMMA >= n:
                 break  # dof > N / gamma: GCV undefined for this and every smaller alpha
+            if use_gcv and _past_minimum(records):
+                break  # GCV has clearly turned up: smaller alphas only fit more noise
         key = 0 if use_gcv else 1
 
         def best_exponent():
@@ -378,6 +380,14 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
             "dof": table[:, 3],
         }
         return c_sel, lam_best, curve, its_sel
+
+
+def _past_minimum(records: dict, steps: int = 3, factor: float = 2.0) -> bool:
+    """True once the GCV scan is ``steps`` grid points past its minimum and ``factor`` times above it."""
+    order = sorted(records)
+    gcv = [records[r][0] for r in order]
+    best = int(np.argmin(gcv))
+    return len(gcv) - 1 - best >= steps and gcv[-1] > factor * gcv[best]
 
 
 class _Problem:
