@@ -242,8 +242,7 @@ def consensus(
     >>> import pysindy as ps
     >>> from sindy_impulse import ImpulseSINDy, damped_oscillator
     >>> from sindy_impulse.analysis import consensus
-    >>> rings = [damped_oscillator(x0=(a, v), snr_db=40, random_state=i)
-    ...          for i, (a, v) in enumerate([(1, 0), (0.6, -2), (-0.2, 1), (0.2, 5), (-1, 0)])]
+    >>> rings = [damped_oscillator(x0=(a, v)) for a, v in [(1, 0), (0.6, -2), (-0.2, 1), (0.2, 5), (-1, 0)]]
     >>> models = [ImpulseSINDy(feature_library=ps.PolynomialLibrary(degree=1)).fit(r.x, t=r.t) for r in rings]
     >>> result = consensus(models)
     >>> result.equations(precision=1)
@@ -318,7 +317,7 @@ def consensus_fit(estimator, trajectories, t=None, **fit_params) -> Consensus:
     --------
     >>> import pysindy as ps
     >>> from sindy_impulse import ImpulseSINDy, damped_oscillator
-    >>> from sindy_impulse.analysis import consensus_fit
+    >>> from sindy_impulse.analysis.consensus import consensus_fit
     >>> rings = [damped_oscillator(x0=(a, 0)) for a in (1.0, 0.5, -0.3)]
     >>> est = ImpulseSINDy(feature_library=ps.PolynomialLibrary(degree=1))
     >>> consensus_fit(est, [r.x for r in rings], t=0.01).equations(precision=1)
