@@ -4,12 +4,12 @@
 
 ``"auto"`` is complexity-aware. On noisy data the minimum of Gamma often sits on a model with spurious
 terms that fit the noise left in the filtered states, while the true, sparser model is only slightly
-worse -- and, once refined, often better. So the rule refines the candidates sparser than the
-minimum-Gamma one, sparsest first, and keeps the first whose refined Gamma is within a tolerance of the
-sweep's least Gamma (falling back to the minimum-Gamma candidate, refined). The tolerance has two
-parts: a relative one (``REL_TOL`` of the least Gamma: differences smaller than that are not resolved
-by a finite record) and one from the data's noise (``NOISE_TOL`` times the Gamma between the measured
-and the filtered states, i.e. what the filter removed).
+worse -- and, once refined, often better. So the rule refines the minimum-Gamma candidate, then the
+sparser ones, sparsest first, and keeps the first whose refined Gamma is within a tolerance of the
+best Gamma reached (falling back to the minimum-Gamma candidate). The tolerance has two parts: a
+relative one (``REL_TOL`` of the best Gamma: differences smaller than that are not resolved by a finite
+record) and one from the data's noise (``NOISE_TOL`` times the Gamma between the measured and the
+filtered states, i.e. what the filter removed).
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ SELECTION_RULES = ("auto", "min_gamma")
 #: Relative tolerance of the "auto" rule (fraction of the best refined Gamma).
 REL_TOL = 0.1
 #: Weight of the noise Gamma in the tolerance of the "auto" rule.
-NOISE_TOL = 0.1
+NOISE_TOL = 0.25
 #: Candidates whose unrefined Gamma exceeds this factor times the target are not refined.
 HOPELESS = 10.0
 
@@ -65,20 +65,24 @@ def select_candidate(rule: str, gammas, n_terms, refine, noise_gamma: float = 0.
     best = int(order[0])
     if rule == "min_gamma":
         return best, refine(best)
-    # Walk from the sparsest candidate up to the minimum-Gamma one and keep the first whose refined
-    # Gamma is within tolerance of the sweep's best. Refinement only lowers Gamma, so the minimum-Gamma
-    # candidate itself always qualifies; candidates worse than HOPELESS times the target are skipped
-    # (bounded refinement cannot close such a gap), which keeps the cost to a few small refinements.
-    g_best = float(gammas[best])
+    # Refine the minimum-Gamma candidate first: refinement can lower Gamma by orders of magnitude, and
+    # the tolerance must be measured from what the best model achieves, not from its unrefined value.
+    # Then walk from the sparsest candidate upwards and keep the first whose refined Gamma is within the
+    # tolerance; the minimum-Gamma candidate is the fallback. Candidates whose unrefined Gamma exceeds
+    # HOPELESS times the unrefined target are skipped (bounded refinement cannot close such a gap).
+    best_result = refine(best)
+    g_unrefined = float(gammas[best])
+    g_best = min(g_unrefined, float(best_result[1]))
     target = g_best + REL_TOL * g_best + NOISE_TOL * noise_gamma
+    skip_above = HOPELESS * (g_unrefined + REL_TOL * g_unrefined + NOISE_TOL * noise_gamma)
     sparser = sorted(
         (int(i) for i in np.flatnonzero(finite) if 0 < n_terms[i] < n_terms[best]),
         key=lambda i: (n_terms[i], gammas[i]),
     )
     for i in sparser:
-        if gammas[i] > HOPELESS * target:
+        if gammas[i] > skip_above:
             continue
         result = refine(i)
         if result[1] <= target:
             return i, result
-    return best, refine(best)
+    return best, best_result

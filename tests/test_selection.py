@@ -1,0 +1,43 @@
+import numpy as np
+import pytest
+
+from sindy_impulse.selection import select_candidate
+
+
+def _refine_table(refined):
+    return lambda i: (f"coef{i}", refined[i], {})
+
+
+def test_auto_prefers_sparser_model_within_tolerance():
+    gammas = np.array([1.00, 1.05, 1.30, 9.0])
+    n_terms = np.array([8, 5, 3, 2])
+    refined = {0: 0.95, 1: 1.0, 2: 1.02, 3: 8.0}
+    index, (coef, g, _) = select_candidate("auto", gammas, n_terms, _refine_table(refined))
+    assert index == 2 and g == 1.02
+
+
+def test_auto_measures_tolerance_from_the_refined_best():
+    # the 4-term model refines from 7.0 to 0.002; a 3-term model refining to 7.7 must not win
+    # (the Duffing case of section 3.4 with k = 398)
+    gammas = np.array([7.02, 7.9])
+    n_terms = np.array([4, 3])
+    refined = {0: 0.002, 1: 7.7}
+    index, _ = select_candidate("auto", gammas, n_terms, _refine_table(refined))
+    assert index == 0
+
+
+def test_noise_widens_the_tolerance():
+    gammas = np.array([1.0, 1.5])
+    n_terms = np.array([6, 3])
+    refined = {0: 1.0, 1: 1.4}
+    assert select_candidate("auto", gammas, n_terms, _refine_table(refined))[0] == 0
+    assert select_candidate("auto", gammas, n_terms, _refine_table(refined), noise_gamma=4.0)[0] == 1
+
+
+def test_min_gamma_and_diverged_candidates():
+    gammas = np.array([np.inf, 2.0, 3.0])
+    n_terms = np.array([10, 4, 2])
+    refined = {1: 1.5, 2: 1.6}
+    assert select_candidate("min_gamma", gammas, n_terms, _refine_table(refined))[0] == 1
+    with pytest.raises(ValueError, match="selection"):
+        select_candidate("bic", gammas, n_terms, _refine_table(refined))
