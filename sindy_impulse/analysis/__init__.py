@@ -1,33 +1,29 @@
 """From models to answers (paper sections 3.2-3.4): complexity-error plane, consensus over repeated
-impacts, parameter tracking, the test for nonlinearity and modal parameters."""
+impacts, parameter tracking, the test for nonlinearity and modal parameters.
 
-from __future__ import annotations
+Imported eagerly: ``from .consensus import consensus`` binds the function, not the module of the same
+name, whatever the order in which names are first used.
+"""
 
-import importlib
+from .complexity import ComplexityError, complexity_error
+from .consensus import Consensus, Histogram, consensus, consensus_fit
+from .modal import ModalParameters, jacobian_at_origin, modal_parameters
+from .nonlinearity import NonlinearityResult, NonlinearTerm, nonlinearity_test
+from .parameters import ParameterDependency, parameter_dependency
 
-_PUBLIC = {
-    "complexity_error": "sindy_impulse.analysis.complexity",
-    "ComplexityError": "sindy_impulse.analysis.complexity",
-    "consensus": "sindy_impulse.analysis.consensus",
-    "Consensus": "sindy_impulse.analysis.consensus",
-    "parameter_dependency": "sindy_impulse.analysis.parameters",
-    "ParameterDependency": "sindy_impulse.analysis.parameters",
-    "nonlinearity_test": "sindy_impulse.analysis.nonlinearity",
-    "NonlinearityResult": "sindy_impulse.analysis.nonlinearity",
-    "modal_parameters": "sindy_impulse.analysis.modal",
-    "ModalParameters": "sindy_impulse.analysis.modal",
-}
-
-__all__ = sorted(_PUBLIC)
-
-
-def __getattr__(name: str):
-    if name in _PUBLIC:
-        value = getattr(importlib.import_module(_PUBLIC[name]), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module 'sindy_impulse.analysis' has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(list(globals()) + __all__)
+__all__ = [
+    "ComplexityError",
+    "Consensus",
+    "Histogram",
+    "ModalParameters",
+    "NonlinearTerm",
+    "NonlinearityResult",
+    "ParameterDependency",
+    "complexity_error",
+    "consensus",
+    "consensus_fit",
+    "jacobian_at_origin",
+    "modal_parameters",
+    "nonlinearity_test",
+    "parameter_dependency",
+]

@@ -16,8 +16,6 @@ records together. It returns the same :class:`Consensus` type so both can be com
 
 from __future__ import annotations
 
-import sys
-import types
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
@@ -342,20 +340,3 @@ def consensus_fit(estimator, trajectories, t=None, **fit_params) -> Consensus:
         library=library,
         model=model,
     )
-
-
-class _CallableModule(types.ModuleType):
-    """This module, callable as :func:`consensus`.
-
-    The function shares its name with this module, and the import system binds
-    ``sindy_impulse.analysis.consensus`` to the module whenever the module is imported, e.g. when
-    ``Consensus`` is the first name taken from the lazy ``sindy_impulse.analysis``. Making the module
-    callable keeps ``from sindy_impulse.analysis import consensus; consensus(models)`` working in any
-    import order.
-    """
-
-    def __call__(self, *args, **kwargs):
-        return consensus(*args, **kwargs)
-
-
-sys.modules[__name__].__class__ = _CallableModule
