@@ -29,9 +29,32 @@ def test_auto_measures_tolerance_from_the_refined_best():
 def test_noise_widens_the_tolerance():
     gammas = np.array([1.0, 1.5])
     n_terms = np.array([6, 3])
-    refined = {0: 1.0, 1: 1.4}
+    refined = {0: 0.9, 1: 1.4}
     assert select_candidate("auto", gammas, n_terms, _refine_table(refined))[0] == 0
-    assert select_candidate("auto", gammas, n_terms, _refine_table(refined), noise_gamma=4.0)[0] == 1
+    assert select_candidate("auto", gammas, n_terms, _refine_table(refined), noise_gamma=6.0)[0] == 1
+
+
+def test_floor_makes_numerically_perfect_fits_equal():
+    # clean data: 0.0018 vs 0.0015 is integrator/filter accuracy, not structure
+    gammas = np.array([0.5, 0.6])
+    n_terms = np.array([9, 4])
+    refined = {0: 0.0015, 1: 0.0018}
+    assert select_candidate("auto", gammas, n_terms, _refine_table(refined))[0] == 0
+    assert select_candidate("auto", gammas, n_terms, _refine_table(refined), n_values=800)[0] == 1
+
+
+def test_dense_best_is_not_refined_when_a_sparse_model_passes():
+    gammas = np.array([1.0, 1.05, 1.08])
+    n_terms = np.array([20, 5, 3])
+    refined = {1: 1.0, 2: 1.02}
+    calls = []
+
+    def refine(i):
+        calls.append(i)
+        return None, refined[i], {}
+
+    assert select_candidate("auto", gammas, n_terms, refine)[0] == 2
+    assert 0 not in calls
 
 
 def test_min_gamma_and_diverged_candidates():
