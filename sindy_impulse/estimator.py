@@ -21,7 +21,7 @@ from ._validation import check_signal, check_time, check_trajectories, time_vect
 from .feature_library.terms import term_table
 from .metrics import gamma_from_arrays
 from .optimizers import ThresholdSweep
-from .refinement import refine_coefficients, simulation_gamma
+from .refinement import WorkBudget, refine_coefficients, simulation_gamma
 from .selection import SELECTION_RULES, select_candidate
 from .simulation import CompiledModel
 
@@ -271,8 +271,17 @@ class ImpulseSINDy(ps.SINDy):
         def compile_(coef):
             return CompiledModel(coef, terms, reference=reference, divergence_factor=self.divergence_factor)
 
-        gammas = np.array([simulation_gamma(compile_(c), filtered, times) for c in candidates])
         n_terms = np.array([np.count_nonzero(c) for c in candidates])
+        # One deterministic work budget bounds the fit's simulations, however large the library or long
+        # the record. Sparsest candidates first: if it runs out, the densest ones go unsimulated (inf).
+        budget = WorkBudget()
+        gammas = np.full(len(candidates), np.inf)
+        n_skipped = 0
+        for i in np.argsort(n_terms, kind="stable"):
+            if budget.exhausted:
+                n_skipped += 1
+                continue
+            gammas[i] = simulation_gamma(compile_(candidates[i]), filtered, times, budget=budget)
         # The empty model (x' = 0) stays on the path for plotting but is never selected.
         usable = np.isfinite(gammas) & (n_terms > 0)
         if not np.any(usable):
@@ -295,7 +304,12 @@ class ImpulseSINDy(ps.SINDy):
             if not self.refine:
                 return candidates[index], gammas[index], {"gamma": [gammas[index]], "coefficients": []}
             res = refine_coefficients(
-                compile_(candidates[index]), filtered, times, self.bound_factor, self.refine_max_iter
+                compile_(candidates[index]),
+                filtered,
+                times,
+                self.bound_factor,
+                self.refine_max_iter,
+                budget=budget,
             )
             coef = res.coefficients
             g = simulation_gamma(compile_(coef), filtered, times)
@@ -305,9 +319,22 @@ class ImpulseSINDy(ps.SINDy):
 
         noise = self._noise_gamma(trajectories, filtered)
         index, (coef, g, history) = select_candidate(
-            self.selection, np.where(usable, gammas, np.inf), n_terms, refined, noise
+            self.selection,
+            np.where(usable, gammas, np.inf),
+            n_terms,
+            refined,
+            noise,
+            n_values=int(sum(f.size for f in filtered)),
         )
 
+        if budget.exhausted:
+            what = f"{n_skipped} dense candidates not simulated" if n_skipped else "refinement stopped early"
+            warnings.warn(
+                f"the simulation work budget of the fit ran out (long record or large library): {what}; "
+                "the model may be less accurate (see sindy_impulse.refinement.WORK_BUDGET)",
+                RuntimeWarning,
+                stacklevel=2,
+            )
         self.path_ = SweepPath(thresholds, gammas, n_terms, candidates, index)
         self.threshold_ = float(thresholds[index])
         self.gamma_sindy_ = float(gammas[index])

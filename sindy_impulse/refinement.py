@@ -19,10 +19,44 @@ from scipy.optimize import minimize
 from .metrics import gamma_from_arrays
 from .simulation import CompiledModel
 
-__all__ = ["refine_coefficients", "RefinementResult", "simulation_gamma"]
+__all__ = ["refine_coefficients", "RefinementResult", "simulation_gamma", "WorkBudget", "WORK_BUDGET"]
+
+#: Simulation work allowed per fit (the sweep's simulations and every refinement together), counted as
+#: term evaluations per RK4 step (see :meth:`CompiledModel.work`). About 5-15 s on one core; the paper's
+#: oscillator uses 0.1% of it. A deterministic count, so a fit gives the same model on any machine.
+WORK_BUDGET = 3e8
 
 
-def simulation_gamma(model: CompiledModel, references, times, coef=None, substeps=None) -> float:
+class WorkBudget:
+    """A deterministic bound on the simulation work of one fit: nothing runs unbounded.
+
+    Examples
+    --------
+    >>> budget = WorkBudget(100.0)
+    >>> budget.charge(60.0), budget.charge(60.0), budget.exhausted
+    (True, False, True)
+    """
+
+    def __init__(self, units: float | None = None):
+        self.total = float(WORK_BUDGET if units is None else units)
+        self.remaining = self.total
+        self.exhausted = False
+
+    def charge(self, units: float) -> bool:
+        """Spend ``units``; False (and ``exhausted``) once the budget is used up."""
+        self.remaining -= units
+        if self.remaining < 0:
+            self.exhausted = True
+        return not self.exhausted
+
+
+class _OutOfBudget(Exception):
+    pass
+
+
+def simulation_gamma(
+    model: CompiledModel, references, times, coef=None, substeps=None, budget: WorkBudget | None = None
+) -> float:
     """Gamma of ``model`` simulated from the first sample of each reference trajectory.
 
     Parameters
@@ -36,10 +70,17 @@ def simulation_gamma(model: CompiledModel, references, times, coef=None, substep
         Active coefficients to use instead of the model's own.
     substeps : list of int, optional
         Runge-Kutta sub-steps per trajectory (default: the model's choice).
+    budget : WorkBudget, optional
+        Charged with the work done (the rows actually simulated); the simulation runs even if it
+        overdraws the budget, the caller checks ``budget.exhausted``.
     """
     total = 0.0
     for j, (ref, t) in enumerate(zip(references, times)):
-        sim = model.simulate(ref[0], t, coef=coef, substeps=None if substeps is None else substeps[j])
+        steps = model.substeps(t) if substeps is None else substeps[j]
+        sim = model.simulate(ref[0], t, coef=coef, substeps=steps)
+        if budget is not None:
+            diverged = np.isnan(sim[:, 0])
+            budget.charge(model.work(t, steps, int(np.argmax(diverged)) if diverged.any() else len(t)))
         total += gamma_from_arrays(ref, sim)
         if not np.isfinite(total):
             return np.inf
@@ -64,7 +105,7 @@ class RefinementResult:
     success : bool
         Whether SLSQP reported convergence.
     message : str
-        SLSQP's message, or why the initial model was kept.
+        SLSQP's message, or why the initial model was kept (e.g. the work budget ran out).
     """
 
     coefficients: np.ndarray
@@ -82,6 +123,7 @@ def refine_coefficients(
     bound_factor: float = 1.5,
     max_iter: int = 100,
     zero_tol: float = 1e-3,
+    budget: WorkBudget | None = None,
 ) -> RefinementResult:
     """Minimize Gamma over the model's non-zero coefficients with SLSQP within sign-preserving bounds.
 
@@ -99,6 +141,9 @@ def refine_coefficients(
         SLSQP iterations.
     zero_tol : float, default=1e-3
         A coefficient whose magnitude ends below ``zero_tol`` times its start is removed.
+    budget : WorkBudget, optional
+        Simulation work allowed (default: a fresh :data:`WORK_BUDGET`). When it runs out the
+        optimization stops at the best coefficients found so far (``success=False``).
 
     Returns
     -------
@@ -129,17 +174,26 @@ def refine_coefficients(
     # can grow with the coefficients, up to bound_factor.
     substeps = [model.substeps(t, radius=model.spectral_radius * max(1.0, bound_factor)) for t in times]
     penalty = 2.0 * sum(r.size for r in references)  # worse than any finite simulation can be
+    budget = WorkBudget() if budget is None else budget
+    best = {"gamma": np.inf, "w": None}
 
     def coef_of(w):
         c = start.copy()
         c[mask] = values * w
         return c
 
-    def objective(w):
-        g = simulation_gamma(model, references, times, coef=coef_of(w), substeps=substeps)
+    def evaluate(w):
+        g = simulation_gamma(model, references, times, coef=coef_of(w), substeps=substeps, budget=budget)
+        if g < best["gamma"]:
+            best["gamma"], best["w"] = g, np.array(w, dtype=float)
         return g if np.isfinite(g) else penalty
 
-    g0 = simulation_gamma(model, references, times, substeps=substeps)
+    def objective(w):
+        if budget.exhausted:
+            raise _OutOfBudget
+        return evaluate(w)
+
+    g0 = simulation_gamma(model, references, times, substeps=substeps, budget=budget)
     history = {"gamma": [g0], "coefficients": [model.full_coefficients.copy()]}
 
     def full(w):
@@ -154,6 +208,10 @@ def refine_coefficients(
     w0 = np.ones(values.size)
     if values.size == 0 or not np.isfinite(g0):
         return RefinementResult(model.full_coefficients.copy(), g0, g0, history, False, "nothing to refine")
+    if budget.exhausted:
+        return RefinementResult(
+            model.full_coefficients.copy(), g0, g0, history, False, "simulation work budget exhausted"
+        )
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
@@ -166,11 +224,20 @@ def refine_coefficients(
                 options={"maxiter": max_iter, "ftol": 1e-10 * max(g0, 1e-12)},
             )
         w, success, message = np.asarray(res.x, float), bool(res.success), str(res.message)
-    except (ValueError, ArithmeticError, np.linalg.LinAlgError) as err:  # pragma: no cover - defensive
-        warnings.warn(f"refinement failed ({err}); keeping the unrefined model", RuntimeWarning, stacklevel=2)
-        return RefinementResult(model.full_coefficients.copy(), g0, g0, history, False, str(err))
+    except _OutOfBudget:
+        if best["w"] is None:
+            return RefinementResult(
+                model.full_coefficients.copy(), g0, g0, history, False, "simulation work budget exhausted"
+            )
+        w, success, message = best["w"], False, "simulation work budget exhausted"
+    except Exception as err:  # noqa: BLE001 - any optimizer failure keeps the unrefined model
+        message = f"{type(err).__name__}: {err}"
+        warnings.warn(
+            f"refinement failed ({message}); keeping the unrefined model", RuntimeWarning, stacklevel=2
+        )
+        return RefinementResult(model.full_coefficients.copy(), g0, g0, history, False, message)
     w = np.where(w < zero_tol, 0.0, w)
-    g = objective(w)
+    g = evaluate(w)
     if not np.isfinite(g) or g >= g0 or not np.all(np.isfinite(w)):
         return RefinementResult(
             model.full_coefficients.copy(), g0, g0, history, success, "refinement did not improve Gamma"

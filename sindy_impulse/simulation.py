@@ -199,6 +199,16 @@ class CompiledModel:
             return MAX_SUBSTEPS
         return int(min(MAX_SUBSTEPS, max(1, math.ceil(dt_max * rho / STEP_SCALE))))
 
+    def work(self, t, substeps: int | None = None, rows: int | None = None) -> float:
+        """Cost of a simulation over ``t`` (its first ``rows`` samples), in term evaluations per RK4 step.
+
+        ``(rows - 1) * substeps * max(1, n_active_terms)``: what a
+        :class:`~sindy_impulse.refinement.WorkBudget` counts (deterministic, unlike wall time).
+        """
+        steps = self.substeps(t) if substeps is None else int(substeps)
+        rows = len(t) if rows is None else rows
+        return float(max(rows - 1, 0) * steps * max(1, self.coef.shape[1]))
+
     def simulate(self, x0, t, coef=None, substeps: int | None = None) -> np.ndarray:
         """Integrate from ``x0`` over the time grid ``t``.
 

@@ -60,8 +60,12 @@ def threshold_path(X: np.ndarray, Y: np.ndarray, max_iter: int = 20):
     Yn = Y / target_norm
     n_targets, n_features = Y.shape[1], X.shape[1]
 
-    def solve(support):
-        return np.array([_lstsq_on_support(Xn, Yn[:, i], support[i]) for i in range(n_targets)])
+    def solve(support, coef=None, rows=None):
+        # Only the equations whose support changed are solved again (the others keep their solution).
+        coef = np.zeros((n_targets, n_features)) if coef is None else coef.copy()
+        for i in range(n_targets) if rows is None else np.flatnonzero(rows):
+            coef[i] = _lstsq_on_support(Xn, Yn[:, i], support[i])
+        return coef
 
     support = np.ones((n_targets, n_features), dtype=bool)
     support[:, np.all(X == 0, axis=0)] = False  # an all-zero column carries no information
@@ -72,10 +76,11 @@ def threshold_path(X: np.ndarray, Y: np.ndarray, max_iter: int = 20):
         lam = lam * (1 + 1e-9) + 1e-300
         for _ in range(max_iter):
             new_support = support & (np.abs(coef) > lam)
-            if np.array_equal(new_support, support):
+            changed = np.any(new_support != support, axis=1)
+            if not changed.any():
                 break
             support = new_support
-            coef = solve(support)
+            coef = solve(support, coef, changed)
         key = support.tobytes()
         if key not in seen:
             seen.add(key)
