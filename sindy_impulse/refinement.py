@@ -22,9 +22,10 @@ from .simulation import CompiledModel
 __all__ = ["refine_coefficients", "RefinementResult", "simulation_gamma", "WorkBudget", "WORK_BUDGET"]
 
 #: Simulation work allowed per fit (the sweep's simulations and every refinement together), counted as
-#: term evaluations per RK4 step (see :meth:`CompiledModel.work`). About 5-15 s on one core; the paper's
-#: oscillator uses 0.1% of it. A deterministic count, so a fit gives the same model on any machine.
-WORK_BUDGET = 3e8
+#: term evaluations per RK4 step (see :meth:`CompiledModel.work`). About 2-5 s on one core; the paper's
+#: oscillator uses 1% (clean) to 5% (30 dB) of it. A deterministic count, so a fit gives the same model
+#: on any machine.
+WORK_BUDGET = 1e8
 
 
 class WorkBudget:
