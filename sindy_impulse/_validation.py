@@ -45,6 +45,8 @@ def check_signal(
     ndim: tuple[int, ...] = (1, 2),
     min_samples: int = 1,
     as_2d: bool = True,
+    allow_nan: bool = False,
+    allow_inf: bool = False,
 ) -> np.ndarray:
     """Validate one measured signal or trajectory.
 
@@ -60,6 +62,8 @@ def check_signal(
         Fewest samples (rows) the caller can use.
     as_2d : bool
         Return a 1-D input as a (n, 1) column.
+    allow_nan, allow_inf : bool
+        Accept NaN (e.g. the trimmed ends of a derivative, dropped later) or infinite values.
 
     Returns
     -------
@@ -74,8 +78,18 @@ def check_signal(
     arr = _as_float_array(x, name)
     if arr.ndim not in ndim:
         expected = " or ".join(f"{d}-D" for d in ndim)
-        raise ValueError(f"{name} must be {expected}, got an array of shape {arr.shape}")
-    bad = ~np.isfinite(arr)
+        hint = ""
+        if arr.ndim == 1 and 2 in ndim:
+            hint = f"; Reshape your data with {name}.reshape(-1, 1) for a single signal"
+        raise ValueError(f"{name} must be {expected}, got an array of shape {arr.shape}{hint}")
+    if allow_nan and allow_inf:
+        bad = np.zeros(arr.shape, dtype=bool)
+    elif allow_nan:
+        bad = np.isinf(arr)
+    elif allow_inf:
+        bad = np.isnan(arr)
+    else:
+        bad = ~np.isfinite(arr)
     if bad.any():
         idx = np.argwhere(bad)[0]
         kind = "NaN" if np.isnan(arr[tuple(idx)]) else "inf"
@@ -103,7 +117,9 @@ def check_time(t, n_samples: int, name: str = "t") -> float | np.ndarray:
     >>> check_time([0.0, 0.1, 0.2], 3)
     array([0. , 0.1, 0.2])
     """
-    if isinstance(t, Real) and not isinstance(t, bool):
+    if isinstance(t, (bool, np.bool_)):
+        raise TypeError(f"{name} must be a time step or a time vector, got {t!r}")
+    if isinstance(t, Real):
         dt = float(t)
         if not np.isfinite(dt) or dt <= 0:
             raise ValueError(f"{name} (time step) must be a positive finite number, got {t!r}")
@@ -116,7 +132,8 @@ def check_time(t, n_samples: int, name: str = "t") -> float | np.ndarray:
     if arr.shape[0] != n_samples:
         raise ValueError(f"{name} has {arr.shape[0]} entries but the data have {n_samples} samples")
     if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} contains NaN or inf")
+        i = int(np.argmax(~np.isfinite(arr)))
+        raise ValueError(f"{name} contains NaN or inf ({name}[{i}]={arr[i]!r})")
     steps = np.diff(arr)
     if np.any(steps <= 0):
         i = int(np.argmax(steps <= 0))

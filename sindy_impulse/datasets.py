@@ -7,12 +7,24 @@ oscillator ``x1' = x2, x2' = -k x1 - c x2 - k_nl x1**3`` with ``k = 64``, ``c = 
 
 from __future__ import annotations
 
+from numbers import Real
+
 import numpy as np
 from scipy.integrate import solve_ivp
 
 from ._validation import check_signal
 
 __all__ = ["damped_oscillator", "add_noise", "RingDown"]
+
+#: Most samples :func:`damped_oscillator` generates (a tiny ``dt`` would otherwise exhaust memory).
+MAX_SAMPLES = 10**7
+
+
+def _check_real(value, name: str) -> None:
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, Real):
+        raise TypeError(f"{name} must be a real number, got {value!r}")
+    if not np.isfinite(value):
+        raise ValueError(f"{name} must be finite, got {value!r}")
 
 
 class RingDown:
@@ -73,14 +85,15 @@ def damped_oscillator(
     ((401, 2), 4.0)
     """
     for name, val in (("k", k), ("c", c), ("k_nl", k_nl), ("t_end", t_end), ("dt", dt)):
-        if not np.isfinite(val):
-            raise ValueError(f"{name} must be finite, got {val!r}")
+        _check_real(val, name)
     if dt <= 0 or t_end <= 0:
         raise ValueError(f"dt and t_end must be positive, got dt={dt!r}, t_end={t_end!r}")
-    x0 = np.asarray(x0, dtype=float)
+    n = int(round(t_end / dt)) + 1
+    if n > MAX_SAMPLES:
+        raise ValueError(f"t_end / dt = {t_end / dt:.3g} samples; at most {MAX_SAMPLES:.0e} are generated")
+    x0 = check_signal(x0, "x0", ndim=(1,), as_2d=False)
     if x0.shape != (2,):
         raise ValueError(f"x0 must have 2 entries (deflection, velocity), got shape {x0.shape}")
-    n = int(round(t_end / dt)) + 1
     t = np.arange(n) * dt
 
     def rhs(_t, y):
@@ -107,10 +120,8 @@ def add_noise(x, snr_db: float, random_state=None) -> np.ndarray:
     >>> bool(abs(np.std(noisy - x) / np.std(x) - 0.01) < 0.002)
     True
     """
-    arr = np.asarray(x, dtype=float)
-    check_signal(arr, "x")
-    if not np.isfinite(snr_db):
-        raise ValueError(f"snr_db must be finite, got {snr_db!r}")
+    arr = check_signal(x, "x", as_2d=False)
+    _check_real(snr_db, "snr_db")
     rng = np.random.default_rng(random_state)
     sigma = np.std(arr, axis=0) / 10 ** (snr_db / 20)
     return arr + rng.standard_normal(arr.shape) * sigma

@@ -17,7 +17,6 @@ import warnings
 from numbers import Integral, Real
 
 import numpy as np
-from scipy.sparse import issparse
 from scipy.spatial import cKDTree
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
@@ -389,13 +388,6 @@ class DelayEmbedding(TransformerMixin, BaseEstimator):
     @staticmethod
     def _check_1d(s, min_samples: int = 1) -> np.ndarray:
         """Validate one signal: 1-D or one column, finite, numeric; returns a 1-D float array."""
-        if issparse(s):
-            raise TypeError("s is a sparse matrix; sparse input is not supported, pass a dense 1-D signal")
-        if np.iscomplexobj(s):
-            raise ValueError("Complex data not supported: s is complex, expected a real-valued signal")
-        shape = np.shape(s)
-        if len(shape) == 2 and shape[1] == 0:
-            raise ValueError(f"s has 0 feature(s) (shape={shape}) while a minimum of 1 is required.")
         arr = check_signal(s, "s", ndim=(1, 2), min_samples=min_samples)
         if arr.shape[1] != 1:
             raise ValueError(

@@ -52,9 +52,8 @@ def gamma(x_true, x_recon) -> float:
             raise ValueError("x_recon must be a list with one reconstruction per trajectory in x_true")
         return float(sum(gamma(a, b) for a, b in zip(x_true, x_recon)))
     xt = check_signal(x_true, "x_true")
-    xr = np.asarray(x_recon, dtype=float)
-    if xr.ndim == 1:
-        xr = xr[:, None]
+    # a diverged reconstruction (NaN/inf) is valid input: its Gamma is inf
+    xr = check_signal(x_recon, "x_recon", allow_nan=True, allow_inf=True)
     if xr.shape != xt.shape:
         raise ValueError(f"x_recon has shape {xr.shape} but x_true has shape {xt.shape}")
     return gamma_from_arrays(xt, xr)

@@ -27,7 +27,6 @@ from numbers import Integral, Real
 
 import numpy as np
 from pysindy.differentiation import BaseDifferentiation
-from scipy.sparse import issparse
 from sklearn.base import TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
@@ -448,20 +447,7 @@ def _knots_needed(arr: np.ndarray) -> int:
 
 def _check_2d(X):
     """scikit-learn conventions for the transformer API (PySINDy's path accepts 1-D input)."""
-    if issparse(X):
-        raise TypeError("TVRegDiff does not support sparse input; pass a dense array")
-    X = np.asarray(X.to_numpy() if hasattr(X, "to_numpy") else X)
-    if np.iscomplexobj(X):
-        raise ValueError("Complex data not supported by TVRegDiff")
-    ndim = np.ndim(X)
-    if ndim != 2:
-        raise ValueError(
-            f"Expected a 2-D array X of shape (n_samples, n_features), got {ndim}-D. Reshape your data "
-            "with X.reshape(-1, 1) for a single signal."
-        )
-    if np.shape(X)[1] == 0:
-        raise ValueError(f"0 feature(s) (shape={np.shape(X)}) while a minimum of 1 is required.")
-    return X
+    return check_signal(X, "X", ndim=(2,))
 
 
 def _consistency_error(g, y, slopes, tau, trim):

@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import numpy as np
-from pysindy.feature_library.base import BaseFeatureLibrary, x_sequence_or_item
+from pysindy.feature_library.base import BaseFeatureLibrary
 from pysindy.utils import AxesArray
 from sklearn.preprocessing import PolynomialFeatures
 from sklearn.utils.validation import check_is_fitted
 
+from .._validation import check_trajectories
 from .terms import PLAIN, SIGNED_SQUARE, SMOOTH_SIGN, TermTable
 
 __all__ = ["MechanicalLibrary"]
@@ -69,10 +70,10 @@ class MechanicalLibrary(BaseFeatureLibrary):
         if not np.isfinite(self.friction_width) or self.friction_width <= 0:
             raise ValueError(f"friction_width must be positive, got {self.friction_width!r}")
 
-    @x_sequence_or_item
-    def fit(self, x_full, y=None):
+    def fit(self, x, y=None):
         """Build the term table for data of shape (n_samples, n_states) (or a list of such)."""
         self._validate_params()
+        x_full, _ = check_trajectories(x, "x")
         n_states = x_full[0].shape[-1]
         combos = PolynomialFeatures(degree=self.degree, include_bias=self.include_bias)
         combos.fit(np.zeros((1, n_states)))
@@ -99,18 +100,18 @@ class MechanicalLibrary(BaseFeatureLibrary):
         self.n_output_features_ = self.term_table_.n_features
         return self
 
-    @x_sequence_or_item
-    def transform(self, x_full):
+    def transform(self, x):
         """Evaluate the terms on data of shape (n_samples, n_states) (or a list of such)."""
         check_is_fitted(self, "term_table_")
+        x_full, multiple = check_trajectories(x, "x")
         out = []
-        for x in x_full:
-            if x.shape[-1] != self.n_features_in_:
+        for xi in x_full:
+            if xi.shape[-1] != self.n_features_in_:
                 raise ValueError(
-                    f"x has {x.shape[-1]} states but the library was fitted on {self.n_features_in_}"
+                    f"x has {xi.shape[-1]} states but the library was fitted on {self.n_features_in_}"
                 )
-            out.append(AxesArray(self.term_table_.evaluate(np.asarray(x)), x.axes))
-        return out
+            out.append(AxesArray(self.term_table_.evaluate(xi), {"ax_time": 0, "ax_coord": 1}))
+        return out if multiple else out[0]
 
     def get_feature_names(self, input_features=None) -> list[str]:
         """Readable names: ``x^2 v``, ``v|v|``, ``sgn(v)``."""

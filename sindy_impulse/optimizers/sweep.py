@@ -13,6 +13,8 @@ from __future__ import annotations
 import numpy as np
 from pysindy.optimizers import BaseOptimizer
 
+from .._validation import check_signal
+
 __all__ = ["ThresholdSweep", "threshold_path"]
 
 
@@ -132,6 +134,20 @@ class ThresholdSweep(BaseOptimizer):
     def set_params(self, **params):
         super().set_params(**params)
         return self
+
+    def fit(self, x_, y, sample_weight=None, **reduce_kws):
+        """Compute the path for the library matrix ``x_`` (n_samples, n_features) and targets ``y``.
+
+        Rows with NaN (e.g. the trimmed ends of a derivative) are dropped, as in PySINDy.
+        """
+        X = check_signal(x_, "x", ndim=(2,), allow_nan=True)
+        Y = check_signal(y, "y", allow_nan=True, as_2d=False)
+        if Y.shape[0] != X.shape[0]:
+            raise ValueError(f"y has {Y.shape[0]} samples but x has {X.shape[0]}")
+        complete = np.all(np.isfinite(X), axis=1) & np.all(np.isfinite(Y.reshape(len(Y), -1)), axis=1)
+        if not complete.any():
+            raise ValueError(f"x and y have no sample without NaN (of {X.shape[0]})")
+        return super().fit(X, Y, sample_weight=sample_weight, **reduce_kws)
 
     def _reduce(self, x, y):
         thresholds, coefs = threshold_path(x, y, max_iter=self.max_iter)
