@@ -16,7 +16,6 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import minimize
 
-from .metrics import gamma_from_arrays
 from .simulation import CompiledModel
 
 __all__ = ["refine_coefficients", "RefinementResult", "simulation_gamma", "WorkBudget", "WORK_BUDGET"]
@@ -55,6 +54,19 @@ class _OutOfBudget(Exception):
     pass
 
 
+def _scores(model: CompiledModel, references, times, coefs, substeps=None, budget=None) -> np.ndarray:
+    """Gamma of each active-coefficient matrix in ``coefs`` (n_models, n_states, n_active), summed over
+    the trajectories; the work done is charged to ``budget``."""
+    totals = np.zeros(coefs.shape[0])
+    for j, (ref, t) in enumerate(zip(references, times)):
+        steps = model.substeps(t) if substeps is None else substeps[j]
+        gammas, rows = model.gamma(ref, t, coefs, steps)
+        if budget is not None:
+            budget.charge(float(np.sum(np.maximum(rows - 1, 0))) * steps * max(1, model.coef.shape[1]))
+        totals += gammas
+    return totals
+
+
 def simulation_gamma(
     model: CompiledModel, references, times, coef=None, substeps=None, budget: WorkBudget | None = None
 ) -> float:
@@ -75,17 +87,8 @@ def simulation_gamma(
         Charged with the work done (the rows actually simulated); the simulation runs even if it
         overdraws the budget, the caller checks ``budget.exhausted``.
     """
-    total = 0.0
-    for j, (ref, t) in enumerate(zip(references, times)):
-        steps = model.substeps(t) if substeps is None else substeps[j]
-        sim = model.simulate(ref[0], t, coef=coef, substeps=steps)
-        if budget is not None:
-            diverged = np.isnan(sim[:, 0])
-            budget.charge(model.work(t, steps, int(np.argmax(diverged)) if diverged.any() else len(t)))
-        total += gamma_from_arrays(ref, sim)
-        if not np.isfinite(total):
-            return np.inf
-    return total
+    c = model.coef if coef is None else np.asarray(coef, dtype=float)
+    return float(_scores(model, references, times, c[None], substeps, budget)[0])
 
 
 @dataclass
@@ -183,16 +186,36 @@ def refine_coefficients(
         c[mask] = values * w
         return c
 
+    last = {"w": None, "g": None}
+
     def evaluate(w):
+        w = np.asarray(w, dtype=float)
+        if last["w"] is not None and np.array_equal(w, last["w"]):
+            return last["g"]
         g = simulation_gamma(model, references, times, coef=coef_of(w), substeps=substeps, budget=budget)
         if g < best["gamma"]:
-            best["gamma"], best["w"] = g, np.array(w, dtype=float)
-        return g if np.isfinite(g) else penalty
+            best["gamma"], best["w"] = g, w.copy()
+        g = g if np.isfinite(g) else penalty
+        last["w"], last["g"] = w.copy(), g
+        return g
 
     def objective(w):
         if budget.exhausted:
             raise _OutOfBudget
         return evaluate(w)
+
+    step = 1e-7  # forward-difference step on the multipliers (of order 1)
+
+    def gradient(w):
+        """Forward differences, all perturbed models simulated in one kernel call."""
+        g = objective(w)
+        perturbed = np.repeat(coef_of(w)[None], values.size, axis=0)
+        rows, cols = np.nonzero(mask)
+        k = np.arange(values.size)
+        perturbed[k, rows, cols] += values * step
+        gp = _scores(model, references, times, perturbed, substeps, budget)
+        gp = np.where(np.isfinite(gp), gp, penalty)
+        return (gp - g) / step
 
     g0 = simulation_gamma(model, references, times, substeps=substeps, budget=budget)
     history = {"gamma": [g0], "coefficients": [model.full_coefficients.copy()]}
@@ -219,6 +242,7 @@ def refine_coefficients(
             res = minimize(
                 objective,
                 w0,
+                jac=gradient,
                 method="SLSQP",
                 bounds=[(0.0, bound_factor)] * values.size,
                 callback=callback,

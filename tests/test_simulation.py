@@ -79,3 +79,25 @@ def test_shape_errors():
     model = CompiledModel([[0, 1.0], [-1.0, 0]], terms)
     with pytest.raises(ValueError, match="x0 has 3 entries"):
         model.simulate([1, 2, 3], np.arange(3.0))
+
+
+def test_fused_gamma_equals_gamma_of_simulation():
+    # the kernel accumulates Gamma while integrating (the hot path); it must equal metrics.gamma
+    from sindy_impulse import gamma
+
+    t, x, _ = damped_oscillator(snr_db=30, random_state=1)
+    model, coef, _ = _poly_model({(0, "x1"): 1.0, (1, "x0"): -63, (1, "x1"): -3.0, (1, "x0^3"): -1.0}, x)
+    g, rows = model.gamma(x, t)
+    assert rows[0] == len(t)
+    assert g[0] == pytest.approx(gamma(x, model.simulate(x[0], t)), rel=1e-12)
+    batch = np.stack([model.coef, 2 * model.coef])
+    gb, _ = model.gamma(x, t, batch)
+    assert gb[0] == pytest.approx(g[0], rel=1e-12)
+    assert gb[1] == pytest.approx(gamma(x, model.simulate(x[0], t, coef=2 * model.coef)), rel=1e-12)
+
+
+def test_fused_gamma_is_inf_on_divergence():
+    t, x, _ = damped_oscillator()
+    model, _, _ = _poly_model({(0, "x1"): 1.0, (1, "x0"): -64, (1, "x0^3"): 500.0, (1, "x0^2"): 80.0}, x)
+    g, rows = model.gamma(x, t)
+    assert g[0] == np.inf and rows[0] < len(t)
