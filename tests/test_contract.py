@@ -549,6 +549,180 @@ def test_colleagues_entry_points_refuse_bad_states(fitted, call, value, exc, reg
         call(value, fitted)
 
 
+def _analysis():
+    from sindy_impulse import analysis
+
+    return analysis
+
+
+#: (id, call(model), exception, regex, is a reported violation) for the analysis functions.
+ANALYSIS_CALLS = [
+    (
+        "nonlinearity_test x nan",
+        lambda m: _analysis().nonlinearity_test(m, _with(np.nan), T),
+        ValueError,
+        r"x contains 1 non-finite",
+        False,
+    ),
+    (
+        "nonlinearity_test x complex",
+        lambda m: _analysis().nonlinearity_test(m, X + 0j, T),
+        ValueError,
+        r"x is complex",
+        False,
+    ),
+    (
+        "nonlinearity_test t short",
+        lambda m: _analysis().nonlinearity_test(m, X, T[:-1]),
+        ValueError,
+        r"t has 400 entries",
+        False,
+    ),
+    (
+        "consensus_fit t lengths",
+        lambda m: _analysis().consensus_fit(ImpulseSINDy(), [X, X[:300]], t=[T, T]),
+        ValueError,
+        r"t\[1\] has 401 entries but the data have 300",
+        False,
+    ),
+    (
+        "consensus_fit nan",
+        lambda m: _analysis().consensus_fit(ImpulseSINDy(), [_with(np.nan), X], t=DT),
+        ValueError,
+        r"x\[0\] contains 1 non-finite",
+        False,
+    ),
+    (
+        "consensus_fit complex",
+        lambda m: _analysis().consensus_fit(ImpulseSINDy(), [X + 0j, X], t=DT),
+        ValueError,
+        r"complex",
+        True,
+    ),
+    (
+        "consensus_fit strings",
+        lambda m: _analysis().consensus_fit(ImpulseSINDy(), [np.full((N, 2), "a"), X], t=DT),
+        TypeError,
+        r"non-numeric",
+        True,
+    ),
+    (
+        "consensus_fit sparse",
+        lambda m: _analysis().consensus_fit(ImpulseSINDy(), [sparse.csr_matrix(X), X], t=DT),
+        TypeError,
+        r"sparse",
+        True,
+    ),
+    (
+        "consensus nan",
+        lambda m: _analysis().consensus(np.full((3, 2, 2), np.nan)),
+        ValueError,
+        r"NaN or inf",
+        False,
+    ),
+    (
+        "consensus complex",
+        lambda m: _analysis().consensus(np.ones((3, 2, 2)) * 1j),
+        ValueError,
+        r"complex",
+        True,
+    ),
+    (
+        "consensus strings",
+        lambda m: _analysis().consensus(np.full((3, 2, 2), "a")),
+        TypeError,
+        r"coefficients.*non-numeric",
+        True,
+    ),
+    (
+        "parameter_dependency nan",
+        lambda m: _analysis().parameter_dependency([m, m], [np.nan, 1.0]),
+        ValueError,
+        r"values contain NaN or inf",
+        False,
+    ),
+    (
+        "parameter_dependency complex",
+        lambda m: _analysis().parameter_dependency([m, m], [1j, 1.0]),
+        ValueError,
+        r"values.*complex",
+        True,
+    ),
+    (
+        "modal_parameters nan",
+        lambda m: _analysis().modal_parameters(np.full((2, 2), np.nan)),
+        ValueError,
+        r"NaN or inf",
+        False,
+    ),
+    (
+        "modal_parameters complex",
+        lambda m: _analysis().modal_parameters(np.eye(2) * 1j),
+        ValueError,
+        r"complex",
+        True,
+    ),
+    (
+        "modal_parameters strings",
+        lambda m: _analysis().modal_parameters(np.full((2, 2), "a")),
+        TypeError,
+        r"non-numeric",
+        True,
+    ),
+    (
+        "SINDyFeatures nan",
+        lambda m: __import__("sindy_impulse").SINDyFeatures(dt=DT).fit_transform([_with(np.nan)]),
+        ValueError,
+        r"series 0 contains 1 NaN or inf",
+        False,
+    ),
+    (
+        "SINDyFeatures short",
+        lambda m: __import__("sindy_impulse").SINDyFeatures(dt=DT).fit_transform([X, X[:5]]),
+        ValueError,
+        r"series 1 has 5 samples; at least \d+ are needed",
+        False,
+    ),
+    (
+        "SINDyFeatures sparse",
+        lambda m: __import__("sindy_impulse").SINDyFeatures(dt=DT).fit_transform(sparse.csr_matrix(X.T)),
+        TypeError,
+        r"sparse",
+        True,
+    ),
+    ("plot_reconstruction t short", lambda m: _plot_t(m, T[:10]), ValueError, r"t has 10 entries", True),
+]
+
+
+def _plot_t(model, t):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from sindy_impulse.plotting import plot_reconstruction
+
+    try:
+        return plot_reconstruction(model, x=X, t=t)
+    finally:
+        plt.close("all")
+
+
+@pytest.mark.filterwarnings("ignore")
+@pytest.mark.parametrize(
+    "call, exc, regex",
+    [
+        pytest.param(c, e, r, id=i, marks=[pytest.mark.xfail(strict=True, reason=_VIOLATION)] if v else [])
+        for i, c, e, r, v in ANALYSIS_CALLS
+    ],
+)
+def test_colleagues_analysis_functions_refuse_bad_input(fitted, call, exc, regex):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a silent cast (ComplexWarning) is not a refusal
+        with pytest.raises(exc, match=regex):
+            call(fitted)
+
+
 # ------------------------------------------------------------------------------------------------------
 # 2. odd but valid input
 # ------------------------------------------------------------------------------------------------------
@@ -817,3 +991,63 @@ def test_check_estimator(estimator, expected):
     assert failed == []
     xfailed = {r["check_name"] for r in results if r["status"] == "xfail"}
     assert xfailed == set(expected)  # every listed failure still happens (the list stays honest)
+
+
+SERIES = (
+    "SINDyFeatures reads each row of X as one series (n_series, n_times): sklearn's rows of 2-10 values "
+    "are too short to embed and fit (refused clearly: 'at least N are needed')"
+)
+SINDY_FEATURES_EXPECTED_FAILURES = {
+    name: SERIES
+    for name in [
+        "check_fit_score_takes_y",
+        "check_estimators_overwrite_params",
+        "check_dont_overwrite_parameters",
+        "check_estimators_fit_returns_self",
+        "check_readonly_memmap_input",
+        "check_n_features_in_after_fitting",
+        "check_positive_only_tag_during_fit",
+        "check_estimators_dtypes",
+        "check_pipeline_consistency",
+        "check_estimators_nan_inf",
+        "check_estimators_pickle",
+        "check_f_contiguous_array_estimator",
+        "check_transformer_general",
+        "check_transformer_preserve_dtypes",
+        "check_methods_sample_order_invariance",
+        "check_methods_subset_invariance",
+        "check_fit2d_1sample",
+        "check_fit2d_1feature",
+        "check_dict_unchanged",
+        "check_fit_idempotent",
+        "check_fit_check_is_fitted",
+        "check_n_features_in",
+        "check_fit2d_predict1d",
+    ]
+}
+#: Reported to the owner of features.py (contract violations, not "cannot apply").
+SINDY_FEATURES_VIOLATIONS = {
+    "check_complex_data": "complex X: TypeError 'non-numeric or complex dtype', not ValueError",
+    "check_estimator_sparse_tag": "sparse X: the message does not say that sparse input is unsupported",
+    "check_estimator_sparse_array": "sparse X: the message does not say that sparse input is unsupported",
+    "check_estimator_sparse_matrix": "sparse X: the message does not say that sparse input is unsupported",
+    "check_transformer_data_not_an_array": "an array-like (__array__) is refused: 'X must be a list ...'",
+    "check_dtype_object": "an object array of numbers is refused as 'ragged'",
+    "check_estimators_empty_data_messages": "(n, 0) X: 'no series could be embedded', not '0 feature(s)'",
+}
+
+
+@pytest.mark.filterwarnings("ignore")
+def test_check_estimator_sindy_features():
+    from sklearn.utils.estimator_checks import check_estimator
+
+    from sindy_impulse import SINDyFeatures
+
+    expected = {**SINDY_FEATURES_EXPECTED_FAILURES, **SINDY_FEATURES_VIOLATIONS}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        results = check_estimator(SINDyFeatures(), expected_failed_checks=expected, on_fail=None)
+    failed = [r["check_name"] for r in results if r["status"] == "failed"]
+    assert failed == []
+    xfailed = {r["check_name"] for r in results if r["status"] == "xfail"}
+    assert xfailed == set(expected)
