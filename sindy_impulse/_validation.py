@@ -10,7 +10,7 @@ from numbers import Real
 
 import numpy as np
 
-__all__ = ["check_signal", "check_time", "check_trajectories", "time_vector"]
+__all__ = ["check_array", "check_signal", "check_time", "check_trajectories", "time_vector"]
 
 
 def _as_float_array(x, name: str) -> np.ndarray:
@@ -21,7 +21,10 @@ def _as_float_array(x, name: str) -> np.ndarray:
         raise TypeError(f"{name} is a sparse matrix; sparse input is not supported, pass a dense array")
     if hasattr(x, "to_numpy"):  # pandas DataFrame / Series
         x = x.to_numpy()
-    arr = np.asarray(x)
+    try:
+        arr = np.asarray(x)
+    except ValueError as err:  # nested lists of unequal length
+        raise ValueError(f"{name} is ragged ({err})") from None
     if arr.dtype == object:
         try:
             arr = arr.astype(float)
@@ -36,6 +39,72 @@ def _as_float_array(x, name: str) -> np.ndarray:
     if arr.size == 0:
         raise ValueError(f"{name} is empty (shape={arr.shape}): 0 sample(s)")
     return arr.astype(float, copy=False)
+
+
+def _check_finite(arr: np.ndarray, name: str, allow_nan: bool, allow_inf: bool, advice: str = "") -> None:
+    """Refuse NaN (unless ``allow_nan``) and inf (unless ``allow_inf``), locating the first one."""
+    if allow_nan and allow_inf:
+        return
+    if allow_nan:
+        bad = np.isinf(arr)
+    elif allow_inf:
+        bad = np.isnan(arr)
+    else:
+        bad = ~np.isfinite(arr)
+    if bad.any():
+        idx = np.argwhere(bad)[0]
+        kind = "NaN" if np.isnan(arr[tuple(idx)]) else "inf"
+        raise ValueError(
+            f"{name} contains {int(bad.sum())} non-finite value(s) ({kind} first at index "
+            f"{tuple(int(i) for i in idx)}){advice}"
+        )
+
+
+def check_array(
+    x,
+    name: str = "x",
+    *,
+    ndim: tuple[int, ...] | None = None,
+    allow_nan: bool = False,
+    allow_inf: bool = False,
+) -> np.ndarray:
+    """Validate a numeric array that is not a time series (coefficients, a system matrix, parameter values).
+
+    The same checks as :func:`check_signal` (not None, dense, real, numeric, non-empty, finite) without
+    its time-series conventions: any number of dimensions unless ``ndim`` is given, no reshaping and no
+    sample count. Callers check their own layout (e.g. a square matrix) afterwards.
+
+    Parameters
+    ----------
+    x : array-like
+        The values.
+    name : str
+        Argument name used in error messages.
+    ndim : tuple of int, optional
+        Accepted numbers of dimensions (default: any).
+    allow_nan, allow_inf : bool
+        Accept NaN or infinite values.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``x`` as a float array (not copied when it already is one).
+
+    Examples
+    --------
+    >>> check_array([[[1, 0]], [[2, 0]]], "coefficients", ndim=(3,)).shape
+    (2, 1, 2)
+    >>> check_array([1j, 1.0], "values")
+    Traceback (most recent call last):
+    ...
+    ValueError: values is complex: Complex data not supported, expected real-valued data
+    """
+    arr = _as_float_array(x, name)
+    if ndim is not None and arr.ndim not in ndim:
+        expected = " or ".join(f"{d}-D" for d in ndim)
+        raise ValueError(f"{name} must be {expected}, got an array of shape {arr.shape}")
+    _check_finite(arr, name, allow_nan, allow_inf)
+    return arr
 
 
 def check_signal(
@@ -82,21 +151,7 @@ def check_signal(
         if arr.ndim == 1 and 2 in ndim:
             hint = f"; Reshape your data with {name}.reshape(-1, 1) for a single signal"
         raise ValueError(f"{name} must be {expected}, got an array of shape {arr.shape}{hint}")
-    if allow_nan and allow_inf:
-        bad = np.zeros(arr.shape, dtype=bool)
-    elif allow_nan:
-        bad = np.isinf(arr)
-    elif allow_inf:
-        bad = np.isnan(arr)
-    else:
-        bad = ~np.isfinite(arr)
-    if bad.any():
-        idx = np.argwhere(bad)[0]
-        kind = "NaN" if np.isnan(arr[tuple(idx)]) else "inf"
-        raise ValueError(
-            f"{name} contains {int(bad.sum())} non-finite value(s) ({kind} first at index "
-            f"{tuple(int(i) for i in idx)}); remove or interpolate them first"
-        )
+    _check_finite(arr, name, allow_nan, allow_inf, "; remove or interpolate them first")
     if arr.shape[0] < min_samples:
         raise ValueError(f"{name} has {arr.shape[0]} samples; at least {min_samples} are needed")
     if as_2d and arr.ndim == 1:

@@ -21,6 +21,7 @@ from joblib import Parallel, delayed, effective_n_jobs
 from sklearn.base import BaseEstimator, TransformerMixin, clone
 from sklearn.utils.validation import check_is_fitted
 
+from ._validation import check_array
 from .embedding import DelayEmbedding
 
 __all__ = ["SINDyFeatures"]
@@ -202,54 +203,44 @@ class SINDyFeatures(TransformerMixin, BaseEstimator):
 
     @staticmethod
     def _as_series(X) -> list[np.ndarray]:
-        """Validate ``X`` and return a list of float arrays, each (n_times,) or (n_times, n_states)."""
+        """Validate ``X`` and return a list of float arrays, each (n_times,) or (n_times, n_states).
+
+        The checks of a value (dtype, NaN/inf, sparse, empty) are the shared ones of
+        :mod:`sindy_impulse._validation`; this only adds the layout of a collection of series.
+        """
         if X is None:
             raise TypeError("X is None; expected a list of series or an array (n_series, n_times)")
-        if hasattr(X, "to_numpy"):  # DataFrame: one row per series
-            X = X.to_numpy()
-        if isinstance(X, np.ndarray):
-            if X.dtype == object:
-                raise ValueError("X is a ragged (object) array; pass a list of 1-D or 2-D arrays instead")
-            if X.ndim == 1:
-                raise ValueError(
-                    f"X is 1-D (shape {X.shape}); for a single series pass [series] or X.reshape(1, -1)"
-                )
-            if X.ndim not in (2, 3):
-                raise ValueError(
-                    f"X must be 2-D (n_series, n_times) or 3-D (n_series, n_times, n_states), got {X.ndim}-D"
-                )
-            items = list(X)
-        elif isinstance(X, (list, tuple)):
+        if isinstance(X, (list, tuple)):
             if len(X) == 0:
                 raise ValueError("X is empty; expected at least one series")
-            items = list(X)
-            if not all(hasattr(s, "shape") or hasattr(s, "__len__") for s in items):
+            if not all(hasattr(s, "shape") or hasattr(s, "__len__") for s in X):
                 raise TypeError("X must be a list of array-like series")
-        else:
+            items = [check_array(s, f"X[{i}]") for i, s in enumerate(X)]
+        elif isinstance(X, (str, bytes)) or not (
+            hasattr(X, "__array__") or hasattr(X, "to_numpy") or hasattr(X, "shape")
+        ):
             raise TypeError(f"X must be a list of series or an array, got {type(X).__name__}")
-        if len(items) == 0:
-            raise ValueError("X is empty; expected at least one series")
+        else:  # an array, DataFrame or array-like: one series per row
+            if isinstance(X, np.ndarray) and X.dtype == object and any(np.ndim(v) > 0 for v in X.flat):
+                raise ValueError("X is a ragged (object) array; pass a list of 1-D or 2-D arrays instead")
+            arr = check_array(X, "X")  # a DataFrame: its rows
+            if arr.ndim == 1:
+                raise ValueError(
+                    f"X is 1-D (shape {arr.shape}); for a single series pass [series] or X.reshape(1, -1)"
+                )
+            if arr.ndim not in (2, 3):
+                raise ValueError(
+                    "X must be 2-D (n_series, n_times) or 3-D (n_series, n_times, n_states), "
+                    f"got {arr.ndim}-D"
+                )
+            items = list(arr)
 
         out = []
-        for i, s in enumerate(items):
-            if hasattr(s, "to_numpy"):
-                s = s.to_numpy()
-            try:
-                arr = np.asarray(s)
-            except ValueError as err:  # nested lists of unequal length
-                raise ValueError(f"series {i} is ragged: {err}") from None
-            if arr.dtype == object:
-                raise ValueError(f"series {i} is ragged or non-numeric")
-            if np.iscomplexobj(arr) or not (np.issubdtype(arr.dtype, np.number) or arr.dtype == bool):
-                raise TypeError(f"series {i} has non-numeric or complex dtype {arr.dtype}")
-            arr = arr.astype(float)
+        for i, arr in enumerate(items):
             if arr.ndim == 2 and arr.shape[1] == 1:
                 arr = arr[:, 0]
             if arr.ndim not in (1, 2):
                 raise ValueError(f"series {i} must be 1-D or 2-D (n_times, n_states), got shape {arr.shape}")
-            if not np.all(np.isfinite(arr)):
-                bad = int(np.sum(~np.isfinite(arr)))
-                raise ValueError(f"series {i} contains {bad} NaN or inf value(s); remove or interpolate them")
             out.append(arr)
         ndims = {a.ndim for a in out}
         if len(ndims) > 1:

@@ -6,6 +6,7 @@ import joblib
 import numpy as np
 import pysindy as ps
 import pytest
+from scipy import sparse
 from sklearn.base import clone
 from sklearn.cluster import KMeans
 from sklearn.decomposition import PCA
@@ -176,13 +177,15 @@ def test_rounding():
         ([], ValueError, "empty"),
         (None, TypeError, "None"),
         ("abc", TypeError, "list of series"),
-        ([np.full((100, 2), np.nan)], ValueError, "series 0 contains 200 NaN"),
+        ([np.full((100, 2), np.nan)], ValueError, r"X\[0\] contains 200 non-finite"),
         ([np.ones((100, 2)), np.ones((100, 3))], ValueError, "same number of states"),
         ([np.ones(100), np.ones((100, 2))], ValueError, "mixes univariate"),
         ([[[1.0, 2.0], [3.0]]], ValueError, "ragged"),
         (np.array([np.ones(3), np.ones(4)], dtype=object), ValueError, "ragged"),
         ([np.ones((5, 2))], ValueError, "series 0 has 5 samples; at least"),
-        ([np.ones((100, 2), dtype=complex)], TypeError, "complex"),
+        ([np.ones((100, 2), dtype=complex)], ValueError, r"X\[0\] is complex"),
+        (sparse.csr_matrix(np.ones((3, 100))), TypeError, "sparse input is not supported"),
+        (np.zeros((3, 0)), ValueError, r"0 feature\(s\)"),
     ],
 )
 def test_bad_input(X, error, match):

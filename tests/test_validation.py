@@ -55,3 +55,20 @@ def test_sparse_refused():
 
     with pytest.raises(TypeError, match="sparse"):
         check_signal(sparse.csr_matrix(np.eye(3)), "x")
+
+
+def test_check_array_keeps_the_layout_and_names_the_argument():
+    from sindy_impulse._validation import check_array
+
+    assert check_array([[[1, 0]], [[2, 0]]], "coefficients", ndim=(3,)).shape == (2, 1, 2)
+    assert check_array(np.array([1, 2], dtype=object), "values").dtype == float
+    message = r"values contains 1 non-finite value\(s\) \(inf first at index \(1,\)\)$"
+    with pytest.raises(ValueError, match=message):
+        check_array([1.0, np.inf], "values")
+    with pytest.raises(ValueError, match="values is complex"):
+        check_array([1j, 1.0], "values")
+    with pytest.raises(ValueError, match=r"m must be 2-D, got an array of shape \(3,\)$"):
+        check_array([1.0, 2.0, 3.0], "m", ndim=(2,))
+    with pytest.raises(ValueError, match=r"x is ragged"):
+        check_array([[1.0, 2.0], [3.0]], "x")
+    assert check_array([np.nan, np.inf], "x", allow_nan=True, allow_inf=True).shape == (2,)

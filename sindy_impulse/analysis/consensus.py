@@ -22,6 +22,8 @@ from typing import NamedTuple
 import numpy as np
 from sklearn.base import clone
 
+from .._validation import check_array, check_signal
+
 __all__ = ["consensus", "consensus_fit", "Consensus", "Histogram", "coefficient_stack"]
 
 _METHODS = ("mode", "median")
@@ -134,13 +136,12 @@ def coefficient_stack(models, feature_names=None):
     if isinstance(models, np.ndarray) or (
         isinstance(models, (list, tuple)) and models and isinstance(models[0], (np.ndarray, list))
     ):
-        stack = np.asarray(models, dtype=float)
+        name = "models (coefficients)"
+        stack = check_array(models, name)
         if stack.ndim != 3:
             raise ValueError(
-                f"coefficients must be an array (n_models, n_states, n_features), got shape {stack.shape}"
+                f"{name} must be an array (n_models, n_states, n_features), got shape {stack.shape}"
             )
-        if not np.all(np.isfinite(stack)):
-            raise ValueError("the coefficients contain NaN or inf")
         n_features = stack.shape[2]
         names = list(feature_names) if feature_names is not None else [f"f{k}" for k in range(n_features)]
         if len(names) != n_features:
@@ -323,7 +324,7 @@ def consensus_fit(estimator, trajectories, t=None, **fit_params) -> Consensus:
     """
     if not isinstance(trajectories, (list, tuple)) or len(trajectories) == 0:
         raise ValueError("trajectories must be a non-empty list of arrays (n_samples, n_states)")
-    trajectories = [np.asarray(x, dtype=float) for x in trajectories]
+    trajectories = [check_signal(x, f"trajectories[{i}]") for i, x in enumerate(trajectories)]
     model = clone(estimator).fit(trajectories, t=t, **fit_params)
     stack, names, states, library = coefficient_stack([model])
     coef = stack[0]

@@ -14,6 +14,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .._validation import check_array
+
 __all__ = ["modal_parameters", "ModalParameters", "jacobian_at_origin"]
 
 #: An eigenvalue is oscillatory when |Im| exceeds this fraction of its modulus.
@@ -69,11 +71,9 @@ def jacobian_at_origin(model, step: float = 1e-6) -> np.ndarray:
     if hasattr(model, "compiled") and callable(model.compiled):  # a Consensus result
         model = model.compiled()
     if isinstance(model, (np.ndarray, list, tuple)):
-        A = np.asarray(model, dtype=float)
+        A = check_array(model, "model")
         if A.ndim != 2 or A.shape[0] != A.shape[1]:
-            raise ValueError(f"a system matrix must be square, got shape {A.shape}")
-        if not np.all(np.isfinite(A)):
-            raise ValueError("the system matrix contains NaN or inf")
+            raise ValueError(f"model (a system matrix) must be square, got shape {A.shape}")
         return A
     found = _rhs_function(model)
     if found is None:

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._validation import check_array
 from .consensus import coefficient_stack
 
 __all__ = ["parameter_dependency", "ParameterDependency"]
@@ -122,13 +123,11 @@ def parameter_dependency(
     ["x1' : x1"]
     """
     stack, names, states, _ = coefficient_stack(models, feature_names)
-    vals = np.asarray(values, dtype=float)
+    vals = check_array(values, "values")
     if vals.ndim != 1 or vals.size != stack.shape[0]:
         raise ValueError(
             f"values must be 1-D with one value per model ({stack.shape[0]}), got shape {vals.shape}"
         )
-    if not np.all(np.isfinite(vals)):
-        raise ValueError("values contain NaN or inf")
     if isinstance(threshold, bool) or not (isinstance(threshold, (int, float, np.number)) and threshold >= 0):
         raise ValueError(f"threshold must be a non-negative number, got {threshold!r}")
     order = np.argsort(vals, kind="stable")
