@@ -640,10 +640,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv=None) -> int:
     parser = build_parser()
-    try:
-        args = parser.parse_args(argv)
-    except SystemExit as stop:  # --help or a usage error (already reported on one line)
-        return stop.code if isinstance(stop.code, int) else 2
+    args = parser.parse_args(argv)  # a usage error exits (code 2) after its one-line message
     try:
         return args.func(args)
     except Exception as err:  # noqa: BLE001 - the command line reports, it does not crash

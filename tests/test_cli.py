@@ -130,7 +130,10 @@ def test_features_over_a_glob(rings, tmp_path, capsys):
 # user errors: one line on stderr, exit code != 0, no traceback
 # ----------------------------------------------------------------------------------------------------
 def _error(argv, capsys):
-    code = main(argv)
+    try:
+        code = main(argv)
+    except SystemExit as stop:  # argparse's usage errors (e.g. --dt abc)
+        code = stop.code
     err = capsys.readouterr().err
     assert code != 0
     assert "Traceback" not in err
