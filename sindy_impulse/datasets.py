@@ -178,7 +178,7 @@ def load_silverbox() -> SilverboxWindows:
     Source (cite it when you use these data):
 
         T. Wigren and J. Schoukens, "Three free data sets for development and benchmarking in nonlinear
-        system identification", European Control Conference (ECC) 2013, Zurich, pp. 2933-2938.
+        system identification", European Control Conference (ECC) 2013, Zurich, Switzerland.
 
     Returns
     -------
