@@ -20,6 +20,7 @@ import numpy as np
 from joblib import Parallel, delayed, effective_n_jobs
 from sklearn.base import BaseEstimator, TransformerMixin, clone
 from sklearn.utils.validation import check_is_fitted
+from threadpoolctl import threadpool_limits
 
 from ._validation import check_array
 from .embedding import DelayEmbedding
@@ -48,25 +49,32 @@ def _fit_batch(estimator, batch, dt):
     (not a closure) so that every joblib backend, dask included, can pickle it.
     """
     out = []
-    for series in batch:
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            try:
-                model = clone(estimator).fit(series, t=dt)
-                coef = np.asarray(model.coefficients(), dtype=float)
-                if not np.all(np.isfinite(coef)):
-                    raise FloatingPointError("the reconstructed coefficients are not finite")
-                if not np.isfinite(getattr(model, "gamma_", 0.0)):
-                    raise FloatingPointError("the reconstructed model diverges when simulated")
-                if not np.any(coef):
-                    raise ValueError("no dynamics found: every coefficient is zero")
-                out.append((coef.ravel(), None))
-            except Exception as err:  # noqa: BLE001 - a failed series must never abort the batch
-                notes = "; ".join(dict.fromkeys(str(w.message) for w in caught))
-                out.append(
-                    (None, f"{type(err).__name__}: {err}" + (f" (warnings: {notes})" if notes else ""))
-                )
+    # One BLAS thread in every worker and in the main process alike: joblib's workers run single-threaded
+    # BLAS, and the same fits must give the same features whatever n_jobs is (small matrices gain nothing
+    # from BLAS threads anyway).
+    with threadpool_limits(limits=1):
+        for series in batch:
+            out.append(_fit_one(estimator, series, dt))
     return out
+
+
+def _fit_one(estimator, series, dt):
+    """``(coefficients, None)`` for a successful reconstruction, ``(None, message)`` for a failed one."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            model = clone(estimator).fit(series, t=dt)
+            coef = np.asarray(model.coefficients(), dtype=float)
+            if not np.all(np.isfinite(coef)):
+                raise FloatingPointError("the reconstructed coefficients are not finite")
+            if not np.isfinite(getattr(model, "gamma_", 0.0)):
+                raise FloatingPointError("the reconstructed model diverges when simulated")
+            if not np.any(coef):
+                raise ValueError("no dynamics found: every coefficient is zero")
+            return coef.ravel(), None
+        except Exception as err:  # noqa: BLE001 - a failed series must never abort the batch
+            notes = "; ".join(dict.fromkeys(str(w.message) for w in caught))
+            return None, f"{type(err).__name__}: {err}" + (f" (warnings: {notes})" if notes else "")
 
 
 class SINDyFeatures(TransformerMixin, BaseEstimator):

@@ -218,3 +218,12 @@ def test_too_short_for_embedding():
         feats.transform([long[:40]])
     with pytest.raises(ValueError, match="univariate"):
         feats.transform([damped_oscillator().x])
+
+
+def test_features_do_not_depend_on_n_jobs():
+    # every fit runs with one BLAS thread, in the main process as in joblib's workers
+    rng = np.random.default_rng(0)
+    series = [damped_oscillator(k=k, k_nl=knl).x for k, knl in zip(rng.uniform(36, 400, 4), [0, 50] * 2)]
+    serial = SINDyFeatures(dt=0.01, n_jobs=1).fit_transform(series)
+    parallel = SINDyFeatures(dt=0.01, n_jobs=2).fit_transform(series)
+    np.testing.assert_array_equal(serial, parallel)
