@@ -284,7 +284,7 @@ def _demo(args) -> int:
     for lhs, row in zip(model.feature_names_, path.coefficients[path.selected]):
         terms = " + ".join(f"{c: .4f} {n}" for c, n in zip(row, names) if c != 0) or "0"
         print(f"  ({lhs})' = {terms}")
-    print(f"After refinement ({model.complexity} terms), Gamma = {model.gamma_:.4f} (the paper: 2.345):")
+    print(f"After refinement ({model.complexity} terms), Gamma = {model.gamma_:.3g} (the paper: 2.345):")
     model.print(precision=4, lhs=[f"  ({n})'" for n in model.feature_names_])
     coef = model.coefficients()
     k, c = -coef[1, names.index("x1")], -coef[1, names.index("x2")]
