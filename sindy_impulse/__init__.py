@@ -25,6 +25,7 @@ _PUBLIC = {
     "SINDyFeatures": "sindy_impulse.features",
     "damped_oscillator": "sindy_impulse.datasets",
     "add_noise": "sindy_impulse.datasets",
+    "load_silverbox": "sindy_impulse.datasets",
     "analysis": "sindy_impulse.analysis",
     "plotting": "sindy_impulse.plotting",
     "datasets": "sindy_impulse.datasets",
