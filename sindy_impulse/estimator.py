@@ -250,17 +250,15 @@ class ImpulseSINDy(ps.SINDy):
         sweep = isinstance(self.optimizer_, ThresholdSweep)
         candidates = np.asarray(self.optimizer_.history_) if sweep else self.optimizer_.coef_[None].copy()
         thresholds = np.asarray(self.optimizer_.thresholds_) if sweep else np.array([np.nan])
+        n_terms = np.array([np.count_nonzero(c) for c in candidates])
         try:
             terms = term_table(self.feature_library_, n_states)
         except TypeError:
             if sweep or self.refine:
                 raise
-            terms = None  # plain PySINDy use with an unsupported library: no simulation
-        if terms is None:
+            # plain PySINDy use with a library the simulator does not support: no simulation, no Gamma
             self.model_ = None
-            self.path_ = SweepPath(
-                thresholds, np.array([np.nan]), np.array([np.count_nonzero(candidates[0])]), candidates, 0
-            )
+            self.path_ = SweepPath(thresholds, np.array([np.nan]), n_terms, candidates, 0)
             self.gamma_ = self.gamma_sindy_ = np.nan
             self.threshold_ = thresholds[0]
             self.refinement_history_ = {"gamma": [], "coefficients": []}
@@ -271,62 +269,19 @@ class ImpulseSINDy(ps.SINDy):
         def compile_(coef):
             return CompiledModel(coef, terms, reference=reference, divergence_factor=self.divergence_factor)
 
-        n_terms = np.array([np.count_nonzero(c) for c in candidates])
-        # One deterministic work budget bounds the fit's simulations, however large the library or long
-        # the record. Sparsest candidates first: if it runs out, the densest ones go unsimulated (inf).
+        # One deterministic work budget bounds all simulations of the fit (sweep and refinements).
         budget = WorkBudget()
-        gammas = np.full(len(candidates), np.inf)
-        n_skipped = 0
-        for i in np.argsort(n_terms, kind="stable"):
-            if budget.exhausted:
-                n_skipped += 1
-                continue
-            gammas[i] = simulation_gamma(compile_(candidates[i]), filtered, times, budget=budget)
-        # The empty model (x' = 0) stays on the path for plotting but is never selected.
-        usable = np.isfinite(gammas) & (n_terms > 0)
-        if not np.any(usable):
-            if not np.any(np.isfinite(gammas)):
-                raise RuntimeError(
-                    "every candidate model diverged when simulated from the first sample; check the data "
-                    "(units of t, trends, clipping) or use a smaller feature library"
-                )
-            # Only the empty model reproduces the data without diverging (e.g. white noise): that is
-            # the honest answer, "no deterministic dynamics found".
-            warnings.warn(
-                "every non-trivial candidate model diverged when simulated; the fitted model is x' = 0 "
-                "(no deterministic dynamics found in the data)",
-                RuntimeWarning,
-                stacklevel=2,
-            )
-            usable = np.isfinite(gammas)
-
-        def refined(index):
-            if not self.refine:
-                return candidates[index], gammas[index], {"gamma": [gammas[index]], "coefficients": []}
-            res = refine_coefficients(
-                compile_(candidates[index]),
-                filtered,
-                times,
-                self.bound_factor,
-                self.refine_max_iter,
-                budget=budget,
-            )
-            coef = res.coefficients
-            g = simulation_gamma(compile_(coef), filtered, times)
-            if not g <= gammas[index]:  # never worse than the swept model
-                return candidates[index], gammas[index], res.history
-            return coef, g, res.history
-
+        gammas, n_skipped = self._score_candidates(candidates, n_terms, compile_, filtered, times, budget)
+        usable = self._usable_candidates(gammas, n_terms)
         noise = self._noise_gamma(trajectories, filtered)
         index, (coef, g, history) = select_candidate(
             self.selection,
             np.where(usable, gammas, np.inf),
             n_terms,
-            refined,
+            lambda i: self._refine_candidate(candidates[i], gammas[i], compile_, filtered, times, budget),
             noise,
             n_values=int(sum(f.size for f in filtered)),
         )
-
         if budget.exhausted:
             what = f"{n_skipped} dense candidates not simulated" if n_skipped else "refinement stopped early"
             warnings.warn(
@@ -335,6 +290,7 @@ class ImpulseSINDy(ps.SINDy):
                 RuntimeWarning,
                 stacklevel=2,
             )
+
         self.path_ = SweepPath(thresholds, gammas, n_terms, candidates, index)
         self.threshold_ = float(thresholds[index])
         self.gamma_sindy_ = float(gammas[index])
@@ -345,6 +301,56 @@ class ImpulseSINDy(ps.SINDy):
         self.optimizer_.ind_ = self.optimizer_.coef_ != 0
         self.model_ = compile_(self.optimizer_.coef_)
         return self
+
+    @staticmethod
+    def _score_candidates(candidates, n_terms, compile_, filtered, times, budget):
+        """Gamma of every candidate simulated from the first sample (paper sections 2.4, 3.1).
+
+        Sparsest first: if the work budget runs out, the densest candidates stay unsimulated (inf).
+        """
+        gammas = np.full(len(candidates), np.inf)
+        n_skipped = 0
+        for i in np.argsort(n_terms, kind="stable"):
+            if budget.exhausted:
+                n_skipped += 1
+                continue
+            gammas[i] = simulation_gamma(compile_(candidates[i]), filtered, times, budget=budget)
+        return gammas, n_skipped
+
+    @staticmethod
+    def _usable_candidates(gammas, n_terms):
+        """Candidates that may be selected: finite Gamma and at least one term.
+
+        The empty model (x' = 0) stays on the path for plotting and is selected only when every other
+        candidate diverged (e.g. white noise): the honest answer "no deterministic dynamics found".
+        """
+        usable = np.isfinite(gammas) & (n_terms > 0)
+        if np.any(usable):
+            return usable
+        if not np.any(np.isfinite(gammas)):
+            raise RuntimeError(
+                "every candidate model diverged when simulated from the first sample; check the data "
+                "(units of t, trends, clipping) or use a smaller feature library"
+            )
+        warnings.warn(
+            "every non-trivial candidate model diverged when simulated; the fitted model is x' = 0 "
+            "(no deterministic dynamics found in the data)",
+            RuntimeWarning,
+            stacklevel=3,
+        )
+        return np.isfinite(gammas)
+
+    def _refine_candidate(self, coef, gamma, compile_, filtered, times, budget):
+        """The candidate refined by SLSQP on Gamma (paper section 2.5); never worse than unrefined."""
+        if not self.refine:
+            return coef, gamma, {"gamma": [gamma], "coefficients": []}
+        res = refine_coefficients(
+            compile_(coef), filtered, times, self.bound_factor, self.refine_max_iter, budget=budget
+        )
+        g = simulation_gamma(compile_(res.coefficients), filtered, times)
+        if not g <= gamma:
+            return coef, gamma, res.history
+        return res.coefficients, g, res.history
 
     def _differentiate(self, trajectories, times, x_dot, multiple):
         """Derivatives and filtered states per trajectory."""
