@@ -62,7 +62,7 @@ def _scores(model: CompiledModel, references, times, coefs, substeps=None, budge
         steps = model.substeps(t) if substeps is None else substeps[j]
         gammas, rows = model.gamma(ref, t, coefs, steps)
         if budget is not None:
-            budget.charge(float(np.sum(np.maximum(rows - 1, 0))) * steps * max(1, model.coef.shape[1]))
+            budget.charge(sum(model.work(t, steps, int(r)) for r in rows))
         totals += gammas
     return totals
 
