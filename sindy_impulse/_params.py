@@ -6,7 +6,8 @@ A small equivalent of scikit-learn's (private) parameter validation. An estimato
 
 and calls ``validate_params(self)`` at the start of ``fit``. Each entry lists the accepted forms; a value
 is valid when it satisfies any of them. A failure raises
-:class:`~sindy_impulse.exceptions.InvalidParameterError` (a ``ValueError`` and a ``TypeError``) worded ``"<Owner>: <name> must be <forms>; got <value>"``.
+:class:`~sindy_impulse.exceptions.InvalidParameterError` (a ``ValueError`` and a ``TypeError``)
+worded ``"<Owner>: <name> must be <forms>; got <value>"``.
 
 Accepted forms: ``None``; ``"boolean"``; ``"callable"``; ``"array-like"``; ``"random_state"``; a type
 (``isinstance``); an :class:`Interval`; an :class:`Options` set; a :class:`HasMethods`; a callable
@@ -15,8 +16,8 @@ Accepted forms: ``None``; ``"boolean"``; ``"callable"``; ``"array-like"``; ``"ra
 
 from __future__ import annotations
 
-from numbers import Integral, Real
 from collections.abc import Callable
+from numbers import Integral, Real
 from typing import Any
 
 import numpy as np
