@@ -104,9 +104,10 @@ class HasMethods:
 
 
 class Satisfies:
-    """Any value for which ``check(value)`` is true, described in words."""
+    """Any value for which ``check(value)`` is true, described in words (or by a function giving them, for
+    sets that change, such as registries)."""
 
-    def __init__(self, check: Callable[[Any], bool], description: str):
+    def __init__(self, check: Callable[[Any], bool], description: str | Callable[[], str]):
         self.check, self.description = check, description
 
     def __contains__(self, value: Any) -> bool:
@@ -116,7 +117,7 @@ class Satisfies:
             return False
 
     def describe(self) -> str:
-        return self.description
+        return self.description() if callable(self.description) else self.description
 
 
 def _array_like(value: Any) -> bool:
@@ -130,9 +131,11 @@ _NAMED = {
     "callable": (callable, "a callable"),
     "array-like": (_array_like, "an array-like"),
     "random_state": (
-        lambda v: v is None
-        or (isinstance(v, Integral) and not isinstance(v, bool) and v >= 0)
-        or isinstance(v, (np.random.Generator, np.random.RandomState)),
+        lambda v: (
+            v is None
+            or (isinstance(v, Integral) and not isinstance(v, bool) and v >= 0)
+            or isinstance(v, (np.random.Generator, np.random.RandomState))
+        ),
         "None, a non-negative int or a numpy Generator",
     ),
 }

@@ -10,7 +10,7 @@ from numbers import Real
 
 import numpy as np
 
-__all__ = ["check_array", "check_signal", "check_time", "check_trajectories", "time_vector"]
+__all__ = ["check_array", "check_signal", "check_time", "time_vector"]
 
 
 def _as_float_array(x, name: str) -> np.ndarray:
@@ -204,35 +204,3 @@ def time_vector(t: float | np.ndarray, n_samples: int) -> np.ndarray:
     if np.ndim(t) == 0:
         return np.arange(n_samples) * float(t)
     return np.asarray(t, dtype=float)
-
-
-def check_trajectories(x, name: str = "x", *, min_samples: int = 1) -> tuple[list[np.ndarray], bool]:
-    """Validate one trajectory or a list of them.
-
-    A list or tuple whose items are arrays (numpy arrays or DataFrames) is several trajectories, as in
-    PySINDy; anything else (including a nested list of numbers) is one trajectory.
-
-    Returns
-    -------
-    (list of numpy.ndarray, bool)
-        The validated (n_i, n_states) arrays and whether the input was a list of trajectories.
-
-    Examples
-    --------
-    >>> trajs, multiple = check_trajectories([np.zeros((5, 2)), np.ones((4, 2))])
-    >>> len(trajs), multiple
-    (2, True)
-    """
-    if isinstance(x, (list, tuple)):
-        if len(x) == 0:
-            raise ValueError(f"{name} is an empty list")
-        if all(hasattr(xi, "shape") for xi in x):
-            arrs = [check_signal(xi, f"{name}[{i}]", min_samples=min_samples) for i, xi in enumerate(x)]
-            widths = {a.shape[1] for a in arrs}
-            if len(widths) != 1:
-                raise ValueError(
-                    f"all trajectories in {name} must have the same number of states, "
-                    f"got {sorted(widths)}"
-                )
-            return arrs, True
-    return [check_signal(x, name, min_samples=min_samples)], False

@@ -1,29 +1,33 @@
-"""ImpulseSINDy: PySINDy plus the lambda sweep scored by Gamma and the bounded refinement.
+"""ImpulseSINDy: PySINDy plus the threshold sweep scored on the simulation error and the bounded refinement.
 
-The estimator reads like the paper's Figure 1 plus sections 2.4-2.5: differentiate (and filter) the
-states, build the library on the filtered states, compute every sparse candidate along the threshold
-path, simulate each from the first sample and score it by Gamma, select, refine. It holds no algorithm
-of its own: each step is a module of the package.
+The estimator reads like the paper's Figure 1 plus sections 2.4-2.5 and holds no algorithm of its own:
+validate, differentiate (:mod:`~sindy_impulse.differentiation`), build the library on the filtered states,
+enumerate the candidates along the threshold path (:mod:`~sindy_impulse.optimizers`), simulate and score
+each (:mod:`~sindy_impulse.simulation`), select (:mod:`~sindy_impulse.selection`), refine
+(:mod:`~sindy_impulse.refinement`), compile. With ``sweep=False, refine=False`` it is plain PySINDy.
 """
 
 from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
+from numbers import Integral, Real
 
 import numpy as np
 import pysindy as ps
 from pysindy.utils import AxesArray
-from sklearn.base import clone
-from sklearn.utils.validation import check_is_fitted
 
-from ._validation import check_signal, check_time, check_trajectories, time_vector
-from .feature_library.terms import term_table
-from .metrics import gamma_from_arrays
-from .optimizers import ThresholdSweep
-from .refinement import WorkBudget, refine_coefficients, simulation_gamma
+from ._fitted import FittedModelMixin
+from ._params import HasMethods, Interval, Satisfies, validate_params
+from ._trajectories import as_trajectories, check_trajectories, restore
+from .differentiation import differentiate
+from .exceptions import DataWarning, NoDynamicsWarning, UnsupportedProblemError, WorkBudgetWarning
+from .feature_library.terms import library_terms
+from .optimizers import ThresholdSweep, candidate_path, fresh_copy
+from .refinement import refine
 from .selection import SELECTION_RULES, select_candidate
-from .simulation import CompiledModel
+from .simulation import ERROR_MEASURES, ErrorMeasure, WorkBudget, compile_model, get_error_measure
+from .simulation import simulation_gamma as _gamma
 
 __all__ = ["ImpulseSINDy", "SweepPath"]
 
@@ -35,89 +39,106 @@ class SweepPath:
     Attributes
     ----------
     threshold : ndarray (n_candidates,)
-        Relative threshold at which each candidate appears (0: all terms).
-    gamma : ndarray (n_candidates,)
-        Gamma of each candidate's simulation (inf if it diverged).
+        Threshold at which each candidate appears (0: all terms; NaN for a single model).
+    score : ndarray (n_candidates,)
+        The error measure of each candidate's simulation (``inf`` if it diverged or was not simulated).
     n_terms : ndarray (n_candidates,)
         Number of non-zero coefficients.
     coefficients : ndarray (n_candidates, n_states, n_features)
     selected : int
         Index of the selected candidate.
+    measure : str
+        Name of the error measure (``"gamma"`` is the paper's Gamma).
     """
 
     threshold: np.ndarray
-    gamma: np.ndarray
+    score: np.ndarray
     n_terms: np.ndarray
     coefficients: np.ndarray
     selected: int
+    measure: str = "gamma"
+
+    @property
+    def gamma(self) -> np.ndarray:
+        """The candidates' scores (the paper's Gamma when ``measure == "gamma"``)."""
+        return self.score
 
     def __len__(self) -> int:
-        return len(self.gamma)
+        return len(self.score)
 
 
-def _default_library():
-    return ps.PolynomialLibrary(degree=3)
+_DEFAULTS = {
+    "optimizer": ThresholdSweep,
+    "feature_library": lambda: ps.PolynomialLibrary(degree=3),
+    "differentiation_method": lambda: __import__("sindy_impulse.differentiation").differentiation.TVRegDiff(),
+}
 
 
-def _default_differentiation():
-    from .differentiation import TVRegDiff
+class ImpulseSINDy(FittedModelMixin, ps.SINDy):
+    """SINDy for impulse responses: threshold sweep on the simulation error and bounded refinement.
 
-    return TVRegDiff()
-
-
-class ImpulseSINDy(ps.SINDy):
-    """SINDy for impulse responses: threshold sweep on Gamma and bounded refinement.
-
-    A drop-in :class:`pysindy.SINDy`: the same constructor arguments and methods (``fit``,
-    ``predict``, ``simulate``, ``coefficients``, ``equations``, ``print``), plus the paper's extensions.
-    With the default :class:`~sindy_impulse.ThresholdSweep` optimizer every distinct sparse model along
-    the threshold path is simulated from the first sample and scored by Gamma; another PySINDy optimizer
-    turns the sweep off (its single model is used). ``refine=True`` then minimizes Gamma over the non-zero
-    coefficients within ``[0, 1.5 xi]``.
+    A drop-in :class:`pysindy.SINDy` (the same constructor arguments and methods: ``fit``, ``predict``,
+    ``simulate``, ``score``, ``coefficients``, ``equations``, ``print``) and a scikit-learn estimator.
+    Every distinct sparse model along the optimizer's threshold path is simulated and scored by an error
+    measure (the paper's Gamma for short records, a segment-wise measure for long ones); one is selected
+    and its non-zero coefficients refined within ``[0, bound_factor * xi]``.
 
     Parameters
     ----------
-    optimizer : pysindy optimizer, default=ThresholdSweep()
-        ``ThresholdSweep`` (the sweep) or any PySINDy optimizer (no sweep). Cloned at fit.
-    feature_library : pysindy feature library, default=PolynomialLibrary(degree=3)
-        ``PolynomialLibrary`` or :class:`~sindy_impulse.MechanicalLibrary` (the compiled simulator
-        supports these). Cloned at fit.
-    differentiation_method : pysindy differentiation, default=TVRegDiff()
-        Its ``smoothed_x_`` (the filtered states) is what the library, the simulations and Gamma use.
-    selection : {"auto", "min_gamma"}, default="auto"
-        ``"min_gamma"`` keeps the candidate of least Gamma (the paper). ``"auto"`` keeps the sparsest
-        candidate whose refined Gamma is within the noise tolerance of the best (see
-        :func:`sindy_impulse.selection.select_candidate`).
+    optimizer : PySINDy optimizer, default=ThresholdSweep()
+        Its threshold path gives the candidates (see :func:`~sindy_impulse.optimizers.candidate_path`).
+    feature_library : PySINDy feature library, default=PolynomialLibrary(degree=3)
+        Libraries the compiled simulator knows (polynomial, Fourier, their concatenation,
+        :class:`~sindy_impulse.MechanicalLibrary`) run fast; any other is simulated by a general fallback.
+    differentiation_method : PySINDy differentiation, default=TVRegDiff()
+        Its ``smoothed_x_`` (the filtered states) is what the library, the simulations and the error use.
+    error_measure : "auto", "gamma", "segmented", a registered name, ErrorMeasure or callable, default="auto"
+        How a simulation is scored (:mod:`sindy_impulse.simulation.scoring`); ``"auto"`` is ``"gamma"``
+        up to :data:`~sindy_impulse.simulation.AUTO_PERIODS` periods, ``"segmented"`` beyond.
+    selection : "auto", "min_gamma", a registered name or callable, default="auto"
+        The rule that picks a candidate (:mod:`sindy_impulse.selection`).
+    sweep : bool, default=True
+        Enumerate and score the threshold path. ``False`` fits the optimizer once, as PySINDy does.
     refine : bool, default=True
-        Refine the selected model's non-zero coefficients (SLSQP on Gamma).
+        Refine the selected model's non-zero coefficients (SLSQP on the error measure).
     bound_factor : float, default=1.5
         Refinement bounds ``[0, bound_factor * xi]``.
     refine_max_iter : int, default=100
         SLSQP iterations.
     divergence_factor : float, default=100
-        A simulation that exceeds this factor times the data's range counts as diverged (Gamma = inf).
+        A simulation that exceeds this factor times the data's range counts as diverged.
     dt : float, optional
-        Sampling step used when ``fit`` gets no ``t`` (e.g. as a Pipeline step). Without either, the
-        time unit is one sample.
+        Sampling step used when ``fit`` gets no ``t`` (e.g. as a Pipeline step); else one sample.
 
     Attributes
     ----------
+    coef_ : ndarray (n_states, n_features)
+        The final coefficients (what :meth:`coefficients` returns).
     gamma_ : float
-        Gamma of the final model.
-    gamma_sindy_ : float
-        Gamma of the selected candidate before refinement.
+        The paper's Gamma of the final model against the filtered states (NaN with ``sweep=refine=False``).
+    score_ : float
+        The error measure ``error_measure_`` of the final model.
+    error_measure_ : str
+        Name of the measure used.
+    gamma_sindy_, score_sindy_ : float
+        Gamma and score of the selected candidate before refinement.
     threshold_ : float
-        Relative threshold of the selected candidate.
+        Threshold of the selected candidate.
     path_ : SweepPath
         Every candidate of the sweep.
     refinement_history_ : dict
-        ``"gamma"`` and ``"coefficients"`` per SLSQP iteration.
-    x_filtered_ : ndarray or list of ndarray
-        The states the library was built from (filtered by the differentiation).
-    t_ : ndarray or list of ndarray
-        Their time vectors.
-    model_ : CompiledModel
-        The compiled final model used by ``simulate`` and ``predict``.
+        ``"score"`` and ``"coefficients"`` per SLSQP iteration.
+    noise_level_ : float
+        The measure between the measured and the filtered states.
+    budget_used_ : float
+        Fraction of the simulation work budget the fit used.
+    x_filtered_, t_ : ndarray or list of ndarray
+        The states the library was built from, and their time vectors.
+    model_ : CompiledModel or FallbackModel
+        The final model, used by ``simulate`` and ``predict``.
+    optimizer_, feature_library_, differentiation_method_ : the fitted components
+        Copies of the parameters; in plain mode (``sweep=False, refine=False``) the objects given, fitted in
+        place as PySINDy does (the one exception to "parameters are not modified").
 
     Examples
     --------
@@ -129,372 +150,280 @@ class ImpulseSINDy(ps.SINDy):
     (x1)' = -64.00 x0 + -3.20 x1
     """
 
+    _parameter_constraints = {
+        "optimizer": [None, HasMethods("fit", "a PySINDy optimizer")],
+        "feature_library": [None, HasMethods(["fit", "transform"], "a PySINDy feature library")],
+        "differentiation_method": [None, "callable"],
+        "error_measure": [
+            Satisfies(
+                lambda v: v == "auto" or v in ERROR_MEASURES,
+                lambda: "one of " + ", ".join(repr(k) for k in ["auto", *sorted(ERROR_MEASURES)]),
+            ),
+            ErrorMeasure,
+            "callable",
+        ],
+        "selection": [
+            Satisfies(
+                lambda v: v in SELECTION_RULES,
+                lambda: "one of " + ", ".join(map(repr, sorted(SELECTION_RULES))),
+            ),
+            "callable",
+        ],
+        "sweep": ["boolean"],
+        "refine": ["boolean"],
+        "bound_factor": [Interval(Real, 0, None, "neither")],
+        "refine_max_iter": [Interval(Integral, 1, None, "left")],
+        "divergence_factor": [Interval(Real, 0, None, "neither")],
+        "dt": [None, Interval(Real, 0, None, "neither")],
+    }
+
     def __init__(
         self,
         optimizer=None,
         feature_library=None,
         differentiation_method=None,
         *,
-        selection: str = "auto",
+        error_measure="auto",
+        selection="auto",
+        sweep: bool = True,
         refine: bool = True,
         bound_factor: float = 1.5,
         refine_max_iter: int = 100,
         divergence_factor: float = 100.0,
         dt: float | None = None,
     ):
-        # Parameters are stored untouched (scikit-learn contract); defaults are built at fit.
         self.optimizer = optimizer
         self.feature_library = feature_library
         self.differentiation_method = differentiation_method
+        self.error_measure = error_measure
         self.selection = selection
+        self.sweep = sweep
         self.refine = refine
         self.bound_factor = bound_factor
         self.refine_max_iter = refine_max_iter
         self.divergence_factor = divergence_factor
         self.dt = dt
 
-    # ------------------------------------------------------------------------------------------------
-    # fit
-    # ------------------------------------------------------------------------------------------------
-    def _check_params(self):
-        if self.selection not in SELECTION_RULES:
-            raise ValueError(f"selection must be one of {sorted(SELECTION_RULES)}, got {self.selection!r}")
-        if not isinstance(self.refine, (bool, np.bool_)):
-            raise TypeError(f"refine must be True or False, got {self.refine!r}")
-        for name in ("bound_factor", "divergence_factor"):
-            val = getattr(self, name)
-            if isinstance(val, bool) or not isinstance(val, (int, float, np.number)) or not val > 0:
-                raise ValueError(f"{name} must be a positive number, got {val!r}")
-        if self.dt is not None:
-            check_time(self.dt, 1, "dt")
+    def set_params(self, **params):
+        """scikit-learn's ``set_params``; a nested parameter of a ``None`` component (e.g.
+        ``feature_library__degree``) first puts the default component in place, so grids work from the
+        defaults."""
+        for key in params:
+            name = key.split("__", 1)[0]
+            if "__" in key and name in _DEFAULTS and getattr(self, name, None) is None:
+                setattr(self, name, _DEFAULTS[name]())
+        return super().set_params(**params)
 
-    def _times(self, t, trajectories):
-        """One validated time vector per trajectory."""
-        if t is None:
-            t = 1.0 if self.dt is None else self.dt
-        if (
-            isinstance(t, (list, tuple))
-            and len(trajectories) > 1
-            or (isinstance(t, (list, tuple)) and len(t) == 1 and np.ndim(t[0]) == 1)
-        ):
-            if len(t) != len(trajectories):
-                raise ValueError(f"t has {len(t)} time vectors but x has {len(trajectories)} trajectories")
-            checked = [check_time(ti, len(xi), f"t[{i}]") for i, (ti, xi) in enumerate(zip(t, trajectories))]
-        else:
-            checked = [check_time(t, len(xi), "t") for xi in trajectories]
-        return [time_vector(ti, len(xi)) for ti, xi in zip(checked, trajectories)]
-
+    # ------------------------------------------------------------------------------------------------
+    # fit: the paper's pipeline
+    # ------------------------------------------------------------------------------------------------
     def fit(self, x, t=None, x_dot=None, u=None, feature_names=None):
-        """Fit the model: differentiate, sweep, select by Gamma, refine.
+        """Fit the model: differentiate, build the library, sweep, score, select, refine.
 
         Parameters
         ----------
         x : array-like (n_samples, n_states) or list of them
-            Measured states; a list means several trajectories (e.g. repeated impacts).
+            Measured states; a list means several trajectories (e.g. repeated impacts), possibly ragged.
         t : float, array (n_samples,) or list of arrays, optional
             Time step or time vector(s); defaults to ``dt``.
         x_dot : array-like or list, optional
             Known derivatives; then ``x`` itself is used as the filtered states.
-        u : None
-            Control inputs are not supported (free responses only).
+        u : array-like (n_samples, n_inputs) or list of them, optional
+            Measured control inputs (e.g. the hammer force); the library is built on ``[x, u]``.
         feature_names : list of str, optional
-            Names of the states, e.g. ``["x", "v"]``.
+            Names of the states (and of the inputs after them), e.g. ``["x", "v"]``.
 
         Returns
         -------
         self
         """
-        self._check_params()
-        if u is not None:
-            raise ValueError("control inputs u are not supported: ImpulseSINDy models free responses")
-        trajectories, multiple = check_trajectories(x, "x", min_samples=3)
-        times = self._times(t, trajectories)
-        n_states = trajectories[0].shape[1]
-        if feature_names is not None:
-            feature_names = [str(f) for f in feature_names]
-            if len(feature_names) != n_states:
-                raise ValueError(f"feature_names has {len(feature_names)} names for {n_states} states")
-
-        self.feature_library_ = (
-            clone(self.feature_library) if self.feature_library is not None else (_default_library())
-        )
-        self.optimizer_ = clone(self.optimizer) if self.optimizer is not None else ThresholdSweep()
-        self.differentiation_method_ = (
-            clone(self.differentiation_method)
-            if self.differentiation_method is not None
-            else _default_differentiation()
-        )
-
-        filtered, derivatives = self._differentiate(trajectories, times, x_dot, multiple)
-        theta = self.feature_library_.fit_transform(
-            [AxesArray(f, {"ax_time": 0, "ax_coord": 1}) for f in filtered]
-        )
-        theta = np.vstack([np.asarray(th) for th in theta])
-        y = np.vstack(derivatives)
-        usable = int(np.sum(np.all(np.isfinite(y), axis=1)))
-        n_features = theta.shape[1]
-        if usable < n_features + 1:
-            raise ValueError(
-                f"too few samples: {usable} usable derivative samples for a library of {n_features} terms; "
-                f"at least {n_features + 1} are needed"
-            )
-        self.optimizer_.fit(theta, y)
-
-        self.n_features_in_ = n_states
-        self.n_output_features_ = n_features
-        self.n_control_features_ = 0
-        self.feature_names_ = feature_names or [f"x{i}" for i in range(n_states)]
-        self.x_filtered_ = filtered if multiple else filtered[0]
-        self.t_ = times if multiple else times[0]
-
-        sweep = isinstance(self.optimizer_, ThresholdSweep)
-        candidates = np.asarray(self.optimizer_.history_) if sweep else self.optimizer_.coef_[None].copy()
-        thresholds = np.asarray(self.optimizer_.thresholds_) if sweep else np.array([np.nan])
-        n_terms = np.array([np.count_nonzero(c) for c in candidates])
-        try:
-            terms = term_table(self.feature_library_, n_states)
-        except TypeError:
-            if sweep or self.refine:
-                raise
-            # plain PySINDy use with a library the simulator does not support: no simulation, no Gamma
-            self.model_ = None
-            self.path_ = SweepPath(thresholds, np.array([np.nan]), n_terms, candidates, 0)
-            self.gamma_ = self.gamma_sindy_ = np.nan
-            self.threshold_ = thresholds[0]
-            self.refinement_history_ = {"gamma": [], "coefficients": []}
-            return self
-
-        reference = np.vstack(filtered)
+        validate_params(self)
+        _refuse_pde(x, self.feature_library)
+        data = as_trajectories(x, t, u, default_dt=1.0 if self.dt is None else self.dt, min_samples=3)
+        self._resolve_components()
+        filtered, derivs = self._derivatives(data, x_dot)
+        theta, y = self._regression(filtered, data, derivs)
+        self._record_data(data, filtered, feature_names, theta.shape[1])
+        thresholds, candidates = candidate_path(self.optimizer_, theta, y, self.sweep)
+        terms = library_terms(self.feature_library_, data.n_states + data.n_inputs)
+        reference_u = None if data.u is None else np.vstack(data.u)
 
         def compile_(coef):
-            return CompiledModel(coef, terms, reference=reference, divergence_factor=self.divergence_factor)
+            return compile_model(
+                coef, terms, np.vstack(filtered), self.divergence_factor, reference_u, data.n_inputs
+            )
 
-        # One deterministic work budget bounds all simulations of the fit (sweep and refinements).
+        if not (self.sweep or self.refine):  # plain PySINDy: one model, no simulation
+            return self._keep(candidates, thresholds, 0, candidates[0], compile_, None, {}, np.nan, np.nan)
+        measure = get_error_measure(self.error_measure, filtered).bind(filtered, data.t, data.u)
         budget = WorkBudget()
-        gammas, n_skipped = self._score_candidates(candidates, n_terms, compile_, filtered, times, budget)
-        usable = self._usable_candidates(gammas, n_terms)
-        noise = self._noise_gamma(trajectories, filtered)
-        index, (coef, g, history) = select_candidate(
+        n_terms = np.array([np.count_nonzero(c) for c in candidates])
+        scores = self._score_candidates(candidates, n_terms, compile_, measure, budget)
+        self.noise_level_ = measure.noise_level(data.x, filtered, data.t)
+        index, (coef, score, history) = select_candidate(
             self.selection,
-            np.where(usable, gammas, np.inf),
+            np.where(_usable(scores, n_terms), scores, np.inf),
             n_terms,
-            lambda i: self._refine_candidate(candidates[i], gammas[i], compile_, filtered, times, budget),
-            noise,
-            n_values=int(sum(f.size for f in filtered)),
+            lambda i: self._refined(candidates[i], scores[i], compile_, measure, budget),
+            self.noise_level_,
+            int(sum(f.size for f in filtered)),
+            measure.floor,
         )
+        self.budget_used_ = budget.used
         if budget.exhausted:
-            what = f"{n_skipped} dense candidates not simulated" if n_skipped else "refinement stopped early"
             warnings.warn(
-                f"the simulation work budget of the fit ran out (long record or large library): {what}; "
-                "the model may be less accurate (see sindy_impulse.refinement.WORK_BUDGET)",
-                RuntimeWarning,
+                "the simulation work budget of the fit ran out (long record or large library): some dense "
+                "candidates were not simulated or the refinement stopped early; the model may be less "
+                "accurate (see sindy_impulse.simulation.WORK_BUDGET)",
+                WorkBudgetWarning,
                 stacklevel=2,
             )
+        return self._keep(candidates, thresholds, index, coef, compile_, measure, history, scores, score)
 
-        self.path_ = SweepPath(thresholds, gammas, n_terms, candidates, index)
-        self.threshold_ = float(thresholds[index])
-        self.gamma_sindy_ = float(gammas[index])
-        self.gamma_ = float(g)
-        self.refinement_history_ = history
-        self.noise_gamma_ = noise
-        self.optimizer_.coef_ = np.asarray(coef, dtype=float)
-        self.optimizer_.ind_ = self.optimizer_.coef_ != 0
-        self.model_ = compile_(self.optimizer_.coef_)
-        return self
+    def _resolve_components(self) -> None:
+        """The components of this fit: the given objects (plain mode, as PySINDy) or fresh copies."""
+        plain = not (self.sweep or self.refine)
+        for name, make in _DEFAULTS.items():
+            given = getattr(self, name)
+            value = make() if given is None else (given if plain else fresh_copy(given))
+            setattr(self, name + "_", value)
 
-    @staticmethod
-    def _score_candidates(candidates, n_terms, compile_, filtered, times, budget):
-        """Gamma of every candidate simulated from the first sample (paper sections 2.4, 3.1).
+    def _derivatives(self, data, x_dot):
+        """Filtered states and derivatives (given ``x_dot``: the measured states are the filtered ones)."""
+        if x_dot is None:
+            return differentiate(self.differentiation_method_, data.x, data.t)
+        derivs, multiple = check_trajectories(x_dot, "x_dot")
+        if multiple != data.multiple or len(derivs) != len(data.x):
+            raise ValueError("x_dot must have the same trajectories as x")
+        for i, (d, xi) in enumerate(zip(derivs, data.x)):
+            if d.shape != xi.shape:
+                raise ValueError(f"x_dot[{i}] has shape {d.shape} but x[{i}] has shape {xi.shape}")
+        return [xi.copy() for xi in data.x], derivs
 
-        Sparsest first: if the work budget runs out, the densest candidates stay unsimulated (inf).
-        """
-        gammas = np.full(len(candidates), np.inf)
-        n_skipped = 0
+    def _regression(self, filtered, data, derivs):
+        """The library matrix on the filtered states (and inputs) and the stacked derivatives."""
+        joined = filtered if data.u is None else [np.hstack([f, ui]) for f, ui in zip(filtered, data.u)]
+        theta = self.feature_library_.fit_transform(
+            [AxesArray(j, {"ax_time": 0, "ax_coord": 1}) for j in joined]
+        )
+        theta = np.vstack([np.asarray(th) for th in theta])
+        y = np.vstack(derivs)
+        usable = int(np.sum(np.all(np.isfinite(y), axis=1) & np.all(np.isfinite(theta), axis=1)))
+        if usable < theta.shape[1] + 1:
+            message = (
+                f"too few samples: {usable} usable derivative samples for a library of {theta.shape[1]} "
+                f"terms; at least {theta.shape[1] + 1} are needed"
+            )
+            if self.sweep or self.refine:  # a threshold path of an underdetermined fit means nothing
+                raise ValueError(message)
+            warnings.warn(  # plain PySINDy solves it (minimum norm): warn, do not refuse
+                message + " for a determined regression; use a longer record or a smaller library",
+                DataWarning,
+                stacklevel=3,
+            )
+        return theta, y
+
+    def _record_data(self, data, filtered, feature_names, n_features) -> None:
+        n_states, n_inputs = data.n_states, data.n_inputs
+        names = [f"x{i}" for i in range(n_states)] + [f"u{i}" for i in range(n_inputs)]
+        if feature_names is not None:
+            given = [str(f) for f in feature_names]
+            if len(given) not in (n_states, n_states + n_inputs):
+                raise ValueError(f"feature_names has {len(given)} names for {n_states} states")
+            names = given + names[len(given) :]
+        self.feature_names_ = names
+        self.n_states_ = n_states
+        self.n_control_features_ = n_inputs
+        self.n_features_in_ = n_states + n_inputs
+        self.n_output_features_ = n_features
+        self.x_filtered_ = restore(filtered, data.multiple)
+        self.t_ = restore(data.t, data.multiple)
+        self.u_ = None if data.u is None else restore(data.u, data.multiple)
+
+    def _score_candidates(self, candidates, n_terms, compile_, measure, budget) -> np.ndarray:
+        """Score of every candidate's simulation, sparsest first; past the budget, inf (not simulated)."""
+        scores = np.full(len(candidates), np.inf)
         for i in np.argsort(n_terms, kind="stable"):
             if budget.exhausted:
-                n_skipped += 1
                 continue
-            gammas[i] = simulation_gamma(compile_(candidates[i]), filtered, times, budget=budget)
-        return gammas, n_skipped
+            model = compile_(candidates[i])
+            scores[i] = measure(model)[0]
+            budget.charge_model(model)
+        return scores
 
-    @staticmethod
-    def _usable_candidates(gammas, n_terms):
-        """Candidates that may be selected: finite Gamma and at least one term.
-
-        The empty model (x' = 0) stays on the path for plotting and is selected only when every other
-        candidate diverged (e.g. white noise): the honest answer "no deterministic dynamics found".
-        """
-        usable = np.isfinite(gammas) & (n_terms > 0)
-        if np.any(usable):
-            return usable
-        if not np.any(np.isfinite(gammas)):
-            raise RuntimeError(
-                "every candidate model diverged when simulated from the first sample; check the data "
-                "(units of t, trends, clipping) or use a smaller feature library"
-            )
-        warnings.warn(
-            "every non-trivial candidate model diverged when simulated; the fitted model is x' = 0 "
-            "(no deterministic dynamics found in the data)",
-            RuntimeWarning,
-            stacklevel=3,
-        )
-        return np.isfinite(gammas)
-
-    def _refine_candidate(self, coef, gamma, compile_, filtered, times, budget):
-        """The candidate refined by SLSQP on Gamma (paper section 2.5); never worse than unrefined."""
+    def _refined(self, coef, score, compile_, measure, budget):
+        """The candidate refined on the measure (paper section 2.5); never worse than unrefined."""
         if not self.refine:
-            return coef, gamma, {"gamma": [gamma], "coefficients": []}
-        res = refine_coefficients(
-            compile_(coef), filtered, times, self.bound_factor, self.refine_max_iter, budget=budget
+            return coef, score, {"score": [score], "coefficients": [coef]}
+        res = refine(compile_(coef), measure, self.bound_factor, self.refine_max_iter, budget=budget)
+        if not res.score <= score:
+            return coef, score, res.history
+        return res.coefficients, res.score, res.history
+
+    def _keep(self, candidates, thresholds, index, coef, compile_, measure, history, scores, score):
+        """Store the selected model and what led to it."""
+        self.coef_ = np.asarray(coef, dtype=float)
+        self.model_ = compile_(self.coef_)
+        filtered = self.x_filtered_ if isinstance(self.x_filtered_, list) else [self.x_filtered_]
+        times = self.t_ if isinstance(self.t_, list) else [self.t_]
+        inputs = None if self.u_ is None else (self.u_ if isinstance(self.u_, list) else [self.u_])
+        n_terms = np.array([np.count_nonzero(c) for c in candidates])
+        name = getattr(measure, "name", "gamma")
+        self.path_ = SweepPath(
+            thresholds, np.broadcast_to(scores, n_terms.shape).copy(), n_terms, candidates, index, name
         )
-        g = simulation_gamma(compile_(res.coefficients), filtered, times)
-        if not g <= gamma:
-            return coef, gamma, res.history
-        return res.coefficients, g, res.history
+        self.threshold_ = float(thresholds[index])
+        self.error_measure_ = name
+        self.refinement_history_ = history
+        if measure is None:
+            self.gamma_ = self.gamma_sindy_ = self.score_ = self.score_sindy_ = np.nan
+            self.noise_level_, self.budget_used_ = np.nan, 0.0
+            return self
+        self.score_ = float(measure(self.model_)[0])
+        self.score_sindy_ = float(scores[index])
+        self.gamma_ = self.score_ if name == "gamma" else _gamma(self.model_, filtered, times, inputs=inputs)
+        self.gamma_sindy_ = (
+            self.score_sindy_
+            if name == "gamma"
+            else _gamma(compile_(candidates[index]), filtered, times, inputs=inputs)
+        )
+        return self
 
-    def _differentiate(self, trajectories, times, x_dot, multiple):
-        """Derivatives and filtered states per trajectory."""
-        if x_dot is not None:
-            derivs, multiple_dot = check_trajectories(x_dot, "x_dot")
-            if multiple_dot != multiple or len(derivs) != len(trajectories):
-                raise ValueError("x_dot must have the same trajectories as x")
-            for i, (d, xi) in enumerate(zip(derivs, trajectories)):
-                if d.shape != xi.shape:
-                    raise ValueError(f"x_dot[{i}] has shape {d.shape} but x[{i}] has shape {xi.shape}")
-            return [xi.copy() for xi in trajectories], derivs
-        filtered, derivs = [], []
-        for xi, ti in zip(trajectories, times):
-            axes = AxesArray(xi, {"ax_time": 0, "ax_coord": 1})
-            d = np.asarray(self.differentiation_method_(axes, ti), dtype=float)
-            smoothed = getattr(self.differentiation_method_, "smoothed_x_", None)
-            filtered.append(
-                xi.copy() if smoothed is None else np.asarray(smoothed, dtype=float).reshape(xi.shape)
-            )
-            derivs.append(d.reshape(xi.shape))
-        return filtered, derivs
 
-    @staticmethod
-    def _noise_gamma(raw, filtered) -> float:
-        """Gamma between the measured and the filtered states: the noise the filter removed."""
-        return float(sum(gamma_from_arrays(r, f) for r, f in zip(raw, filtered)))
+def _usable(scores, n_terms) -> np.ndarray:
+    """Candidates that may be selected: finite score and at least one term.
 
-    # ------------------------------------------------------------------------------------------------
-    # the fitted model (PySINDy's methods, reading the fitted components)
-    # ------------------------------------------------------------------------------------------------
-    @property
-    def feature_names(self):
-        """Names of the states (PySINDy's attribute)."""
-        return getattr(self, "feature_names_", None)
+    The empty model (x' = 0) stays on the path and is selected only when every other candidate diverged
+    (e.g. white noise): the honest answer "no deterministic dynamics found", with a warning.
+    """
+    usable = np.isfinite(scores) & (n_terms > 0)
+    if np.any(usable):
+        return usable
+    if not np.any(np.isfinite(scores)):
+        raise RuntimeError(
+            "every candidate model diverged when simulated; check the data (units of t, trends, clipping) "
+            "or use a smaller feature library"
+        )
+    warnings.warn(
+        "every non-trivial candidate model diverged when simulated; the fitted model is x' = 0 (no "
+        "deterministic dynamics found in the data)",
+        NoDynamicsWarning,
+        stacklevel=3,
+    )
+    return np.isfinite(scores)
 
-    @feature_names.setter
-    def feature_names(self, value):  # PySINDy's methods may assign it
-        self.feature_names_ = value
 
-    def coefficients(self) -> np.ndarray:
-        """Coefficient matrix (n_states, n_features): rows are equations, columns library terms."""
-        check_is_fitted(self, "optimizer_")
-        return self.optimizer_.coef_
-
-    def get_feature_names(self) -> list[str]:
-        """Names of the library terms."""
-        check_is_fitted(self, "optimizer_")
-        return self.feature_library_.get_feature_names(input_features=self.feature_names_)
-
-    def equations(self, precision: int = 3) -> list[str]:
-        """Right-hand sides as strings, formatted as PySINDy does (``'-64.000 x0 + -3.200 x1'``)."""
-        names = self.get_feature_names()
-        out = []
-        for row in self.coefficients():
-            terms = [f"{c: .{precision}f} {n}" for c, n in zip(row, names) if np.round(c, precision) != 0]
-            out.append(" + ".join(terms) if terms else f"{0: .{precision}f}")
-        return out
-
-    def print(self, lhs=None, precision: int = 3, **kwargs) -> None:
-        """Print the equations, one per state."""
-        lhs = lhs or [f"({n})'" for n in self.feature_names_]
-        for name, eq in zip(lhs, self.equations(precision)):
-            print(f"{name} = {eq}", **kwargs)
-
-    @property
-    def complexity(self) -> int:
-        """Number of non-zero coefficients."""
-        return int(np.count_nonzero(self.coefficients()))
-
-    def _check_states(self, x, min_samples: int = 1):
-        """Validate states for a fitted model: one column per state."""
-        if np.ndim(x) == 1 and self.n_features_in_ > 1:
-            raise ValueError(
-                f"x is 1-D but the model has {self.n_features_in_} states: Reshape your data to "
-                f"(n_samples, {self.n_features_in_})"
-            )
-        trajectories, multiple = check_trajectories(x, "x", min_samples=min_samples)
-        for xi in trajectories:
-            if xi.shape[1] != self.n_features_in_:
-                raise ValueError(
-                    f"X has {xi.shape[1]} features, but {type(self).__name__} is expecting "
-                    f"{self.n_features_in_} features as input (x must have one column per state)"
-                )
-        return trajectories, multiple
-
-    def predict(self, x, u=None):
-        """The model's right-hand side at states ``x`` (or a list of state arrays)."""
-        check_is_fitted(self, "optimizer_")
-        if u is not None:
-            raise ValueError("control inputs u are not supported")
-        trajectories, multiple = self._check_states(x)
-        if self.model_ is not None:
-            out = [self.model_.rhs(xi) for xi in trajectories]
-        else:
-            out = [
-                np.asarray(self.feature_library_.transform(AxesArray(xi, {"ax_time": 0, "ax_coord": 1})))
-                @ self.coefficients().T
-                for xi in trajectories
-            ]
-        return out if multiple else out[0]
-
-    def simulate(self, x0, t, **kwargs) -> np.ndarray:
-        """Integrate the model from ``x0`` over the time vector ``t`` with the compiled simulator.
-
-        Extra keyword arguments of :meth:`pysindy.SINDy.simulate` (integrator options) are accepted and
-        ignored. Rows after a divergence are NaN (with a warning).
-
-        Examples
-        --------
-        >>> import numpy as np
-        >>> from sindy_impulse import ImpulseSINDy, damped_oscillator
-        >>> t, x, x_dot = damped_oscillator()
-        >>> model = ImpulseSINDy().fit(x, t=t, x_dot=x_dot)
-        >>> bool(np.allclose(model.simulate(x[0], t), x, atol=1e-6))
-        True
-        """
-        check_is_fitted(self, "optimizer_")
-        if self.model_ is None:
-            raise TypeError(
-                f"{type(self.feature_library_).__name__} is not supported by the compiled simulator"
-            )
-        x0 = check_signal(x0, "x0", ndim=(1,), as_2d=False)
-        if x0.shape[0] != self.n_features_in_:
-            raise ValueError(f"x0 has {x0.shape[0]} entries but the model has {self.n_features_in_} states")
-        tt = np.asarray(t, dtype=float)
-        if tt.ndim == 0:
-            raise ValueError("t must be an array of time points at which to simulate")
-        tt = check_time(tt, tt.shape[0], "t")
-        out = self.model_.simulate(x0, tt)
-        if np.isnan(out).any():
-            warnings.warn(
-                "the simulation diverged; rows after the divergence are NaN", RuntimeWarning, stacklevel=2
-            )
-        return out
-
-    def score(self, x, t=None, x_dot=None, u=None, **kwargs) -> float:
-        """Negative Gamma of the model simulated from the first sample of ``x`` (higher is better).
-
-        Used by scikit-learn's model selection (e.g. ``GridSearchCV``).
-        """
-        check_is_fitted(self, "optimizer_")
-        trajectories, _ = self._check_states(x, min_samples=2)
-        times = self._times(t, trajectories)
-        total = 0.0
-        for xi, ti in zip(trajectories, times):
-            total += gamma_from_arrays(xi, self.model_.simulate(xi[0], ti))
-        return -float(total)
+def _refuse_pde(x, library) -> None:
+    """PDE and weak-form problems are PySINDy's: a clear NotImplementedError."""
+    kind = type(library).__name__
+    if kind in ("PDELibrary", "WeakPDELibrary", "SINDyPILibrary"):
+        raise NotImplementedError(
+            f"{kind} (PDE, weak-form, implicit SINDy) is not supported; use pysindy.SINDy"
+        )
+    arrays = x if isinstance(x, (list, tuple)) and x and hasattr(x[0], "shape") else [x]
+    if any(np.ndim(a) > 2 for a in arrays):
+        shape = next(np.shape(a) for a in arrays if np.ndim(a) > 2)
+        raise UnsupportedProblemError(
+            f"x must be 1-D or 2-D, got an array of shape {shape} (spatiotemporal or PDE data: use "
+            "pysindy.SINDy)"
+        )

@@ -8,6 +8,7 @@ exception; ``warnings.simplefilter("ignore", DataWarning)`` silences the remarks
 class                          raised or warned when
 =============================  ==========================================================================
 InvalidParameterError          a constructor parameter has the wrong type or value (checked at ``fit``)
+UnsupportedProblemError        PDE, weak-form or implicit problems (PySINDy's, not this library's)
 SindyImpulseWarning            base class of every warning below
 DataWarning                    the input is doubtful: offset, clipping, quantisation, collinear
                                channels, too few periods or samples per period, pure noise
@@ -37,6 +38,7 @@ from __future__ import annotations
 
 __all__ = [
     "InvalidParameterError",
+    "UnsupportedProblemError",
     "SindyImpulseWarning",
     "DataWarning",
     "FitWarning",
@@ -52,6 +54,14 @@ class InvalidParameterError(ValueError, TypeError):
 
     Derives from both ``ValueError`` and ``TypeError`` (as scikit-learn's equivalent does), so code that
     catches either keeps working.
+    """
+
+
+class UnsupportedProblemError(NotImplementedError, ValueError):
+    """A problem PySINDy handles but this library does not (PDE, weak-form and implicit SINDy).
+
+    A ``NotImplementedError`` (the feature is missing here: use :class:`pysindy.SINDy`) and a ``ValueError``
+    (the input is not a set of ordinary state trajectories).
     """
 
 

@@ -1,65 +1,151 @@
-"""Choosing one model from the sweep on the complexity-error plane (paper sections 2.5 and 3.2).
+"""Choosing one model from the scored sweep on the complexity-error plane (paper sections 2.5 and 3.2).
 
-``"min_gamma"`` is the paper's rule: the candidate of least Gamma, then refined.
+A rule is a name registered in :data:`SELECTION_RULES` or any callable
+``rule(scores, n_terms, refine, tolerance) -> index``: ``scores`` are the unrefined errors of the
+candidates (``inf`` for diverged or excluded ones), ``n_terms`` their sizes, ``refine(i)`` returns the
+refined candidate ``(coefficients, score, history)`` (computed once per index), ``tolerance(g)`` the
+difference in score the data cannot resolve at level ``g``.
 
-``"auto"`` is complexity-aware. On noisy data the minimum of Gamma often sits on a model with spurious
-terms that fit the noise left in the filtered states, while the true, sparser model is only slightly
-worse -- and, once refined, often as good. The rule walks the candidates from the sparsest up to the
-minimum-Gamma one, refines each, and keeps the first that passes two tests:
+``"min_gamma"`` (alias ``"min_score"``) is the paper's rule: the candidate of least score, then refined.
 
-1. its refined Gamma is within tolerance of the sweep's least (unrefined) Gamma, and
+``"auto"`` is complexity-aware. On noisy data the minimum of the score often sits on a model with spurious
+terms that fit the noise left in the filtered states, while the true, sparser model is only slightly worse
+-- and, once refined, often as good. The rule walks the candidates from the sparsest up to the minimum-score
+one, refines each, and keeps the first that passes two tests:
+
+1. its refined score is within tolerance of the sweep's least (unrefined) score, and
 2. the knee test: the next denser candidate, refined, is not better by more than the tolerance --
-   refinement can lower Gamma by orders of magnitude (a sparse model that lacks a true term cannot
+   refinement can lower the score by orders of magnitude (a sparse model that lacks a true term cannot
    follow), so a sparser model must hold its own against its refined neighbour, not only against
    unrefined numbers.
 
-The tolerance of a Gamma value ``g`` is ``REL_TOL * g`` (differences a finite record does not resolve)
-plus ``NOISE_TOL`` times the noise Gamma (the Gamma between the measured and the filtered states: what
-the filter removed) plus ``FLOOR`` per compared value (a mean deviation of 1e-5 of the amplitude, the
-accuracy of the filter and the integrator on clean data). The dense minimum-Gamma candidate is refined
-only when the walk reaches it, which keeps the cost to a few small refinements.
+The tolerance of a score ``g`` is ``REL_TOL * g`` (differences a finite record does not resolve) plus
+``NOISE_TOL`` times the noise level (the measure between the measured and the filtered states: what the
+filter removed) plus the measure's floor per compared value (for the weighted-L1 measures a mean deviation of
+1e-5 of the amplitude, the accuracy of the filter and the integrator on clean data).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
-__all__ = ["SELECTION_RULES", "select_candidate"]
+__all__ = [
+    "SELECTION_RULES",
+    "select_candidate",
+    "register_selection_rule",
+    "tolerance",
+    "REL_TOL",
+    "NOISE_TOL",
+    "FLOOR",
+]
 
-SELECTION_RULES = ("auto", "min_gamma")
-
-#: Relative tolerance of the "auto" rule (fraction of the Gamma compared with).
+#: Relative tolerance of the "auto" rule (fraction of the score compared with).
 REL_TOL = 0.1
-#: Weight of the noise Gamma in the tolerance of the "auto" rule.
+#: Weight of the noise level in the tolerance of the "auto" rule.
 NOISE_TOL = 0.1
-#: Absolute tolerance per compared value (sample x state): the mean deviation below which clean-data
-#: models are indistinguishable.
+#: Default absolute tolerance per compared value (sample x state).
 FLOOR = 1e-5
-#: Candidates whose unrefined Gamma exceeds this factor times the target are not refined.
+#: Candidates whose unrefined score exceeds this factor times the target are not refined by "auto".
 HOPELESS = 10.0
 
 
-def select_candidate(rule: str, gammas, n_terms, refine, noise_gamma: float = 0.0, n_values: int = 0):
+def tolerance(
+    score: float,
+    noise: float = 0.0,
+    n_values: int = 0,
+    floor: float = FLOOR,
+    rel_tol: float = REL_TOL,
+    noise_tol: float = NOISE_TOL,
+) -> float:
+    """The difference in an error measure that the data cannot resolve at level ``score``.
+
+    ``rel_tol * score + noise_tol * noise + floor * n_values``: a fraction of the score (what a finite record
+    does not resolve), a fraction of the noise level (the measure between measured and filtered states) and
+    the measure's floor per compared value. The selection rules and the test for nonlinearity both use it.
+
+    Examples
+    --------
+    >>> round(tolerance(2.0, noise=1.0, n_values=1000), 6)
+    0.31
+    """
+    return rel_tol * score + noise_tol * noise + floor * n_values
+
+
+def _least(scores, n_terms) -> int:
+    """Least score, ties broken by fewer terms."""
+    return int(np.lexsort((n_terms, np.where(np.isfinite(scores), scores, np.inf)))[0])
+
+
+def min_score(scores, n_terms, refine, tolerance) -> int:
+    """The paper's rule: the candidate of least (unrefined) score."""
+    return _least(scores, n_terms)
+
+
+def auto(scores, n_terms, refine, tolerance) -> int:
+    """The sparsest candidate that matches the best within tolerance and passes the knee test."""
+    best = _least(scores, n_terms)
+    target = scores[best] + tolerance(scores[best])
+    walk = sorted(
+        (
+            int(i)
+            for i in np.flatnonzero(np.isfinite(scores))
+            if 0 < n_terms[i] < n_terms[best] and scores[i] <= HOPELESS * target
+        ),
+        key=lambda i: (n_terms[i], scores[i]),
+    )
+    walk.append(best)
+    for position, i in enumerate(walk[:-1]):
+        g = refine(i)[1]
+        if g > target:
+            continue
+        g_denser = refine(walk[position + 1])[1]
+        if g <= g_denser + tolerance(g_denser):
+            return i
+    return best
+
+
+#: Registered rules: name -> rule.
+SELECTION_RULES: dict[str, Callable] = {"auto": auto, "min_gamma": min_score, "min_score": min_score}
+
+
+def register_selection_rule(name: str, rule: Callable) -> Callable:
+    """Register ``rule(scores, n_terms, refine, tolerance) -> index`` under ``name``."""
+    if not isinstance(name, str) or not name:
+        raise ValueError(f"a selection rule needs a non-empty name, got {name!r}")
+    if not callable(rule):
+        raise TypeError(f"selection rule {name!r} must be callable, got {type(rule).__name__}")
+    SELECTION_RULES[name] = rule
+    return rule
+
+
+def select_candidate(
+    rule, scores, n_terms, refine, noise_gamma: float = 0.0, n_values: int = 0, floor: float = FLOOR
+):
     """Select a candidate of the sweep and return it refined.
 
     Parameters
     ----------
-    rule : {"auto", "min_gamma"}
-    gammas : ndarray (n_candidates,)
-        Gamma of each (unrefined) candidate; ``inf`` for diverged or excluded ones.
+    rule : str or callable
+        A name of :data:`SELECTION_RULES` or ``rule(scores, n_terms, refine, tolerance) -> index``.
+    scores : ndarray (n_candidates,)
+        Unrefined score of each candidate; ``inf`` for diverged or excluded ones.
     n_terms : ndarray (n_candidates,)
         Number of non-zero coefficients of each candidate.
     refine : callable
-        ``refine(index) -> (coefficients, gamma, history)``: the refined candidate (called at most once
+        ``refine(index) -> (coefficients, score, history)``: the refined candidate (called at most once
         per index).
     noise_gamma : float
-        Gamma between measured and filtered states.
+        The measure between measured and filtered states.
     n_values : int
-        Number of values Gamma sums over (samples x states), for the absolute floor of the tolerance.
+        Number of values the score sums over (samples x states), for the absolute floor.
+    floor : float
+        The measure's absolute tolerance per value.
 
     Returns
     -------
-    index, (coefficients, gamma, history)
+    index, (coefficients, score, history)
 
     Examples
     --------
@@ -69,42 +155,27 @@ def select_candidate(rule: str, gammas, n_terms, refine, noise_gamma: float = 0.
     >>> select_candidate("min_gamma", g, k, lambda i: (None, g[i], {}))[0]
     0
     """
-    gammas = np.asarray(gammas, dtype=float)
+    if isinstance(rule, str):
+        if rule not in SELECTION_RULES:
+            raise ValueError(
+                f"selection must be one of {sorted(SELECTION_RULES)} or a callable, got {rule!r}"
+            )
+        rule = SELECTION_RULES[rule]
+    elif not callable(rule):
+        raise TypeError(f"selection must be a rule name or a callable, got {type(rule).__name__}")
+    scores = np.asarray(scores, dtype=float)
     n_terms = np.asarray(n_terms)
-    if rule not in SELECTION_RULES:
-        raise ValueError(f"selection must be one of {SELECTION_RULES}, got {rule!r}")
-    finite = np.isfinite(gammas)
-    # least Gamma, ties broken by fewer terms
-    order = np.lexsort((n_terms, np.where(finite, gammas, np.inf)))
-    best = int(order[0])
-    if rule == "min_gamma":
-        return best, refine(best)
+    results: dict[int, tuple] = {}
 
-    def tolerance(g: float) -> float:
-        return REL_TOL * g + NOISE_TOL * noise_gamma + FLOOR * n_values
-
-    target = gammas[best] + tolerance(gammas[best])
-    walk = sorted(
-        (
-            int(i)
-            for i in np.flatnonzero(finite)
-            if 0 < n_terms[i] < n_terms[best] and gammas[i] <= HOPELESS * target
-        ),
-        key=lambda i: (n_terms[i], gammas[i]),
-    )
-    walk.append(best)
-    results = {}
-
-    def refined(i):
+    def refined(i: int):
         if i not in results:
-            results[i] = refine(i)
+            results[i] = refine(int(i))
         return results[i]
 
-    for position, i in enumerate(walk[:-1]):
-        g = refined(i)[1]
-        if g > target:
-            continue
-        g_denser = refined(walk[position + 1])[1]
-        if g <= g_denser + tolerance(g_denser):
-            return i, refined(i)
-    return best, refined(best)
+    def tolerance_at(g: float) -> float:
+        return tolerance(g, noise_gamma, n_values, floor)
+
+    index = int(rule(scores, n_terms, refined, tolerance_at))
+    if not 0 <= index < len(scores):
+        raise ValueError(f"the selection rule returned index {index} for {len(scores)} candidates")
+    return index, refined(index)

@@ -9,6 +9,7 @@ from sklearn.pipeline import make_pipeline
 
 from sindy_impulse import ImpulseSINDy, MechanicalLibrary, ThresholdSweep, damped_oscillator
 from sindy_impulse.estimator import SweepPath
+from sindy_impulse.exceptions import DataWarning
 
 
 @pytest.fixture(scope="module")
@@ -51,7 +52,7 @@ def test_fitted_attributes(fitted):
     assert fitted.threshold_ == path.threshold[path.selected]
     assert fitted.gamma_sindy_ == path.gamma[path.selected]
     hist = fitted.refinement_history_
-    assert len(hist["gamma"]) == len(hist["coefficients"]) >= 1
+    assert len(hist["score"]) == len(hist["coefficients"]) >= 1
     assert fitted.x_filtered_.shape == (401, 2)
     assert fitted.equations()[1].startswith("-64.0")
     assert fitted.complexity == 3
@@ -82,7 +83,7 @@ def test_drop_in_equals_pysindy(clean):
         feature_library=ps.PolynomialLibrary(degree=3),
         differentiation_method=ps.FiniteDifference(),
     )
-    ours = ImpulseSINDy(**kwargs, refine=False).fit(x, t=t, feature_names=["x", "v"])
+    ours = ImpulseSINDy(**kwargs, sweep=False, refine=False).fit(x, t=t, feature_names=["x", "v"])
     theirs = ps.SINDy(**{k: clone(v) for k, v in kwargs.items()}).fit(x, t=t, feature_names=["x", "v"])
     np.testing.assert_allclose(ours.coefficients(), theirs.coefficients(), rtol=1e-12, atol=1e-14)
     assert ours.equations() == theirs.equations()
@@ -165,7 +166,7 @@ def test_grid_search_over_degree(clean):
         ({"bound_factor": -1}, {}, ValueError, "bound_factor"),
         ({"refine": "yes"}, {}, TypeError, "refine"),
         ({"dt": -0.1}, {}, ValueError, "dt"),
-        ({}, {"u": np.zeros(401)}, ValueError, "control inputs"),
+        ({}, {"u": np.zeros(400)}, ValueError, "u\\[0\\] has 400 samples"),
         ({}, {"feature_names": ["a"]}, ValueError, "feature_names"),
         ({}, {"t": np.arange(400.0)}, ValueError, "400 entries"),
         ({}, {"x_dot": np.zeros((400, 2))}, ValueError, "x_dot"),
@@ -186,6 +187,9 @@ def test_nan_and_too_few_samples(clean):
         ImpulseSINDy().fit(bad, t=t)
     with pytest.raises(ValueError, match="samples"):
         ImpulseSINDy(differentiation_method=ps.FiniteDifference()).fit(x[:8], t=t[:8])
+    plain = ImpulseSINDy(differentiation_method=ps.FiniteDifference(), sweep=False, refine=False)
+    with pytest.warns(DataWarning, match="too few samples"):
+        plain.fit(x[:8], t=t[:8])  # PySINDy accepts it (minimum-norm solution): a warning, not an error
 
 
 def test_only_empty_model_left_gives_zero_model_with_warning():
@@ -199,11 +203,12 @@ def test_only_empty_model_left_gives_zero_model_with_warning():
 
 
 def test_single_diverging_model_raises():
-    # without the sweep (a plain PySINDy optimizer) there is no fallback: a clear error
+    # without the sweep (one candidate, refined) there is no fallback: a clear error
     t = np.arange(200) * 0.01
     x = np.column_stack([np.exp(3 * t), np.exp(3 * t)])
     est = ImpulseSINDy(
         optimizer=ps.STLSQ(threshold=0.0),
+        sweep=False,
         divergence_factor=1e-3,
         differentiation_method=ps.FiniteDifference(),
     )

@@ -45,8 +45,8 @@ def test_search_finds_a_term_the_model_dropped():
     linear = ImpulseSINDy(feature_library=ps.PolynomialLibrary(degree=1)).fit(ring.x, t=ring.t)
     # a cubic library but the linear model's coefficients: the model itself has no nonlinear term
     model = ImpulseSINDy().fit(ring.x, t=ring.t)
-    model.optimizer_.coef_ = np.zeros_like(model.coefficients())
-    model.optimizer_.coef_[:, 1:3] = linear.coefficients()[:, 1:3]
+    model.coef_ = np.zeros_like(model.coefficients())
+    model.coef_[:, 1:3] = linear.coefficients()[:, 1:3]
     res = nonlinearity_test(model, ring.x, ring.t)
     assert res.nonlinear and res.source == "search"
     assert res.terms[0].term == "x0^3"

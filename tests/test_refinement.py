@@ -3,8 +3,8 @@ import pytest
 
 from sindy_impulse.datasets import damped_oscillator
 from sindy_impulse.feature_library import TermTable
-from sindy_impulse.refinement import refine_coefficients, simulation_gamma
-from sindy_impulse.simulation import CompiledModel
+from sindy_impulse.refinement import refine_coefficients
+from sindy_impulse.simulation import CompiledModel, simulation_gamma
 
 TERMS = TermTable.polynomial([[1, 0], [0, 1], [3, 0]])
 
@@ -15,7 +15,7 @@ def test_recovers_true_values_within_bounds():
     res = refine_coefficients(start, [x], [t])
     np.testing.assert_allclose(res.coefficients[1, :2], [-64, -3.2], rtol=1e-4)
     assert res.gamma < 1e-3 < res.gamma_initial
-    assert len(res.history["gamma"]) == len(res.history["coefficients"]) >= 2
+    assert len(res.history["score"]) == len(res.history["coefficients"]) >= 2
 
 
 def test_spurious_term_drops_out_and_never_worse():

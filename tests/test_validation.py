@@ -1,7 +1,8 @@
 import numpy as np
 import pytest
 
-from sindy_impulse._validation import check_signal, check_time, check_trajectories
+from sindy_impulse._trajectories import check_trajectories
+from sindy_impulse._validation import check_signal, check_time
 
 
 def test_check_signal_reshapes_1d():

@@ -1,45 +1,24 @@
-"""A test for nonlinearity that decides (paper section 3.3.3).
-
-The paper reads the answer off the reconstructed equations: a non-zero cubic coefficient means a nonlinear
-system. On noisy data that reading is fragile both ways: a spurious nonlinear term can compensate a small
-error of the linear coefficients (the paper's own section 3.1.2 shows an artefact ``-0.51 x1^3``), and a
-weak true nonlinearity can be dropped by the sparsification. :func:`nonlinearity_test` therefore turns the
-reading into a model comparison on the simulated response, the quantity the method is built on:
-
-1. filter the data with (a clone of) the model's differentiation method, as the fit did;
-2. fit the best *linear* model (the model's linear and constant terms, least squares on the derivatives,
-   then the bounded refinement of Gamma) and the best *nonlinear* alternative (the model's own support,
-   and, with ``search=True``, the linear support plus the single nonlinear library term that explains
-   most of the derivative residual; both least squares then refined);
-3. the statistic is how much Gamma grows when the nonlinear terms are removed,
-   ``delta = Gamma_linear - Gamma_nonlinear``; the system is called nonlinear when ``delta`` exceeds
-   ``rel_tol * Gamma_nonlinear + noise_tol * Gamma_noise``, where ``Gamma_noise`` is the Gamma between the
-   measured and the filtered states (what the filter removed). An extra term always lowers Gamma a little
-   by fitting what is left of the noise; the tolerance is what that explains.
-
-The strength of each nonlinear term is its share of the right-hand side's magnitude over the data:
-``mean_t |xi_ik theta_k(x(t))| / mean_t sum_j |xi_ij theta_j(x(t))|`` in its equation ``i``.
-"""
-
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
 import numpy as np
 from pysindy.utils import AxesArray
-from sklearn.base import clone
 
-from .._validation import check_time, check_trajectories, time_vector
-from ..feature_library.terms import PLAIN, term_table
-from ..metrics import gamma_from_arrays
-from ..refinement import refine_coefficients, simulation_gamma
-from ..simulation import CompiledModel
+from .._trajectories import as_trajectories
+from ..differentiation import differentiate
+from ..feature_library.terms import library_terms, term_table
+from ..optimizers import fresh_copy, least_squares
+from ..refinement import refine
+from ..selection import tolerance
+from ..simulation import compile_model, get_error_measure
+from ..simulation.terms import PLAIN
 
 __all__ = ["nonlinearity_test", "NonlinearityResult", "NonlinearTerm"]
 
-#: Default relative tolerance: Gamma must grow by more than this fraction of the nonlinear model's Gamma.
+#: Default relative tolerance: the error must grow by more than this fraction of the nonlinear model's.
 REL_TOL = 0.5
-#: Default weight of the noise Gamma in the tolerance.
+#: Default weight of the noise level in the tolerance.
 NOISE_TOL = 0.05
 #: Nonlinear library terms (ranked by derivative residual) refined in the search.
 N_SEARCH = 3
@@ -132,50 +111,62 @@ def _model_parts(model):
         coef = np.asarray(model.coefficients(), dtype=float)
     except Exception as err:  # not fitted
         raise ValueError(f"model is not fitted: {err}") from err
-    library = getattr(model, "feature_library_", None)
-    if library is None:
-        library = getattr(model, "feature_library", None)
-    diff = getattr(model, "differentiation_method_", None)
-    if diff is None:
-        diff = getattr(model, "differentiation_method", None)
+    library = getattr(model, "feature_library_", None) or getattr(model, "feature_library", None)
+    diff = getattr(model, "differentiation_method_", None) or getattr(model, "differentiation_method", None)
     names = list(getattr(model, "feature_names_", None) or getattr(model, "feature_names", None) or [])
-    if not names:
-        names = [f"x{i}" for i in range(coef.shape[0])]
-    return coef, library, diff, names
+    return coef, library, diff, names or [f"x{i}" for i in range(coef.shape[0])]
 
 
-def _filter(diff, trajectories, times):
-    """Filtered states and derivatives per trajectory, as ImpulseSINDy.fit computes them."""
-    filtered, derivs = [], []
-    for xi, ti in zip(trajectories, times):
-        method = clone(diff)
-        d = np.asarray(method(AxesArray(xi, {"ax_time": 0, "ax_coord": 1}), ti), dtype=float)
-        smoothed = getattr(method, "smoothed_x_", None)
-        filtered.append(xi.copy() if smoothed is None else np.asarray(smoothed, float).reshape(xi.shape))
-        derivs.append(d.reshape(xi.shape))
-    return filtered, derivs
+class _Comparison:
+    """Fits of given supports on the test data with the estimator's own steps (lstsq, compile, refine)."""
 
+    def __init__(self, library, diff, data, measure_name, bound_factor, max_iter):
+        self.filtered, derivs = differentiate(fresh_copy(diff), data.x, data.t)
+        self.measure = get_error_measure(measure_name, self.filtered).bind(self.filtered, data.t)
+        self.noise = self.measure.noise_level(data.x, self.filtered, data.t)
+        self.theta = np.vstack(
+            [
+                np.asarray(library.transform(AxesArray(f, {"ax_time": 0, "ax_coord": 1})))
+                for f in self.filtered
+            ]
+        )
+        self.y = np.vstack(derivs)
+        self.terms = library_terms(library, data.n_states)
+        self.n_values = int(sum(f.size for f in self.filtered))
+        self.bound_factor, self.max_iter = bound_factor, max_iter
 
-def _lstsq(theta, y, support):
-    """Least squares per equation on a boolean support (n_states, n_features)."""
-    coef = np.zeros(support.shape)
-    for i in range(support.shape[0]):
-        cols = np.flatnonzero(support[i])
-        if cols.size:
-            coef[i, cols] = np.linalg.lstsq(theta[:, cols], y[:, i], rcond=None)[0]
-    return coef
+    def fit(self, support):
+        """Least squares on ``support``, then refined; ``(coefficients, score)``, never worse than lstsq."""
+        coef = least_squares(self.theta, self.y, support)
+        model = compile_model(coef, self.terms, np.vstack(self.filtered))
+        g0 = float(self.measure(model)[0])
+        if not np.isfinite(g0) or not np.any(coef):
+            return coef, g0
+        res = refine(model, self.measure, self.bound_factor, self.max_iter)
+        return (res.coefficients, res.score) if res.score <= g0 else (coef, g0)
 
-
-def _refined(coef, terms, filtered, times, bound_factor, max_iter):
-    """Coefficients refined on Gamma and their Gamma (never worse than the start)."""
-    reference = np.vstack(filtered)
-    model = CompiledModel(coef, terms, reference=reference)
-    g0 = simulation_gamma(model, filtered, times)
-    if not np.isfinite(g0) or not np.any(coef):
-        return coef, g0
-    res = refine_coefficients(model, filtered, times, bound_factor, max_iter)
-    g = simulation_gamma(CompiledModel(res.coefficients, terms, reference=reference), filtered, times)
-    return (res.coefficients, g) if g <= g0 else (coef, g0)
+    def search(self, lin_support, candidates, n_search):
+        """The ``n_search`` supports ``linear + one nonlinear term`` that best explain the residual."""
+        rows = np.all(np.isfinite(self.y), axis=1) & np.all(np.isfinite(self.theta), axis=1)
+        theta, y = self.theta[rows], self.y[rows]
+        residual = y - theta @ least_squares(theta, y, lin_support).T
+        scores = []
+        for i in range(lin_support.shape[0]):
+            basis = theta[:, np.flatnonzero(lin_support[i])]
+            for k in candidates:
+                col = theta[:, k]
+                if basis.shape[1]:
+                    col = col - basis @ np.linalg.lstsq(basis, col, rcond=None)[0]
+                norm = float(col @ col)
+                if norm > 0:
+                    scores.append(((col @ residual[:, i]) ** 2 / norm, i, k))
+        scores.sort(reverse=True)
+        out = []
+        for _, i, k in scores[:n_search]:
+            support = lin_support.copy()
+            support[i, k] = True
+            out.append(support)
+        return out
 
 
 def _shares(coef, theta):
@@ -248,74 +239,35 @@ def nonlinearity_test(
         raise TypeError("model has no differentiation method")
     n_states = coef.shape[0]
     terms = term_table(library, n_states)
-    trajectories, _ = check_trajectories(x, "x", min_samples=3)
-    for i, xi in enumerate(trajectories):
-        if xi.shape[1] != n_states:
-            raise ValueError(f"x[{i}] has {xi.shape[1]} states but the model has {n_states}")
-    if t is None:
-        t = getattr(model, "dt", None) or 1.0
-    if isinstance(t, (list, tuple)) and len(t) == len(trajectories) and np.ndim(t[0]) == 1:
-        times = [time_vector(check_time(ti, len(xi), "t"), len(xi)) for ti, xi in zip(t, trajectories)]
-    else:
-        times = [time_vector(check_time(t, len(xi), "t"), len(xi)) for xi in trajectories]
-
-    filtered, derivs = _filter(diff, trajectories, times)
-    noise = float(sum(gamma_from_arrays(r, f) for r, f in zip(trajectories, filtered)))
-    theta = np.vstack(
-        [np.asarray(library.transform(AxesArray(f, {"ax_time": 0, "ax_coord": 1}))) for f in filtered]
-    )
-    y = np.vstack(derivs)
-    rows = np.all(np.isfinite(y), axis=1) & np.all(np.isfinite(theta), axis=1)
-    theta_fit, y_fit = theta[rows], y[rows]
-    names = library.get_feature_names(input_features=state_names)
-
+    data = as_trajectories(x, t, default_dt=getattr(model, "dt", None) or 1.0, min_samples=3)
+    if data.n_states != n_states:
+        raise ValueError(f"x has {data.n_states} states but the model has {n_states}")
+    test = _Comparison(library, diff, data, getattr(model, "error_measure_", "gamma"), bound_factor, max_iter)
     degree = terms.powers.sum(axis=1)
     linear_cols = (terms.func == PLAIN) & (degree <= 1)
-    active = coef != 0
-    lin_support = active & linear_cols[None, :]
+    lin_support = (coef != 0) & linear_cols[None, :]
     if not lin_support.any():  # a model without linear part: all linear terms of the library
         lin_support = np.broadcast_to(linear_cols & (degree == 1), coef.shape).copy()
-    nl_support_model = active & ~linear_cols[None, :]
+    nl_support_model = (coef != 0) & ~linear_cols[None, :]
+    lin_coef, g_lin = test.fit(lin_support)
 
-    lin_coef, g_lin = _refined(
-        _lstsq(theta_fit, y_fit, lin_support), terms, filtered, times, bound_factor, max_iter
-    )
-
-    alternatives = []
-    if nl_support_model.any():
-        alternatives.append(("model", lin_support | nl_support_model))
+    alternatives = [("model", lin_support | nl_support_model)] if nl_support_model.any() else []
     if search and (~linear_cols).any():
-        residual = y_fit - theta_fit @ _lstsq(theta_fit, y_fit, lin_support).T
-        scores = []
-        for i in range(n_states):
-            for k in np.flatnonzero(~linear_cols):
-                col = theta_fit[:, k]
-                # residual reduction by adding column k to equation i, after projecting out the linear part
-                cols = np.flatnonzero(lin_support[i])
-                if cols.size:
-                    basis = theta_fit[:, cols]
-                    col = col - basis @ np.linalg.lstsq(basis, col, rcond=None)[0]
-                norm = float(col @ col)
-                if norm > 0:
-                    scores.append(((col @ residual[:, i]) ** 2 / norm, i, k))
-        scores.sort(reverse=True)
-        for _, i, k in scores[:N_SEARCH]:
-            support = lin_support.copy()
-            support[i, k] = True
-            if not any(np.array_equal(support, s) for _, s in alternatives):
+        for support in test.search(lin_support, np.flatnonzero(~linear_cols), N_SEARCH):
+            if not any(np.array_equal(support, other) for _, other in alternatives):
                 alternatives.append(("search", support))
-
-    best = ("none", lin_coef, g_lin)
-    for source, support in alternatives:
-        c, g = _refined(_lstsq(theta_fit, y_fit, support), terms, filtered, times, bound_factor, max_iter)
-        if g < best[2] or best[0] == "none":
-            best = (source, c, g)
-    source, nl_coef, g_nl = best
+    source, nl_coef, g_nl = "none", lin_coef, g_lin
+    for name, support in alternatives:
+        c, g = test.fit(support)
+        if g < g_nl or source == "none":
+            source, nl_coef, g_nl = name, c, g
     if source != "none" and not (np.isfinite(g_nl) and g_nl <= g_lin):
         # every nonlinear alternative diverged or did worse: nothing to gain from nonlinear terms
         source, nl_coef, g_nl = "none", lin_coef, g_lin
 
-    shares = _shares(nl_coef, theta[rows])
+    names = library.get_feature_names(input_features=state_names)
+    rows = np.all(np.isfinite(test.theta), axis=1)
+    shares = _shares(nl_coef, test.theta[rows])
     found = [
         NonlinearTerm(f"{state_names[i]}'", names[k], float(nl_coef[i, k]), float(shares[i, k]))
         for i in range(n_states)
@@ -324,15 +276,15 @@ def nonlinearity_test(
     ]
     found.sort(key=lambda term: -term.share)
     statistic = float(g_lin - g_nl) if np.isfinite(g_lin) else np.inf
-    threshold = float(rel_tol * g_nl + noise_tol * noise) if np.isfinite(g_nl) else np.inf
+    threshold = tolerance(g_nl, test.noise, 0, 0.0, rel_tol, noise_tol) if np.isfinite(g_nl) else np.inf
     return NonlinearityResult(
         nonlinear=bool(found) and statistic > threshold,
         terms=found,
         statistic=statistic,
-        threshold=threshold,
+        threshold=float(threshold),
         gamma_linear=float(g_lin),
         gamma_nonlinear=float(g_nl),
-        noise_gamma=noise,
+        noise_gamma=test.noise,
         linear_coefficients=lin_coef,
         nonlinear_coefficients=nl_coef,
         feature_names=list(names),

@@ -8,7 +8,7 @@ from pysindy.utils import AxesArray
 from sklearn.preprocessing import PolynomialFeatures
 from sklearn.utils.validation import check_is_fitted
 
-from .._validation import check_trajectories
+from .._trajectories import check_trajectories
 from .terms import PLAIN, SIGNED_SQUARE, SMOOTH_SIGN, TermTable
 
 __all__ = ["MechanicalLibrary"]

@@ -1,103 +1,94 @@
-"""A compact description of library terms that the compiled simulator evaluates.
+"""From a fitted feature library to what the simulator evaluates.
 
-Every term the simulator supports is ``prod_j x_j**powers[j] * g(x_v)`` where ``g`` is one of a few
-scalar functions of one state ``v``:
-
-=====  ======================  ==========================================
-code   g(x_v)                  use
-=====  ======================  ==========================================
-0      1                       polynomial terms
-1      x_v * |x_v|             quadratic (velocity-squared) damping
-2      tanh(x_v / width)       smooth sign: Coulomb-like friction
-=====  ======================  ==========================================
+:func:`term_table` describes the terms of the libraries the compiled simulator supports
+(:class:`pysindy.PolynomialLibrary`, :class:`pysindy.FourierLibrary`, :class:`pysindy.ConcatLibrary` of
+supported ones, :class:`~sindy_impulse.MechanicalLibrary` and anything with a ``term_table_``) as a
+:class:`~sindy_impulse.simulation.TermTable`. :func:`library_terms` returns that table, or for any other
+library a function that evaluates the library's terms, which the simulator's general fallback uses.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
+from pysindy.utils import AxesArray
 
-__all__ = ["TermTable", "term_table", "PLAIN", "SIGNED_SQUARE", "SMOOTH_SIGN"]
+from ..simulation.terms import ABS, COS, PLAIN, SIGNED_SQUARE, SIN, SMOOTH_SIGN, TermTable
 
-PLAIN, SIGNED_SQUARE, SMOOTH_SIGN = 0, 1, 2
-
-
-@dataclass(frozen=True)
-class TermTable:
-    """Terms of a feature library as arrays (one row per library feature).
-
-    Attributes
-    ----------
-    powers : ndarray of int, shape (n_features, n_states)
-        Exponent of each state in the monomial factor.
-    func : ndarray of int, shape (n_features,)
-        Code of the extra scalar factor (``PLAIN``, ``SIGNED_SQUARE``, ``SMOOTH_SIGN``).
-    func_state : ndarray of int, shape (n_features,)
-        The state the extra factor acts on.
-    func_param : ndarray of float, shape (n_features,)
-        Its parameter (the width of the smooth sign).
-    """
-
-    powers: np.ndarray
-    func: np.ndarray
-    func_state: np.ndarray
-    func_param: np.ndarray
-
-    @classmethod
-    def polynomial(cls, powers) -> TermTable:
-        powers = np.ascontiguousarray(powers, dtype=np.int64)
-        n = powers.shape[0]
-        return cls(powers, np.zeros(n, np.int64), np.zeros(n, np.int64), np.ones(n))
-
-    @property
-    def n_features(self) -> int:
-        return self.powers.shape[0]
-
-    def subset(self, columns) -> TermTable:
-        """The table restricted to the given feature columns."""
-        columns = np.asarray(columns, dtype=np.int64)
-        return TermTable(
-            np.ascontiguousarray(self.powers[columns]),
-            np.ascontiguousarray(self.func[columns]),
-            np.ascontiguousarray(self.func_state[columns]),
-            np.ascontiguousarray(self.func_param[columns]),
-        )
-
-    def evaluate(self, x: np.ndarray) -> np.ndarray:
-        """Evaluate all terms on states ``x`` of shape (n_samples, n_states) (numpy reference)."""
-        x = np.asarray(x, dtype=float)
-        theta = np.prod(x[:, None, :] ** self.powers[None, :, :], axis=2)
-        xv = x[:, self.func_state]
-        extra = np.where(
-            self.func == SIGNED_SQUARE,
-            xv * np.abs(xv),
-            np.where(self.func == SMOOTH_SIGN, np.tanh(xv / self.func_param), 1.0),
-        )
-        return theta * extra
+__all__ = ["TermTable", "term_table", "library_terms", "PLAIN", "SIGNED_SQUARE", "SMOOTH_SIGN", "ABS"]
 
 
-def term_table(library, n_states: int) -> TermTable:
-    """The :class:`TermTable` of a fitted feature library.
+def _fourier_table(library, n_inputs: int) -> TermTable:
+    """sin/cos of each input at frequencies 1..n_frequencies, in FourierLibrary's column order."""
+    func, state, param = [], [], []
+    for i in range(library.n_frequencies):
+        for j in range(n_inputs):
+            for enabled, code in ((library.include_sin, SIN), (library.include_cos, COS)):
+                if enabled:
+                    func.append(code)
+                    state.append(j)
+                    param.append(float(i + 1))
+    n = len(func)
+    return TermTable(
+        np.zeros((n, n_inputs), np.int64),
+        np.asarray(func, np.int64),
+        np.asarray(state, np.int64),
+        np.asarray(param, float),
+    )
 
-    Supports :class:`pysindy.PolynomialLibrary` and :class:`sindy_impulse.MechanicalLibrary`
-    (anything with a ``term_table_`` attribute).
+
+def term_table(library, n_inputs: int) -> TermTable:
+    """The :class:`TermTable` of a fitted feature library acting on ``n_inputs`` inputs.
+
+    ``n_inputs`` counts the states and the control inputs the library was fitted on.
 
     Raises
     ------
     TypeError
-        For a library whose terms the compiled simulator cannot evaluate.
+        For a library whose terms the compiled simulator cannot evaluate (use :func:`library_terms`).
+
+    Examples
+    --------
+    >>> import numpy as np, pysindy as ps
+    >>> lib = ps.PolynomialLibrary(degree=2).fit(np.ones((5, 2)))
+    >>> term_table(lib, 2).powers.tolist()
+    [[0, 0], [1, 0], [0, 1], [2, 0], [1, 1], [0, 2]]
     """
     table = getattr(library, "term_table_", None)
-    if table is not None:
-        return table
-    powers = getattr(library, "powers_", None)
-    if powers is not None and type(library).__name__ == "PolynomialLibrary":
-        powers = np.asarray(powers)
-        if powers.shape[1] != n_states:
-            raise ValueError(f"library was fitted on {powers.shape[1]} states, data have {n_states}")
-        return TermTable.polynomial(powers)
-    raise TypeError(
-        f"{type(library).__name__} is not supported by the compiled simulator; use "
-        "pysindy.PolynomialLibrary or sindy_impulse.MechanicalLibrary"
-    )
+    kind = type(library).__name__
+    if table is None and kind == "PolynomialLibrary" and hasattr(library, "n_output_features_"):
+        table = TermTable.polynomial(np.asarray(library.powers_))
+    elif table is None and kind == "FourierLibrary" and hasattr(library, "n_output_features_"):
+        table = _fourier_table(library, int(library.n_features_in_))
+    elif table is None and kind == "ConcatLibrary" and hasattr(library, "n_output_features_"):
+        table = TermTable.concatenate(term_table(lib, n_inputs) for lib in library.libraries)
+    if table is None:
+        raise TypeError(
+            f"{kind} is not supported by the compiled simulator; use pysindy.PolynomialLibrary, "
+            "FourierLibrary, ConcatLibrary of those, or sindy_impulse.MechanicalLibrary (other libraries "
+            "are simulated by the slower general fallback)"
+        )
+    if table.n_inputs != n_inputs:
+        raise ValueError(f"library was fitted on {table.n_inputs} inputs, data have {n_inputs}")
+    return table
+
+
+def library_terms(library, n_inputs: int):
+    """The library's :class:`TermTable`, or a function ``Z -> Theta(Z)`` for the general fallback.
+
+    Examples
+    --------
+    >>> import numpy as np, pysindy as ps
+    >>> lib = ps.CustomLibrary(library_functions=[lambda x: np.exp(x)]).fit(np.zeros((4, 1)))
+    >>> evaluate = library_terms(lib, 1)
+    >>> callable(evaluate), evaluate(np.zeros((1, 1))).tolist()
+    (True, [[1.0]])
+    """
+    try:
+        return term_table(library, n_inputs)
+    except TypeError:
+        pass
+
+    def evaluate(Z: np.ndarray) -> np.ndarray:
+        return np.asarray(library.transform(AxesArray(np.atleast_2d(Z), {"ax_time": 0, "ax_coord": 1})))
+
+    return evaluate

@@ -131,6 +131,12 @@ class ThresholdSweep(BaseOptimizer):
     def __init__(self, max_iter: int = 20):
         super().__init__(max_iter=max_iter, normalize_columns=False, unbias=False)
 
+    @property
+    def candidates_(self) -> np.ndarray:
+        """The path as one array (n_candidates, n_targets, n_features): the sweep protocol of
+        :func:`sindy_impulse.optimizers.candidate_path`."""
+        return np.asarray(self.history_)
+
     def set_params(self, **params):
         super().set_params(**params)
         return self

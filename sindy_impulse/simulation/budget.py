@@ -1,0 +1,53 @@
+"""The deterministic work budget of one fit: nothing runs unbounded, and a fit gives the same model on
+any machine (a count of work, not wall time)."""
+
+from __future__ import annotations
+
+__all__ = ["WorkBudget", "WORK_BUDGET", "OutOfBudget"]
+
+#: Simulation work allowed per fit (the sweep's simulations and every refinement together), counted as
+#: term evaluations per RK4 step (see ``CompiledModel.work``). About 2-5 s on one core.
+WORK_BUDGET = 1e8
+
+
+class OutOfBudget(Exception):
+    """Raised by a budgeted objective once the budget is used up (the optimizer stops there)."""
+
+
+class WorkBudget:
+    """A deterministic bound on the simulation work of one fit.
+
+    Models count their own work (``work_done``); :meth:`charge_model` charges what a model did since the
+    last charge, so every caller that simulates through the model is accounted for without computing costs
+    itself.
+
+    Examples
+    --------
+    >>> budget = WorkBudget(100.0)
+    >>> budget.charge(60.0), budget.charge(60.0), budget.exhausted
+    (True, False, True)
+    """
+
+    def __init__(self, units: float | None = None):
+        self.total = float(WORK_BUDGET if units is None else units)
+        self.remaining = self.total
+        self.exhausted = False
+
+    @property
+    def used(self) -> float:
+        """Fraction of the budget spent (may exceed 1 by the last charge)."""
+        return (self.total - self.remaining) / self.total if self.total > 0 else 1.0
+
+    def charge(self, units: float) -> bool:
+        """Spend ``units``; False (and ``exhausted``) once the budget is used up."""
+        self.remaining -= units
+        if self.remaining < 0:
+            self.exhausted = True
+        return not self.exhausted
+
+    def charge_model(self, model) -> bool:
+        """Charge the work ``model`` did since it was last charged."""
+        done = float(getattr(model, "work_done", 0.0))
+        charged = getattr(model, "_work_charged", 0.0)
+        model._work_charged = done
+        return self.charge(done - charged)

@@ -1,0 +1,361 @@
+"""A sparse model ``x' = coef @ Theta([x, u])`` compiled for fast evaluation and simulation.
+
+:class:`CompiledModel` keeps only the active terms of a :class:`~sindy_impulse.simulation.terms.TermTable`
+and runs the numba kernels of :mod:`~sindy_impulse.simulation.integrators`; :class:`FallbackModel` does the
+same for any other library through a function that evaluates its terms (correct, slower). Both count the
+work they do (``work_done``, in term evaluations per RK4 step), which the work budget of a fit reads, and
+choose their RK4 sub-steps from the model's fastest time scale (the Jacobian's spectral radius along the
+data); a model that would need more than ``MAX_SUBSTEPS`` is stiff and goes to the adaptive integrator.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .integrators import MAX_SUBSTEPS, NO_INPUT, rhs_points, rk4_simulate, solve_ivp_simulate, weighted_l1
+from .terms import TermTable
+
+__all__ = ["CompiledModel", "FallbackModel", "compile_model", "STEP_SCALE", "FALLBACK_COST"]
+
+#: Target of ``h * rho`` per Runge-Kutta sub-step (``h`` the sub-step, ``rho`` the spectral radius).
+#: 0.02 keeps RK4's global error below 1e-7 relative on the paper's oscillator.
+STEP_SCALE = 0.02
+#: Work units charged per right-hand-side evaluation and term by the fallback (Python is ~100x slower).
+FALLBACK_COST = 100.0
+#: Work units per evaluation and term of a compiled model called from the adaptive integrator (through
+#: Python, about 25x a kernel RK4 step).
+ADAPTIVE_COST = 25.0
+
+
+def _kernel_arrays(terms: TermTable) -> tuple:
+    """The term table in the sparse form the kernels read."""
+    counts = terms.powers.sum(axis=1)
+    factor_ptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    factor_state = np.concatenate(
+        [np.zeros(0, np.int64)] + [np.repeat(np.arange(terms.powers.shape[1]), row) for row in terms.powers]
+    ).astype(np.int64)
+    return (
+        factor_ptr,
+        factor_state,
+        np.ascontiguousarray(terms.func, dtype=np.int64),
+        np.ascontiguousarray(terms.func_state, dtype=np.int64),
+        np.ascontiguousarray(terms.func_param, dtype=float),
+    )
+
+
+def _as_inputs(u, n_times: int, n_inputs: int) -> np.ndarray:
+    """Control inputs on the time grid as a contiguous (n_times, n_inputs) array (empty without inputs)."""
+    if n_inputs == 0:
+        return NO_INPUT
+    if u is None:
+        raise ValueError(f"the model has {n_inputs} control input(s): u is required")
+    arr = np.ascontiguousarray(np.asarray(u, dtype=float).reshape(n_times, -1))
+    if arr.shape[1] != n_inputs:
+        raise ValueError(f"u has {arr.shape[1]} input(s) but the model has {n_inputs}")
+    return arr
+
+
+class _SparseModel:
+    """What both model kinds share: coefficients, admissible box, time scale, work accounting."""
+
+    def __init__(self, coefficients, n_inputs_total: int, reference, divergence_factor: float, reference_u):
+        coef = np.atleast_2d(np.asarray(coefficients, dtype=float))
+        self.n_states = coef.shape[0]
+        self.n_inputs = n_inputs_total - self.n_states
+        if self.n_inputs < 0:
+            raise ValueError(
+                f"the library acts on {n_inputs_total} inputs but there are {self.n_states} equations"
+            )
+        self.full_coefficients = coef
+        self.active = np.flatnonzero(np.any(coef != 0, axis=0))
+        self.coef = np.ascontiguousarray(coef[:, self.active])
+        ref = (
+            np.zeros((1, self.n_states)) if reference is None else np.atleast_2d(np.asarray(reference, float))
+        )
+        scale = np.max(np.abs(ref), axis=0)
+        self.bound = divergence_factor * np.where(scale > 0, scale, 1.0)
+        idx = np.unique(np.linspace(0, ref.shape[0] - 1, min(64, ref.shape[0])).astype(int))
+        probe = ref[idx]
+        if self.n_inputs:
+            ru = np.zeros((ref.shape[0], self.n_inputs)) if reference_u is None else np.asarray(reference_u)
+            probe = np.hstack([probe, np.asarray(ru, float).reshape(ref.shape[0], -1)[idx]])
+        self._probe = np.ascontiguousarray(probe)
+        self.work_done = 0.0
+
+    # -- time scale and cost ---------------------------------------------------------------------------
+    def _spectral_radius(self, coef) -> float:
+        """Largest |eigenvalue| of the state Jacobian over the probe points (central differences)."""
+        Z = self._probe
+        n = self.n_states
+        h = 1e-6 * np.maximum(np.max(np.abs(Z[:, :n]), axis=0), 1e-12)
+        jac = np.empty((Z.shape[0], n, n))
+        for j in range(n):
+            dz = np.zeros(Z.shape[1])
+            dz[j] = h[j]
+            jac[:, :, j] = (self._rhs_z(Z + dz, coef) - self._rhs_z(Z - dz, coef)) / (2 * h[j])
+        if not np.all(np.isfinite(jac)):
+            return np.inf
+        return float(np.max(np.abs(np.linalg.eigvals(jac))))
+
+    @property
+    def spectral_radius(self) -> float:
+        """Fastest time scale of the model along the reference (sets the RK4 sub-steps).
+
+        Assignable: the refinement fixes it for the whole optimization (a smooth objective needs a fixed
+        integration grid).
+        """
+        if not hasattr(self, "_radius"):
+            self._radius = self._spectral_radius(self.coef)
+        return self._radius
+
+    @spectral_radius.setter
+    def spectral_radius(self, value: float) -> None:
+        self._radius = float(value)
+
+    def required_substeps(self, t, radius: float | None = None) -> float:
+        """RK4 sub-steps per sample interval for ``h * rho <= STEP_SCALE`` (inf if not finite)."""
+        rho = self.spectral_radius if radius is None else radius
+        dt_max = float(np.max(np.diff(t))) if len(t) > 1 else 0.0
+        return math.inf if not np.isfinite(rho) else max(1.0, math.ceil(dt_max * rho / STEP_SCALE))
+
+    def substeps(self, t, radius: float | None = None) -> int:
+        """RK4 sub-steps per sample interval, at most ``MAX_SUBSTEPS``."""
+        return int(min(MAX_SUBSTEPS, self.required_substeps(t, radius)))
+
+    def is_stiff(self, t, radius: float | None = None) -> bool:
+        """True when RK4 would need more than ``MAX_SUBSTEPS`` sub-steps (the adaptive path is used)."""
+        return self.required_substeps(t, radius) > MAX_SUBSTEPS
+
+    def work(self, t, substeps: int | None = None, rows: int | None = None) -> float:
+        """Cost of simulating ``rows`` sample intervals of ``t``, in term evaluations per RK4 step."""
+        steps = self.substeps(t) if substeps is None else int(substeps)
+        rows = len(t) - 1 if rows is None else rows
+        return float(max(rows, 0) * steps * max(1, self.coef.shape[1]))
+
+    # -- evaluation ---------------------------------------------------------------------------------------
+    def _z(self, x, u) -> np.ndarray:
+        X = np.atleast_2d(np.asarray(x, dtype=float))
+        if self.n_inputs == 0:
+            return np.ascontiguousarray(X)
+        return np.ascontiguousarray(np.hstack([X, _as_inputs(u, X.shape[0], self.n_inputs)]))
+
+    def rhs(self, x, u=None, coef=None) -> np.ndarray:
+        """Right-hand side at states ``x`` (n_points, n_states) and inputs ``u``; ``coef`` overrides."""
+        return self._rhs_z(self._z(x, u), self.coef if coef is None else np.asarray(coef, dtype=float))
+
+    def _check_x0(self, x0) -> np.ndarray:
+        x0 = np.ascontiguousarray(x0, dtype=float).ravel()
+        if x0.shape[0] != self.n_states:
+            raise ValueError(f"x0 has {x0.shape[0]} entries but the model has {self.n_states} states")
+        return x0
+
+    def _adaptive(self, x0, t, u, c, **kws) -> np.ndarray:
+        bound = np.maximum(self.bound, 10 * np.abs(x0))
+        out, n_eval = solve_ivp_simulate(lambda z: self._rhs_z(z[None], c)[0], x0, t, u, bound, **kws)
+        self.work_done += n_eval * max(1, c.shape[1]) * self._eval_cost
+        return out
+
+    def weighted_l1(self, reference, t, starts, weights, coefs=None, u=None, substeps=None):
+        """Weighted L1 error of segment-restarted simulations (see :func:`integrators.weighted_l1`).
+
+        Through the adaptive integrator, segment by segment, when the fast kernel cannot be used.
+        """
+        ref = np.ascontiguousarray(reference, dtype=float)
+        t = np.ascontiguousarray(t, dtype=float)
+        c = self.coef[None] if coefs is None else np.ascontiguousarray(coefs, dtype=float)
+        uu = _as_inputs(u, len(t), self.n_inputs)
+        starts = np.ascontiguousarray(starts, dtype=np.int64)
+        errors = np.empty(c.shape[0])
+        ends = np.append(starts[1:], len(t) - 1)
+        for b in range(c.shape[0]):
+            total = 0.0
+            for k, (s0, s1) in enumerate(zip(starts, ends)):
+                seg_u = None if self.n_inputs == 0 else uu[s0 : s1 + 1]
+                sim = self._adaptive(ref[s0], t[s0 : s1 + 1], seg_u, c[b])
+                total += float(np.sum(weights[k] * np.abs(sim[1:] - ref[s0 + 1 : s1 + 1])))
+            errors[b] = total if np.isfinite(total) else np.inf
+        return errors, np.full(c.shape[0], len(t) - 1, dtype=np.int64)
+
+
+class CompiledModel(_SparseModel):
+    """A sparse model compiled for the numba kernels.
+
+    Parameters
+    ----------
+    coefficients : array of shape (n_states, n_features)
+        The model's coefficients (rows: equations, columns: library terms).
+    terms : TermTable
+        The library's terms over the states and control inputs (see
+        :func:`sindy_impulse.feature_library.term_table`).
+    reference : array of shape (n_samples, n_states), optional
+        States along which the fastest time scale is estimated (the data the model was fitted to); also
+        sets the admissible box. Defaults to the origin.
+    divergence_factor : float, default=100
+        A simulation stops as diverged once a state exceeds this factor times the reference's largest
+        absolute value of that state.
+    reference_u : array of shape (n_samples, n_inputs), optional
+        Control inputs along the reference (for the time scale estimate).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> terms = TermTable.polynomial([[1, 0], [0, 1]])
+    >>> model = CompiledModel([[0.0, 1.0], [-64.0, -3.2]], terms, reference=[[1.0, 0.0], [0.0, 8.0]])
+    >>> x = model.simulate([1.0, 0.0], np.arange(401) * 0.01)
+    >>> x.shape, bool(abs(x[-1, 0]) < 0.01)
+    ((401, 2), True)
+    """
+
+    _eval_cost = ADAPTIVE_COST
+
+    def __init__(
+        self,
+        coefficients,
+        terms: TermTable,
+        reference=None,
+        divergence_factor: float = 100.0,
+        reference_u=None,
+    ):
+        coef = np.atleast_2d(np.asarray(coefficients, dtype=float))
+        if coef.shape[1] != terms.n_features:
+            raise ValueError(
+                f"coefficients have {coef.shape[1]} columns but the library has {terms.n_features} terms"
+            )
+        super().__init__(coef, terms.n_inputs, reference, divergence_factor, reference_u)
+        self.terms = terms.subset(self.active)
+        self._kernel = _kernel_arrays(self.terms)
+
+    def _rhs_z(self, Z, coef) -> np.ndarray:
+        return rhs_points(np.ascontiguousarray(Z, dtype=float), np.ascontiguousarray(coef), *self._kernel)
+
+    def simulate(self, x0, t, u=None, coef=None, substeps: int | None = None, **integrator_kws) -> np.ndarray:
+        """Integrate from ``x0`` over the time grid ``t`` (inputs ``u`` on the grid, if the model has any).
+
+        RK4 with sub-steps from the model's time scale; the adaptive integrator when the model is stiff or
+        when ``integrator_kws`` (options of ``scipy.integrate.solve_ivp``) are given. Returns an array
+        (len(t), n_states); rows after a divergence are NaN.
+        """
+        t = np.ascontiguousarray(t, dtype=float)
+        x0 = self._check_x0(x0)
+        c = self.coef if coef is None else np.ascontiguousarray(coef, dtype=float)
+        uu = u if callable(u) else _as_inputs(u, len(t), self.n_inputs)
+        if integrator_kws or callable(u) or (substeps is None and self.is_stiff(t)):
+            return self._adaptive(x0, t, None if self.n_inputs == 0 else uu, c, **integrator_kws)
+        steps = self.substeps(t) if substeps is None else int(substeps)
+        out = np.empty((t.shape[0], self.n_states))
+        bound = np.maximum(self.bound, 10 * np.abs(x0))
+        rows = rk4_simulate(x0, t, steps, c, *self._kernel, bound, uu, out)
+        self.work_done += self.work(t, steps, rows)
+        return out
+
+    def weighted_l1(self, reference, t, starts, weights, coefs=None, u=None, substeps=None):
+        """Weighted L1 error of segment-restarted simulations for a batch of active-coefficient matrices.
+
+        Parameters
+        ----------
+        reference : ndarray (n_times, n_states)
+        t : ndarray (n_times,)
+        starts : ndarray of int (n_segments,)
+            First sample of each segment (the first is 0 for a simulation from the first sample).
+        weights : ndarray (n_segments, n_states)
+            Weight of each state's absolute error in each segment.
+        coefs : ndarray (n_models, n_states, n_active), optional
+            Active coefficients to score (default: the model's own).
+        u : ndarray (n_times, n_inputs), optional
+        substeps : int, optional
+
+        Returns
+        -------
+        (errors, rows) : ndarrays (n_models,)
+        """
+        t = np.ascontiguousarray(t, dtype=float)
+        if substeps is None and self.is_stiff(t):
+            return super().weighted_l1(reference, t, starts, weights, coefs, u)
+        ref = np.ascontiguousarray(reference, dtype=float)
+        c = self.coef[None] if coefs is None else np.ascontiguousarray(coefs, dtype=float)
+        steps = self.substeps(t) if substeps is None else int(substeps)
+        starts = np.ascontiguousarray(starts, dtype=np.int64)
+        bound = np.maximum(self.bound, 10 * np.max(np.abs(ref[starts]), axis=0))
+        errors, rows = weighted_l1(
+            ref,
+            t,
+            np.ascontiguousarray(starts, dtype=np.int64),
+            np.ascontiguousarray(weights, dtype=float),
+            steps,
+            c,
+            *self._kernel,
+            bound,
+            _as_inputs(u, len(t), self.n_inputs),
+        )
+        self.work_done += sum(self.work(t, steps, int(r)) for r in rows)
+        return errors, rows
+
+
+class FallbackModel(_SparseModel):
+    """A sparse model over a library the kernels cannot evaluate (e.g. a ``CustomLibrary``).
+
+    ``evaluate(Z)`` returns the library's terms at inputs ``Z`` (n_points, n_states + n_inputs); the model is
+    simulated with the adaptive integrator. Correct for any library, slower than :class:`CompiledModel`
+    (its work is charged ``FALLBACK_COST`` times a compiled evaluation).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> model = FallbackModel([[0.0, 1.0], [-64.0, -3.2]], lambda Z: Z, n_inputs_total=2)
+    >>> x = model.simulate([1.0, 0.0], np.arange(401) * 0.01)
+    >>> bool(abs(x[-1, 0]) < 0.01)
+    True
+    """
+
+    _eval_cost = FALLBACK_COST
+
+    def __init__(
+        self,
+        coefficients,
+        evaluate,
+        n_inputs_total: int,
+        reference=None,
+        divergence_factor: float = 100.0,
+        reference_u=None,
+    ):
+        self._evaluate = evaluate
+        super().__init__(coefficients, n_inputs_total, reference, divergence_factor, reference_u)
+
+    def _rhs_z(self, Z, coef) -> np.ndarray:
+        coef = np.asarray(coef, dtype=float)
+        full = np.zeros((coef.shape[0], self.full_coefficients.shape[1]))
+        full[:, self.active] = coef
+        return np.asarray(self._evaluate(np.atleast_2d(Z)), dtype=float) @ full.T
+
+    def simulate(self, x0, t, u=None, coef=None, substeps: int | None = None, **integrator_kws) -> np.ndarray:
+        """Integrate with the adaptive integrator (``integrator_kws`` go to ``solve_ivp``)."""
+        t = np.ascontiguousarray(t, dtype=float)
+        c = self.coef if coef is None else np.asarray(coef, dtype=float)
+        uu = u if callable(u) or self.n_inputs == 0 else _as_inputs(u, len(t), self.n_inputs)
+        return self._adaptive(self._check_x0(x0), t, None if self.n_inputs == 0 else uu, c, **integrator_kws)
+
+
+def compile_model(
+    coefficients, terms, reference=None, divergence_factor: float = 100.0, reference_u=None, n_inputs: int = 0
+):
+    """A :class:`CompiledModel` for a :class:`TermTable`, a :class:`FallbackModel` for an evaluator.
+
+    ``terms`` is what :func:`sindy_impulse.feature_library.library_terms` returns for the fitted library;
+    ``n_inputs`` (control inputs) is needed for an evaluator only (a table knows its inputs).
+
+    Examples
+    --------
+    >>> model = compile_model([[0.0, 1.0], [-64.0, -3.2]], TermTable.polynomial([[1, 0], [0, 1]]))
+    >>> type(model).__name__
+    'CompiledModel'
+    """
+    if isinstance(terms, TermTable):
+        return CompiledModel(coefficients, terms, reference, divergence_factor, reference_u)
+    if not callable(terms):
+        raise TypeError(f"terms must be a TermTable or a function Z -> Theta(Z), got {type(terms).__name__}")
+    coef = np.atleast_2d(np.asarray(coefficients, dtype=float))
+    return FallbackModel(
+        coef, terms, coef.shape[0] + int(n_inputs), reference, divergence_factor, reference_u
+    )
