@@ -95,7 +95,8 @@ def _entry_points():
         ),
         "ImpulseSINDy.predict": (lambda x, m: m.predict(x), "x", ()),
         "ImpulseSINDy.score": (lambda x, m: m.score(x, t=DT), "x", ()),
-        "TVRegDiff()": (lambda x, m: TVRegDiff()(x, DT), "x", ()),
+        # PySINDy's call takes N-D arrays with the time on ``axis`` (tested in test_tvregdiff.py)
+        "TVRegDiff()": (lambda x, m: TVRegDiff()(x, DT), "x", ("3-D",)),
         "TVRegDiff.fit": (lambda x, m: TVRegDiff().fit(x), "X", ()),
         "TVRegDiff.transform": (lambda x, m: TVRegDiff().fit(X).transform(x), "X", ()),
         "DelayEmbedding.fit": (lambda x, m: DelayEmbedding().fit(_one_column(x)), "s", ()),
@@ -395,7 +396,7 @@ BAD_CALLS = [
         "MechanicalLibrary states",
         lambda m: MechanicalLibrary().fit(X).transform(np.zeros((5, 3))),
         ValueError,
-        r"x has 3 states but the library was fitted on 2",
+        r"X has 3 features, but MechanicalLibrary is expecting 2 features as input \(x has 3 states",
     ),
     (
         "CompiledModel columns",
@@ -435,7 +436,12 @@ BAD_CALLS = [
         ValueError,
         r"max_iter must be a positive integer",
     ),
-    ("TVRegDiff order", lambda m: TVRegDiff(order=5)(X, DT), ValueError, r"order must be 1, 2 or 3"),
+    (
+        "TVRegDiff order",
+        lambda m: TVRegDiff(order=5)(X, DT),
+        ValueError,
+        r"TVRegDiff: order must be an integer in \[1, 3\]; got 5",
+    ),
     (
         "TVRegDiff alpha",
         lambda m: TVRegDiff(alpha=[1.0, 2.0, 3.0])(X, DT),
@@ -452,7 +458,7 @@ BAD_CALLS = [
         "MechanicalLibrary degree",
         lambda m: MechanicalLibrary(degree=-1).fit(X),
         ValueError,
-        r"degree must be a non-negative integer",
+        r"MechanicalLibrary: degree must be an integer in \[0, inf\); got -1",
     ),
     ("damped_oscillator k", lambda m: damped_oscillator(k="a"), TypeError, r"k must be a real number"),
     (
