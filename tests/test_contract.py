@@ -391,7 +391,12 @@ BAD_CALLS = [
         ValueError,
         r"X has 1 features, but TVRegDiff is expecting 2",
     ),
-    ("DelayEmbedding 2 columns", lambda m: DelayEmbedding().fit(X), ValueError, r"s has 2 columns"),
+    (
+        "DelayEmbedding channels",
+        lambda m: DelayEmbedding(tau=18, dimension=2).fit(X[:, 0]).transform(X),
+        ValueError,
+        r"X has 2 features, but DelayEmbedding is expecting 1 features as input \(s has 2 channel",
+    ),
     (
         "MechanicalLibrary states",
         lambda m: MechanicalLibrary().fit(X).transform(np.zeros((5, 3))),
@@ -452,7 +457,7 @@ BAD_CALLS = [
         "DelayEmbedding tau",
         lambda m: DelayEmbedding(tau=0).fit(X[:, 0]),
         ValueError,
-        r"tau must be 'auto' or an int >= 1",
+        r"DelayEmbedding: tau must be one of 'auto' or an integer in \[1, inf\); got 0",
     ),
     (
         "MechanicalLibrary degree",
