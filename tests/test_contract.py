@@ -5,7 +5,7 @@
 3. Units do not matter (micrometres or kilometres give the same model).
 4. No hang: every fit returns or raises in bounded time; an optimizer failure keeps the unrefined model.
 5. Deterministic: the same input gives the same model.
-6. scikit-learn's check_estimator on TVRegDiff and DelayEmbedding, failing only where a check cannot apply.
+6. scikit-learn's check_estimator: in tests/test_sklearn_checks.py.
 
 Contract violations found in modules owned by others are kept as strict xfails (reported, not fixed here).
 """
@@ -962,122 +962,8 @@ def test_randomness_only_where_random_state_is():
     assert not np.array_equal(add_noise(X, 20, random_state=5), add_noise(X, 20, random_state=6))
 
 
+# 6. scikit-learn check_estimator: tests/test_sklearn_checks.py
 # ------------------------------------------------------------------------------------------------------
-# 6. scikit-learn check_estimator
-# ------------------------------------------------------------------------------------------------------
-SHORT = (
-    "the check fits on 10 samples, fewer than the method needs (reported clearly: 'at least N are needed')"
-)
-TVREGDIFF_EXPECTED_FAILURES = {
-    "check_estimators_nan_inf": SHORT + "; the NaN/inf refusal itself is tested in this file",
-    "check_fit2d_1feature": SHORT,
-    "check_methods_sample_order_invariance": "a derivative depends on the order of the samples in time",
-    "check_methods_subset_invariance": "a derivative is not defined sample by sample (1-sample batches)",
-}
-ONE_D_HARNESS = (
-    "DelayEmbedding embeds one signal (tag one_d_array): scikit-learn's check then passes X[:, 0] and "
-    "itself indexes the result as 2-D (the failure is raised inside sklearn's check, not in our code)"
-)
-DELAY_EMBEDDING_EXPECTED_FAILURES = {
-    name: ONE_D_HARNESS
-    for name in [
-        "check_dont_overwrite_parameters",
-        "check_n_features_in_after_fitting",
-        "check_dtype_object",
-        "check_f_contiguous_array_estimator",
-        "check_transformer_data_not_an_array",
-        "check_transformer_general",
-        "check_methods_sample_order_invariance",
-        "check_methods_subset_invariance",
-        "check_fit2d_1sample",
-        "check_fit2d_1feature",
-        "check_dict_unchanged",
-        "check_n_features_in",
-        "check_fit2d_predict1d",
-    ]
-}
-DELAY_EMBEDDING_EXPECTED_FAILURES.update(
-    {
-        "check_estimator_sparse_array": ONE_D_HARNESS + " (sklearn cannot build a 1-D sparse matrix)",
-        "check_estimators_nan_inf": SHORT,
-        "check_fit1d": "a 1-D array is the natural input of DelayEmbedding (one signal)",
-    }
-)
-
-
-@pytest.mark.filterwarnings("ignore")
-@pytest.mark.parametrize(
-    "estimator, expected",
-    [
-        pytest.param(TVRegDiff(), TVREGDIFF_EXPECTED_FAILURES, id="TVRegDiff"),
-        pytest.param(DelayEmbedding(), DELAY_EMBEDDING_EXPECTED_FAILURES, id="DelayEmbedding"),
-    ],
-)
-def test_check_estimator(estimator, expected):
-    from sklearn.utils.estimator_checks import check_estimator
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        results = check_estimator(estimator, expected_failed_checks=expected, on_fail=None)
-    failed = [r["check_name"] for r in results if r["status"] == "failed"]
-    assert failed == []
-    xfailed = {r["check_name"] for r in results if r["status"] == "xfail"}
-    assert xfailed == set(expected)  # every listed failure still happens (the list stays honest)
-
-
-SERIES = (
-    "SINDyFeatures reads each row of X as one series (n_series, n_times): sklearn's rows of 2-10 values "
-    "are too short to embed and fit (refused clearly: 'at least N are needed')"
-)
-SINDY_FEATURES_EXPECTED_FAILURES = {
-    name: SERIES
-    for name in [
-        "check_fit_score_takes_y",
-        "check_estimators_overwrite_params",
-        "check_dont_overwrite_parameters",
-        "check_estimators_fit_returns_self",
-        "check_readonly_memmap_input",
-        "check_n_features_in_after_fitting",
-        "check_positive_only_tag_during_fit",
-        "check_estimators_dtypes",
-        "check_pipeline_consistency",
-        "check_estimators_nan_inf",
-        "check_estimators_pickle",
-        "check_f_contiguous_array_estimator",
-        "check_transformer_general",
-        "check_transformer_preserve_dtypes",
-        "check_methods_sample_order_invariance",
-        "check_methods_subset_invariance",
-        "check_fit2d_1sample",
-        "check_fit2d_1feature",
-        "check_dict_unchanged",
-        "check_fit_idempotent",
-        "check_fit_check_is_fitted",
-        "check_n_features_in",
-        "check_fit2d_predict1d",
-        # the input types themselves are accepted (test_sindy_features_takes_object_arrays_and_array_likes)
-        "check_dtype_object",
-        "check_transformer_data_not_an_array",
-    ]
-}
-
-
-@pytest.mark.filterwarnings("ignore")
-def test_check_estimator_sindy_features():
-    from sklearn.utils.estimator_checks import check_estimator
-
-    from sindy_impulse import SINDyFeatures
-
-    expected = SINDY_FEATURES_EXPECTED_FAILURES
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        results = check_estimator(SINDyFeatures(), expected_failed_checks=expected, on_fail=None)
-    failed = [r["check_name"] for r in results if r["status"] == "failed"]
-    assert failed == []
-    xfailed = {r["check_name"] for r in results if r["status"] == "xfail"}
-    assert xfailed == set(expected)
-
-
 class _ArrayLike:
     """Not an ndarray, only ``__array__`` (as scikit-learn's _NotAnArray)."""
 
