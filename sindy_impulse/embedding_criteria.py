@@ -16,21 +16,7 @@ from scipy.spatial import cKDTree
 
 from .exceptions import DataWarning
 
-__all__ = [
-    "autocorrelation",
-    "auto_mutual_information",
-    "false_nearest_neighbours",
-    "cao_statistics",
-    "delay_matrix",
-    "first_zero_crossing",
-    "first_minimum",
-    "max_testable_dimension",
-    "estimate_tau",
-    "estimate_dimension",
-    "estimate_channels",
-    "MIN_NEIGHBOUR_POINTS",
-    "DIAGNOSTICS",
-]
+__all__ = ["autocorrelation", "auto_mutual_information", "false_nearest_neighbours", "cao_statistics"]
 
 # Fewest embedded points a nearest-neighbour statistic is computed on; dimensions that leave fewer are not
 # tested.
