@@ -22,8 +22,10 @@ from sklearn.base import BaseEstimator, TransformerMixin, clone
 from sklearn.utils.validation import check_is_fitted
 from threadpoolctl import threadpool_limits
 
+from ._params import HasMethods, Interval, Options, Satisfies, validate_params
 from ._validation import check_array
 from .embedding import DelayEmbedding
+from .exceptions import FitWarning
 
 __all__ = ["SINDyFeatures"]
 
@@ -147,6 +149,17 @@ class SINDyFeatures(TransformerMixin, BaseEstimator):
     [0.0, 0.0, -50.0]
     """
 
+    _parameter_constraints = {
+        "estimator": [None, HasMethods(("fit", "coefficients"), "a SINDy estimator (fit, coefficients)")],
+        "dt": [None, Interval(Real, 0, None, "neither")],
+        "embed": [Options({"auto"}), Satisfies(lambda v: v is False, "False"), DelayEmbedding],
+        "n_jobs": [None, Integral],
+        "progress": ["boolean"],
+        "batch_size": [Options({"auto"}), Interval(Integral, 1, None, "left")],
+        "fill_failed": [Real],
+        "significant_digits": [None, Interval(Integral, 1, 15)],
+    }
+
     def __init__(
         self,
         estimator=None,
@@ -170,45 +183,6 @@ class SINDyFeatures(TransformerMixin, BaseEstimator):
     # ------------------------------------------------------------------------------------------------
     # validation
     # ------------------------------------------------------------------------------------------------
-    def _check_params(self):
-        if not (self.embed in ("auto", False) or isinstance(self.embed, DelayEmbedding)):
-            raise ValueError(f"embed must be 'auto', False or a DelayEmbedding, got {self.embed!r}")
-        if self.dt is not None and (
-            isinstance(self.dt, bool)
-            or not isinstance(self.dt, Real)
-            or not (np.isfinite(self.dt) and self.dt > 0)
-        ):
-            raise ValueError(f"dt must be a positive number, got {self.dt!r}")
-        if self.n_jobs is not None and (
-            isinstance(self.n_jobs, bool) or not isinstance(self.n_jobs, Integral)
-        ):
-            raise TypeError(f"n_jobs must be an integer or None, got {self.n_jobs!r}")
-        if not isinstance(self.progress, (bool, np.bool_)):
-            raise TypeError(f"progress must be True or False, got {self.progress!r}")
-        if self.batch_size != "auto" and (
-            isinstance(self.batch_size, bool)
-            or not isinstance(self.batch_size, Integral)
-            or self.batch_size < 1
-        ):
-            raise ValueError(f"batch_size must be a positive integer or 'auto', got {self.batch_size!r}")
-        if self.significant_digits is not None and (
-            isinstance(self.significant_digits, bool)
-            or not isinstance(self.significant_digits, Integral)
-            or not 1 <= self.significant_digits <= 15
-        ):
-            raise ValueError(
-                f"significant_digits must be an integer in [1, 15] or None, got {self.significant_digits!r}"
-            )
-        if isinstance(self.fill_failed, bool) or not isinstance(self.fill_failed, Real):
-            raise TypeError(f"fill_failed must be a number (or nan), got {self.fill_failed!r}")
-        if self.estimator is not None and not (
-            hasattr(self.estimator, "fit") and hasattr(self.estimator, "coefficients")
-        ):
-            raise TypeError(
-                "estimator must be a SINDy estimator with fit and coefficients, got "
-                f"{type(self.estimator).__name__}"
-            )
-
     @staticmethod
     def _as_series(X) -> list[np.ndarray]:
         """Validate ``X`` and return a list of float arrays, each (n_times,) or (n_times, n_states).
@@ -312,7 +286,7 @@ class SINDyFeatures(TransformerMixin, BaseEstimator):
         -------
         self
         """
-        self._check_params()
+        validate_params(self)
         series = self._as_series(X)
         self._fit_layout(series)
         return self
@@ -388,13 +362,13 @@ class SINDyFeatures(TransformerMixin, BaseEstimator):
             default) for a series whose reconstruction failed (see ``n_failed_``, ``failures_``).
         """
         check_is_fitted(self, "feature_names_out_")
-        self._check_params()
+        validate_params(self)
         series = self._as_series(X)
         return self._transform(series, self._template())
 
     def fit_transform(self, X, y=None, **fit_params) -> np.ndarray:
         """:meth:`fit` then :meth:`transform` on the same series (each reconstructed once)."""
-        self._check_params()
+        validate_params(self)
         series = self._as_series(X)
         template = self._fit_layout(series)
         return self._transform(series, template)
@@ -432,7 +406,7 @@ class SINDyFeatures(TransformerMixin, BaseEstimator):
             warnings.warn(
                 f"{len(failures)} of {n} reconstructions failed (see failures_); first: series {first[0]}: "
                 f"{first[1]}",
-                RuntimeWarning,
+                FitWarning,
                 stacklevel=3,
             )
             if not np.isnan(self.fill_failed):

@@ -5,7 +5,7 @@
 3. Units do not matter (micrometres or kilometres give the same model).
 4. No hang: every fit returns or raises in bounded time; an optimizer failure keeps the unrefined model.
 5. Deterministic: the same input gives the same model.
-6. scikit-learn's check_estimator on TVRegDiff and DelayEmbedding, failing only where a check cannot apply.
+6. scikit-learn's check_estimator: in tests/test_sklearn_checks.py.
 
 Contract violations found in modules owned by others are kept as strict xfails (reported, not fixed here).
 """
@@ -96,7 +96,8 @@ def _entry_points():
         ),
         "ImpulseSINDy.predict": (lambda x, m: m.predict(x), "x", ()),
         "ImpulseSINDy.score": (lambda x, m: m.score(x, t=DT), "x", ()),
-        "TVRegDiff()": (lambda x, m: TVRegDiff()(x, DT), "x", ()),
+        # PySINDy's call takes N-D arrays with the time on ``axis`` (tested in test_tvregdiff.py)
+        "TVRegDiff()": (lambda x, m: TVRegDiff()(x, DT), "x", ("3-D",)),
         "TVRegDiff.fit": (lambda x, m: TVRegDiff().fit(x), "X", ()),
         "TVRegDiff.transform": (lambda x, m: TVRegDiff().fit(X).transform(x), "X", ()),
         "DelayEmbedding.fit": (lambda x, m: DelayEmbedding().fit(_one_column(x)), "s", ()),
@@ -391,12 +392,17 @@ BAD_CALLS = [
         ValueError,
         r"X has 1 features, but TVRegDiff is expecting 2",
     ),
-    ("DelayEmbedding 2 columns", lambda m: DelayEmbedding().fit(X), ValueError, r"s has 2 columns"),
+    (
+        "DelayEmbedding channels",
+        lambda m: DelayEmbedding(tau=18, dimension=2).fit(X[:, 0]).transform(X),
+        ValueError,
+        r"X has 2 features, but DelayEmbedding is expecting 1 features as input \(s has 2 channel",
+    ),
     (
         "MechanicalLibrary states",
         lambda m: MechanicalLibrary().fit(X).transform(np.zeros((5, 3))),
         ValueError,
-        r"x has 3 states but the library was fitted on 2",
+        r"X has 3 features, but MechanicalLibrary is expecting 2 features as input \(x has 3 states",
     ),
     (
         "CompiledModel columns",
@@ -436,7 +442,12 @@ BAD_CALLS = [
         ValueError,
         r"max_iter must be a positive integer",
     ),
-    ("TVRegDiff order", lambda m: TVRegDiff(order=5)(X, DT), ValueError, r"order must be 1, 2 or 3"),
+    (
+        "TVRegDiff order",
+        lambda m: TVRegDiff(order=5)(X, DT),
+        ValueError,
+        r"TVRegDiff: order must be an integer in \[1, 3\]; got 5",
+    ),
     (
         "TVRegDiff alpha",
         lambda m: TVRegDiff(alpha=[1.0, 2.0, 3.0])(X, DT),
@@ -447,13 +458,13 @@ BAD_CALLS = [
         "DelayEmbedding tau",
         lambda m: DelayEmbedding(tau=0).fit(X[:, 0]),
         ValueError,
-        r"tau must be 'auto' or an int >= 1",
+        r"DelayEmbedding: tau must be one of 'auto' or an integer in \[1, inf\); got 0",
     ),
     (
         "MechanicalLibrary degree",
         lambda m: MechanicalLibrary(degree=-1).fit(X),
         ValueError,
-        r"degree must be a non-negative integer",
+        r"MechanicalLibrary: degree must be an integer in \[0, inf\); got -1",
     ),
     ("damped_oscillator k", lambda m: damped_oscillator(k="a"), TypeError, r"k must be a real number"),
     (
@@ -952,122 +963,8 @@ def test_randomness_only_where_random_state_is():
     assert not np.array_equal(add_noise(X, 20, random_state=5), add_noise(X, 20, random_state=6))
 
 
+# 6. scikit-learn check_estimator: tests/test_sklearn_checks.py
 # ------------------------------------------------------------------------------------------------------
-# 6. scikit-learn check_estimator
-# ------------------------------------------------------------------------------------------------------
-SHORT = (
-    "the check fits on 10 samples, fewer than the method needs (reported clearly: 'at least N are needed')"
-)
-TVREGDIFF_EXPECTED_FAILURES = {
-    "check_estimators_nan_inf": SHORT + "; the NaN/inf refusal itself is tested in this file",
-    "check_fit2d_1feature": SHORT,
-    "check_methods_sample_order_invariance": "a derivative depends on the order of the samples in time",
-    "check_methods_subset_invariance": "a derivative is not defined sample by sample (1-sample batches)",
-}
-ONE_D_HARNESS = (
-    "DelayEmbedding embeds one signal (tag one_d_array): scikit-learn's check then passes X[:, 0] and "
-    "itself indexes the result as 2-D (the failure is raised inside sklearn's check, not in our code)"
-)
-DELAY_EMBEDDING_EXPECTED_FAILURES = {
-    name: ONE_D_HARNESS
-    for name in [
-        "check_dont_overwrite_parameters",
-        "check_n_features_in_after_fitting",
-        "check_dtype_object",
-        "check_f_contiguous_array_estimator",
-        "check_transformer_data_not_an_array",
-        "check_transformer_general",
-        "check_methods_sample_order_invariance",
-        "check_methods_subset_invariance",
-        "check_fit2d_1sample",
-        "check_fit2d_1feature",
-        "check_dict_unchanged",
-        "check_n_features_in",
-        "check_fit2d_predict1d",
-    ]
-}
-DELAY_EMBEDDING_EXPECTED_FAILURES.update(
-    {
-        "check_estimator_sparse_array": ONE_D_HARNESS + " (sklearn cannot build a 1-D sparse matrix)",
-        "check_estimators_nan_inf": SHORT,
-        "check_fit1d": "a 1-D array is the natural input of DelayEmbedding (one signal)",
-    }
-)
-
-
-@pytest.mark.filterwarnings("ignore")
-@pytest.mark.parametrize(
-    "estimator, expected",
-    [
-        pytest.param(TVRegDiff(), TVREGDIFF_EXPECTED_FAILURES, id="TVRegDiff"),
-        pytest.param(DelayEmbedding(), DELAY_EMBEDDING_EXPECTED_FAILURES, id="DelayEmbedding"),
-    ],
-)
-def test_check_estimator(estimator, expected):
-    from sklearn.utils.estimator_checks import check_estimator
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        results = check_estimator(estimator, expected_failed_checks=expected, on_fail=None)
-    failed = [r["check_name"] for r in results if r["status"] == "failed"]
-    assert failed == []
-    xfailed = {r["check_name"] for r in results if r["status"] == "xfail"}
-    assert xfailed == set(expected)  # every listed failure still happens (the list stays honest)
-
-
-SERIES = (
-    "SINDyFeatures reads each row of X as one series (n_series, n_times): sklearn's rows of 2-10 values "
-    "are too short to embed and fit (refused clearly: 'at least N are needed')"
-)
-SINDY_FEATURES_EXPECTED_FAILURES = {
-    name: SERIES
-    for name in [
-        "check_fit_score_takes_y",
-        "check_estimators_overwrite_params",
-        "check_dont_overwrite_parameters",
-        "check_estimators_fit_returns_self",
-        "check_readonly_memmap_input",
-        "check_n_features_in_after_fitting",
-        "check_positive_only_tag_during_fit",
-        "check_estimators_dtypes",
-        "check_pipeline_consistency",
-        "check_estimators_nan_inf",
-        "check_estimators_pickle",
-        "check_f_contiguous_array_estimator",
-        "check_transformer_general",
-        "check_transformer_preserve_dtypes",
-        "check_methods_sample_order_invariance",
-        "check_methods_subset_invariance",
-        "check_fit2d_1sample",
-        "check_fit2d_1feature",
-        "check_dict_unchanged",
-        "check_fit_idempotent",
-        "check_fit_check_is_fitted",
-        "check_n_features_in",
-        "check_fit2d_predict1d",
-        # the input types themselves are accepted (test_sindy_features_takes_object_arrays_and_array_likes)
-        "check_dtype_object",
-        "check_transformer_data_not_an_array",
-    ]
-}
-
-
-@pytest.mark.filterwarnings("ignore")
-def test_check_estimator_sindy_features():
-    from sklearn.utils.estimator_checks import check_estimator
-
-    from sindy_impulse import SINDyFeatures
-
-    expected = SINDY_FEATURES_EXPECTED_FAILURES
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        results = check_estimator(SINDyFeatures(), expected_failed_checks=expected, on_fail=None)
-    failed = [r["check_name"] for r in results if r["status"] == "failed"]
-    assert failed == []
-    xfailed = {r["check_name"] for r in results if r["status"] == "xfail"}
-    assert xfailed == set(expected)
-
-
 class _ArrayLike:
     """Not an ndarray, only ``__array__`` (as scikit-learn's _NotAnArray)."""
 

@@ -181,7 +181,7 @@ def test_long_slowly_decaying_signal():
         ([1.0, np.nan, 2.0, 3.0], "NaN"),
         ([1.0, np.inf, 2.0, 3.0], "inf"),
         (np.ones(50), "constant"),
-        (np.zeros((50, 2)), "2 columns"),
+        (np.zeros((50, 2)), "channel 0 of s is constant"),
         (np.zeros((12, 0)), "0 feature"),
         (np.zeros((2, 2, 2)), "1-D or 2-D"),
         (np.array([1 + 1j, 2.0, 3.0]), "Complex"),
@@ -208,7 +208,7 @@ def test_transform_rejects_bad_signal(x1):
     emb = DelayEmbedding().fit(x1)
     with pytest.raises(ValueError, match="NaN"):
         emb.transform(np.where(np.arange(401) == 7, np.nan, x1))
-    with pytest.raises(ValueError, match="2 columns"):
+    with pytest.raises(ValueError, match="X has 2 features, but DelayEmbedding is expecting 1 features"):
         emb.transform(np.column_stack([x1, x1]))
 
 
@@ -226,7 +226,7 @@ def test_no_zero_crossing_is_reported():
 @pytest.mark.parametrize(
     "params, match",
     [
-        ({"tau": 0}, "tau must be 'auto' or an int >= 1"),
+        ({"tau": 0}, r"DelayEmbedding: tau must be one of 'auto' or an integer in \[1, inf\); got 0"),
         ({"tau": 2.5}, "tau must be"),
         ({"tau": True}, "tau must be"),
         ({"dimension": "three"}, "dimension must be"),
@@ -282,3 +282,50 @@ def test_denoise_does_not_change_transform():
     np.testing.assert_array_equal(q[:, -1], s[emb.offset_ :])
     with pytest.raises(TypeError, match="denoise"):
         DelayEmbedding(denoise="yes").fit(s)
+
+
+# ---------------------------------------------------------------- several channels
+def test_channels_are_embedded_side_by_side_channel_major():
+    s = np.column_stack([np.arange(20.0) ** 1.5, -np.arange(20.0) ** 1.2])
+    emb = DelayEmbedding(tau=3, dimension=3).fit(s)
+    q = emb.transform(s)
+    assert q.shape == (14, 6) and emb.n_features_in_ == 2
+    # [c0 q1 q2 q3, c1 q1 q2 q3]: each block is the channel's own embedding
+    np.testing.assert_array_equal(q[:, :3], DelayEmbedding(tau=3, dimension=3).fit_transform(s[:, 0]))
+    np.testing.assert_array_equal(q[:, 3:], DelayEmbedding(tau=3, dimension=3).fit_transform(s[:, 1]))
+    np.testing.assert_array_equal(q[0], s[[0, 3, 6, 0, 3, 6], [0, 0, 0, 1, 1, 1]])
+    assert emb.get_feature_names_out().tolist() == ["x0_q1", "x0_q2", "x0_q3", "x1_q1", "x1_q2", "x1_q3"]
+    assert emb.get_feature_names_out(["x", "v"]).tolist()[3:] == ["v_q1", "v_q2", "v_q3"]
+    assert emb.delay_labels()[:3] == ["s0(t-6)", "s0(t-3)", "s0(t)"]
+    assert emb.delay_labels(dt=0.5, name=["x", "v"])[3:] == ["v(t-3)", "v(t-1.5)", "v(t)"]
+    with pytest.raises(ValueError, match=r"input_features has 1 name\(s\) but DelayEmbedding was fitted"):
+        emb.get_feature_names_out(["x"])
+    with pytest.raises(ValueError, match="a 1-D array is one signal: Reshape your data to"):
+        emb.transform(s[:, 0])
+
+
+def test_channels_share_the_median_delay_and_the_largest_dimension(ring_down):
+    # displacement and velocity of the paper's oscillator, plus a slower ring-down on a third channel
+    slow = damped_oscillator(k=16.0).x[:, 0]
+    s = np.column_stack([ring_down.x, slow])
+    emb = DelayEmbedding().fit(s)
+    alone = [DelayEmbedding().fit(s[:, j]) for j in range(3)]
+    np.testing.assert_array_equal(emb.channel_taus_, [a.tau_ for a in alone])
+    assert emb.tau_ == int(np.median(emb.channel_taus_))
+    assert emb.dimension_ == emb.channel_dimensions_.max()
+    assert emb.transform(s).shape == (401 - emb.offset_, 3 * emb.dimension_)
+    assert isinstance(emb.acf_, list) and len(emb.acf_) == 3
+    np.testing.assert_array_equal(emb.acf_[0], alone[0].acf_)
+
+
+def test_one_channel_keeps_the_single_signal_attributes(x1):
+    emb = DelayEmbedding().fit(x1[:, None])
+    assert emb.get_feature_names_out().tolist() == ["q1", "q2"]
+    assert emb.channel_taus_.tolist() == [18] and emb.channel_dimensions_.tolist() == [2]
+    assert isinstance(emb.acf_, np.ndarray) and emb.delay_labels() == ["s(t-18)", "s(t)"]
+
+
+def test_constant_channel_is_named():
+    s = np.column_stack([np.sin(np.arange(100.0)), np.ones(100)])
+    with pytest.raises(ValueError, match=r"channel 1 of s is constant"):
+        DelayEmbedding(tau=2, dimension=2).fit(s)

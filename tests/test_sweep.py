@@ -2,6 +2,7 @@ import pickle
 
 import numpy as np
 import pysindy as ps
+import pytest
 from sklearn.base import clone
 
 from sindy_impulse import ThresholdSweep
@@ -13,9 +14,18 @@ def test_path_runs_from_all_terms_to_none():
     t, x, x_dot = damped_oscillator()
     X = ps.PolynomialLibrary(degree=3).fit(x).transform(x)
     thresholds, coefs = threshold_path(X, x_dot)
+    # the first candidate is the full least-squares model on every (non-empty) column: some of its
+    # coefficients may come out exactly 0.0 (x0' = x1 is exact in these data), so compare values, not counts
+    full = np.linalg.lstsq(X, x_dot, rcond=None)[0].T
+    assert coefs[0].shape == full.shape == (2, 10)  # 10 terms, all columns non-empty
+    np.testing.assert_allclose(coefs[0], full, rtol=1e-6, atol=1e-9 * np.abs(full).max())
+    assert thresholds[0] == 0
     n_terms = [np.count_nonzero(c) for c in coefs]
-    assert n_terms[0] == 20 and n_terms[-1] == 0
-    assert all(a > b for a, b in zip(n_terms, n_terms[1:]))  # distinct supports, sparser each step
+    assert n_terms[-1] == 0
+    # each support is a subset of the one before, and no two candidates are the same model
+    for a, b in zip(coefs, coefs[1:]):
+        assert not np.any((b != 0) & (a == 0)) and not np.array_equal(a, b)
+    assert all(a >= b for a, b in zip(n_terms, n_terms[1:]))
     assert np.all(np.diff(thresholds) > 0)
     assert 3 in n_terms
 
@@ -48,3 +58,26 @@ def test_sklearn_params_clone_pickle():
     assert opt.set_params(max_iter=7) is opt
     assert clone(opt).get_params()["max_iter"] == 7
     assert pickle.loads(pickle.dumps(opt)).max_iter == 7
+
+
+def test_integer_sample_weight_equals_repeating_the_sample():
+    t, x, x_dot = damped_oscillator(snr_db=30, random_state=1)
+    X = ps.PolynomialLibrary(degree=2).fit(x).transform(x)
+    weights = np.where(np.arange(len(X)) % 3 == 0, 2.0, 1.0)
+    weights[::7] = 0.0
+    weighted = ThresholdSweep().fit(X, x_dot, sample_weight=weights)
+    rows = np.repeat(np.arange(len(X)), weights.astype(int))
+    repeated = ThresholdSweep().fit(X[rows], x_dot[rows])
+    assert weighted.best_index_ == repeated.best_index_
+    np.testing.assert_allclose(weighted.aicc_, repeated.aicc_, rtol=1e-9)
+    np.testing.assert_allclose(weighted.coef_, repeated.coef_, rtol=1e-9, atol=1e-12)
+    with pytest.raises(ValueError, match="sample_weight is zero for every sample"):
+        ThresholdSweep().fit(X, x_dot, sample_weight=np.zeros(len(X)))
+
+
+def test_one_dimensional_target_gives_one_dimensional_coefficients():
+    t, x, x_dot = damped_oscillator()
+    X = ps.PolynomialLibrary(degree=1).fit(x).transform(x)
+    opt = ThresholdSweep().fit(X, x_dot[:, 1])
+    assert opt.coef_.shape == (X.shape[1],) and opt.predict(X).shape == (len(X),)
+    assert opt.history_[0].shape == (1, X.shape[1]) and opt.n_iter_ >= 1 and opt.n_features_in_ == 3

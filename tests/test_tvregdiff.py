@@ -389,3 +389,32 @@ def test_long_ring_down_with_many_periods_is_not_oversmoothed():
     err = np.abs(x_dot[interior, 0] - ring.x_dot[interior, 0]).max() / np.abs(ring.x_dot[:, 0]).max()
     assert err < 1e-2
     assert np.abs(np.asarray(diff.smoothed_x_)[:, 0] - ring.x[:, 0]).max() < 1e-2
+
+
+# ---------------------------------------------------------------- PySINDy's axis argument
+def test_axis_differentiates_every_series_along_the_time_axis():
+    # (2 points, 401 times, 2 coordinates): PySINDy's (..., time, coord) layout, time on axis -2
+    rng = np.random.default_rng(3)
+    x = np.stack([np.column_stack([X, 0.5 * X]), np.column_stack([2 * X, -X])])
+    x = x + 1e-3 * rng.normal(size=x.shape)
+    diff = TVRegDiff(alpha=1e-4)
+    x_dot = diff(x, T)
+    assert x_dot.shape == x.shape and diff.smoothed_x_.shape == x.shape
+    for i in range(2):
+        single = TVRegDiff(alpha=1e-4)
+        np.testing.assert_allclose(x_dot[i], single(x[i], T), rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(diff.smoothed_x_[i], single.smoothed_x_, rtol=1e-10, atol=1e-12)
+    assert np.isnan(x_dot[:, :5]).all() and np.isfinite(x_dot[:, 5:-5]).all()
+    # the same data with the time on axis 0 give the same derivative, moved
+    moved = TVRegDiff(alpha=1e-4, axis=0)(np.moveaxis(x, 1, 0), T)
+    np.testing.assert_allclose(np.moveaxis(moved, 0, 1), x_dot, rtol=1e-10, atol=1e-12)
+
+
+def test_axis_one_of_a_2d_array_is_time_and_a_1d_signal_ignores_axis():
+    x = np.column_stack([X, 2 * X])
+    np.testing.assert_allclose(TVRegDiff(axis=1)(x.T, T).T, TVRegDiff()(x, T), rtol=1e-10, atol=1e-12)
+    np.testing.assert_array_equal(TVRegDiff(axis=-2)(X, T), TVRegDiff(axis=0)(X, T))
+    with pytest.raises(ValueError, match=r"axis=2 is out of range for x with 2 dimensions"):
+        TVRegDiff(axis=2)(x, T)
+    with pytest.raises(ValueError, match=r"TVRegDiff: axis must be an integer"):
+        TVRegDiff(axis=0.5)(x, T)

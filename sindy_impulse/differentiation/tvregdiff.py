@@ -30,27 +30,20 @@ from pysindy.differentiation import BaseDifferentiation
 from sklearn.base import TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
-from .._validation import check_signal, check_time
-from ._banded import (
-    IdentityBasis,
-    SplineBasis,
-    difference_stencil,
-    lambda_max,
-    normal_band,
-    penalty_weight,
-    polynomial_residual,
-    trace_inverse,
-    tv_smooth,
-)
+from .._params import Interval, Options, Satisfies, validate_params
+from .._validation import check_array, check_signal, check_time
+from ._banded import IdentityBasis, SplineBasis, difference_stencil
+from ._selection import AlphaProblem, empty_curve, select_alpha
 
 __all__ = ["TVRegDiff"]
 
-_SELECTIONS = ("gcv", "consistency")
-# Modified GCV (Cummins, Filloon & Nychka 2001; Kim & Gu 2004): gamma > 1 counters GCV's tendency to
-# undersmooth and removes its spurious minimum where the effective number of parameters approaches N.
-_GCV_GAMMA = 1.4
-_GRID_STEP = 0.5  # decades between alphas of the coarse scan, refined to a quarter decade at the minimum
-_GRID_DECADES = 12.0  # alphas scanned from alpha_max down to alpha_max * 10**-12
+
+def _alpha_array(value) -> bool:
+    """One non-negative finite alpha per column (a 1-D array-like)."""
+    if isinstance(value, (str, bytes)):
+        return False
+    arr = np.asarray(value, dtype=float)
+    return arr.ndim == 1 and arr.size > 0 and bool(np.all(np.isfinite(arr)) and np.all(arr >= 0))
 
 
 class TVRegDiff(TransformerMixin, BaseDifferentiation):
@@ -115,6 +108,12 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         are never over-smoothed; ``None`` uses one value per sample for uniform sampling whatever the length.
     dt : float, default=1.0
         Sample spacing used by ``fit``/``transform`` (PySINDy passes the time to ``_differentiate``).
+    axis : int, default=-2
+        Time axis of the arrays PySINDy passes to ``_differentiate`` (its ``AxesArray`` layout is
+        ``(..., n_time, n_coord)``, hence ``-2``, as in ``SINDy``'s default ``FiniteDifference(axis=-2)``).
+        Every series along this axis (every index of the other axes) is smoothed and differentiated on its
+        own. A 1-D array is one signal whatever ``axis``. ``fit``/``transform`` follow scikit-learn
+        (samples along axis 0) and ignore it.
 
     Attributes
     ----------
@@ -158,6 +157,23 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
     >>> model = ps.SINDy(differentiation_method=TVRegDiff()).fit(x, t=t)
     """
 
+    _parameter_constraints = {
+        "alpha": [
+            Options({"auto"}),
+            Interval(Real, 0, None, "left"),
+            Satisfies(_alpha_array, "a 1-D array-like of non-negative finite numbers"),
+        ],
+        "order": [Interval(Integral, 1, 3)],
+        "alpha_selection": [Options({"gcv", "consistency"})],
+        "trim": [Interval(Integral, 0, None, "left")],
+        "eps": [Interval(Real, 0, None, "neither")],
+        "max_iter": [Interval(Integral, 1, None, "left")],
+        "tol": [Interval(Real, 0, None, "neither")],
+        "max_knots": [None, Interval(Integral, 20, None, "left")],
+        "dt": [Interval(Real, 0, None, "neither")],
+        "axis": [Interval(Integral, None, None)],
+    }
+
     def __init__(
         self,
         alpha="auto",
@@ -169,6 +185,7 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         tol: float = 1e-4,
         max_knots: int | None = 500,
         dt: float = 1.0,
+        axis: int = -2,
     ):
         self.alpha = alpha
         self.order = order
@@ -179,30 +196,9 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         self.tol = tol
         self.max_knots = max_knots
         self.dt = dt
+        self.axis = axis
 
     # ------------------------------------------------------------------ validation
-    def _check_params(self) -> None:
-        if not isinstance(self.order, Integral) or self.order not in (1, 2, 3):
-            raise ValueError(f"order must be 1, 2 or 3, got {self.order!r}")
-        if self.alpha_selection not in _SELECTIONS:
-            raise ValueError(f"alpha_selection must be one of {_SELECTIONS}, got {self.alpha_selection!r}")
-        if not isinstance(self.trim, Integral) or isinstance(self.trim, bool) or self.trim < 0:
-            raise ValueError(f"trim must be a non-negative integer, got {self.trim!r}")
-        for name in ("eps", "tol"):
-            value = getattr(self, name)
-            if not isinstance(value, Real) or not np.isfinite(value) or value <= 0:
-                raise ValueError(f"{name} must be a positive finite number, got {value!r}")
-        if not isinstance(self.max_iter, Integral) or self.max_iter < 1:
-            raise ValueError(f"max_iter must be a positive integer, got {self.max_iter!r}")
-        if self.max_knots is not None and (not isinstance(self.max_knots, Integral) or self.max_knots < 20):
-            raise ValueError(f"max_knots must be None or an integer >= 20, got {self.max_knots!r}")
-        if not (isinstance(self.alpha, str) and self.alpha == "auto"):
-            if isinstance(self.alpha, str):
-                raise ValueError(f'alpha must be "auto" or a non-negative number, got {self.alpha!r}')
-            arr = np.asarray(self.alpha, dtype=float)
-            if arr.ndim > 1 or not np.all(np.isfinite(arr)) or np.any(arr < 0):
-                raise ValueError(f'alpha must be "auto" or non-negative finite number(s), got {self.alpha!r}')
-
     def _min_samples(self) -> int:
         # The difference operator needs order + 2 samples; something must survive the trim.
         return max(2 * self.trim + 3, self.order + 4)
@@ -222,24 +218,36 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
     def _differentiate(self, x, t=1.0):
         """Differentiate the columns of ``x`` sampled at ``t`` (a step or a time vector).
 
-        Returns an array shaped like ``x`` with NaN in the first and last ``trim`` rows; sets
-        ``smoothed_x_``, ``alpha_``, ``alpha_curve_`` and ``n_iter_``.
+        Returns an array shaped like ``x`` with NaN in the first and last ``trim`` samples along the time
+        axis ``axis`` (a 1-D ``x`` is one signal whatever ``axis``); sets ``smoothed_x_`` (shaped like
+        ``x``), ``alpha_``, ``alpha_curve_`` and ``n_iter_`` (one entry per series, i.e. per index of the
+        other axes, in C order).
         """
-        self._check_params()
-        x_dot, _ = self._run(x, t, None)
-        return x_dot
+        validate_params(self)
+        try:
+            ndim = np.ndim(x)
+        except Exception:  # noqa: BLE001 - an odd array-like: let the validation below name the problem
+            ndim = 2
+        time_axis = _time_axis(self.axis, ndim) if ndim >= 2 else 0
+        if ndim <= 1 or (ndim == 2 and time_axis == 0):
+            return self._run(x, t, None)[0]  # (n,) or (n, n_coord): validated by _run
+        arr = check_array(x, "x")
+        moved = np.moveaxis(arr, time_axis, 0)
+        x_dot, smoothed = self._run(moved.reshape(moved.shape[0], -1), t, None)
+        self.smoothed_x_ = np.moveaxis(smoothed.reshape(moved.shape), 0, time_axis)
+        return np.moveaxis(x_dot.reshape(moved.shape), 0, time_axis)
 
     # ------------------------------------------------------------------ scikit-learn interface
     def fit(self, X, y=None):
         """Choose ``alpha_`` for each column of ``X`` (sampled every ``dt``); returns ``self``."""
-        self._check_params()
+        validate_params(self)
         self._run(_check_2d(X), self.dt, None)
         return self
 
     def transform(self, X):
         """Derivative of each column of ``X`` (sampled every ``dt``) with the fitted ``alpha_``."""
         check_is_fitted(self, "alpha_")
-        self._check_params()
+        validate_params(self)
         arr = check_signal(_check_2d(X), "X", ndim=(2,), min_samples=self._min_samples())
         if arr.shape[1] != self.n_features_in_:
             raise ValueError(
@@ -255,7 +263,7 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
 
     def fit_transform(self, X, y=None, **fit_params):
         """Choose ``alpha_`` per column and return the derivative, in one pass."""
-        self._check_params()
+        validate_params(self)
         x_dot, _ = self._run(_check_2d(X), self.dt, None)
         return x_dot
 
@@ -309,17 +317,17 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
                 smoothed[:, j] = f
                 x_dot[:, j] = 0.0
                 alpha_used[j] = np.nan if alphas[j] is None else alphas[j]
-                curves.append(_empty_curve())
+                curves.append(empty_curve())
                 continue
             g = (f - center) / scale
             to_alpha = scale * dt_coef ** (m - 1)
-            problem = _Problem(g, basis, coef, h, self)
+            problem = AlphaProblem(g, basis, coef, h, self)
             if alphas[j] is None:
-                c, lam, curve, its = self._select(problem, to_alpha, scale)
+                c, lam, curve, its = select_alpha(problem, to_alpha, scale, self.alpha_selection == "gcv")
             else:
                 lam = alphas[j] / to_alpha
                 c, its = problem.smooth(lam)
-                curve = _empty_curve()
+                curve = empty_curve()
             smoothed[:, j] = center + scale * basis.values(c)
             x_dot[:, j] = scale * basis.slopes(c) / dt_mean
             alpha_used[j] = lam * to_alpha
@@ -336,93 +344,6 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         self.n_features_in_ = n_coord
         return (x_dot[:, 0] if one_d else x_dot), smoothed
 
-    def _select(self, problem: _Problem, to_alpha: float, scale: float):
-        """Scan alpha from alpha_max downwards (warm starts) and return the best solution."""
-        lam_max = problem.lambda_max()
-        if not np.isfinite(lam_max) or lam_max <= 0:  # g is a polynomial the penalty cannot see
-            c, its = problem.smooth(0.0)
-            return c, 0.0, _empty_curve(), its
-        use_gcv = self.alpha_selection == "gcv"
-        n = problem.g.shape[0]
-        records = {}  # exponent r (alpha = lam_max * 10**-r) -> (gcv, consistency, residual, dof, c)
-        c = None
-        for r in np.arange(0.0, _GRID_DECADES + 1e-9, _GRID_STEP):
-            c, _ = problem.smooth(lam_max * 10**-r, c)
-            records[r] = problem.score(lam_max * 10**-r, c) + (c,)
-            if use_gcv and records[r][3] * _GCV_GAMMA >= n:
-                break  # dof > N / gamma: GCV undefined for this and every smaller alpha
-            if use_gcv and _past_minimum(records):
-                break  # GCV has clearly turned up: smaller alphas only fit more noise
-        key = 0 if use_gcv else 1
-
-        def best_exponent():
-            return min(records, key=lambda r: (records[r][key], r))
-
-        r_best = best_exponent()
-        c_best = records[r_best][4]
-        for r in (r_best - _GRID_STEP / 2, r_best + _GRID_STEP / 2):
-            if r >= 0:
-                c, _ = problem.smooth(lam_max * 10**-r, c_best)
-                records[r] = problem.score(lam_max * 10**-r, c) + (c,)
-        r_best = best_exponent()
-        lam_best = lam_max * 10**-r_best
-        # Final solve from a cold start, so that alpha=alpha_ (and transform) reproduce the result.
-        c_sel, its_sel = problem.smooth(lam_best)
-        order = sorted(records, reverse=True)  # increasing alpha
-        table = np.array([records[r][:4] for r in order], dtype=float).reshape(-1, 4)
-        curve = {
-            "alpha": lam_max * 10.0 ** -np.array(order, dtype=float) * to_alpha,
-            "error": table[:, key] * (1.0 if use_gcv else scale),
-            "gcv": table[:, 0],
-            "consistency": table[:, 1] * scale,
-            "residual": table[:, 2] * scale,
-            "dof": table[:, 3],
-        }
-        return c_sel, lam_best, curve, its_sel
-
-
-def _past_minimum(records: dict, steps: int = 3, factor: float = 2.0) -> bool:
-    """True once the GCV scan is ``steps`` grid points past its minimum and ``factor`` times above it."""
-    order = sorted(records)
-    gcv = [records[r][0] for r in order]
-    best = int(np.argmin(gcv))
-    return len(gcv) - 1 - best >= steps and gcv[-1] > factor * gcv[best]
-
-
-class _Problem:
-    """One normalized column: smoothing at a given lam and the selection criteria."""
-
-    def __init__(self, g, basis, coef, h, est: TVRegDiff):
-        self.g = g
-        self.basis = basis
-        self.coef = coef
-        self.h = h
-        self.rhs = basis.rhs(g)
-        self.c_start = basis.start(g)
-        self.options = {"max_iter": est.max_iter, "tol": est.tol, "eps_rel": est.eps}
-        self.trim = est.trim
-        self.m = coef.shape[1] - 1
-
-    def smooth(self, lam: float, c0=None):
-        start = self.c_start if c0 is None else c0
-        return tv_smooth(self.rhs, self.coef, self.h, lam, start, self.basis.gram, **self.options)
-
-    def lambda_max(self) -> float:
-        resid = polynomial_residual(self.g, self.basis.tau, self.m - 1)
-        return lambda_max(self.basis.rhs(resid), self.coef, self.h)
-
-    def score(self, lam: float, c):
-        """(modified GCV, paper's consistency error, RMS residual, effective dof), normalized units."""
-        n = self.g.shape[0]
-        weight = penalty_weight(self.coef, self.h, lam, c, self.options["eps_rel"])
-        gram = self.basis.gram
-        dof = trace_inverse(normal_band(self.coef, weight, c.shape[0], gram), gram)
-        y = self.basis.values(c)
-        rss = float(np.sum((self.g - y) ** 2))
-        denom = n - _GCV_GAMMA * dof
-        gcv = n * rss / denom**2 if denom > 0 and 0 < dof <= n else np.inf
-        consistency = _consistency_error(self.g, y, self.basis.slopes(c), self.basis.tau, self.trim)
-        return gcv, consistency, float(np.sqrt(rss / n)), dof
 
 
 #: Spline coefficients per oscillation period: below ~10 the spline cannot follow the oscillation.
@@ -445,22 +366,13 @@ def _knots_needed(arr: np.ndarray) -> int:
     return KNOTS_PER_PERIOD * (most // 2 + 1)
 
 
+def _time_axis(axis: int, ndim: int) -> int:
+    """The non-negative index of the time axis ``axis`` of an ``ndim``-dimensional array."""
+    if not -ndim <= axis < ndim:
+        raise ValueError(f"axis={axis} is out of range for x with {ndim} dimensions")
+    return axis % ndim
+
+
 def _check_2d(X):
     """scikit-learn conventions for the transformer API (PySINDy's path accepts 1-D input)."""
     return check_signal(X, "X", ndim=(2,))
-
-
-def _consistency_error(g, y, slopes, tau, trim):
-    """Paper's criterion: RMS(input - time-integrated derivative) on the kept samples, offset free."""
-    n = g.shape[0]
-    lo, hi = trim, n - trim
-    u = slopes[lo:hi]
-    integral = np.concatenate(([0.0], np.cumsum(0.5 * (u[1:] + u[:-1]) * np.diff(tau[lo:hi]))))
-    diff = g[lo:hi] - integral
-    diff -= np.mean(diff)  # free integration constant (least squares)
-    return float(np.sqrt(np.mean(diff**2)))
-
-
-def _empty_curve() -> dict:
-    empty = np.empty(0)
-    return {k: empty for k in ("alpha", "error", "gcv", "consistency", "residual", "dof")}

@@ -2,14 +2,17 @@
 
 from __future__ import annotations
 
+from numbers import Integral, Real
+
 import numpy as np
 from pysindy.feature_library.base import BaseFeatureLibrary
 from pysindy.utils import AxesArray
 from sklearn.preprocessing import PolynomialFeatures
 from sklearn.utils.validation import check_is_fitted
 
+from .._params import Interval, validate_params
 from .._trajectories import check_trajectories
-from .terms import PLAIN, SIGNED_SQUARE, SMOOTH_SIGN, TermTable
+from ..simulation.terms import PLAIN, SIGNED_SQUARE, SMOOTH_SIGN, TermTable
 
 __all__ = ["MechanicalLibrary"]
 
@@ -50,6 +53,14 @@ class MechanicalLibrary(BaseFeatureLibrary):
     ['x', 'v', 'x^2', 'x v', 'v^2', 'x|x|', 'v|v|', 'sgn(x)', 'sgn(v)']
     """
 
+    _parameter_constraints = {
+        "degree": [Interval(Integral, 0, None, "left")],
+        "include_bias": ["boolean"],
+        "quadratic_damping": ["boolean"],
+        "friction": ["boolean"],
+        "friction_width": [Interval(Real, 0, None, "neither")],
+    }
+
     def __init__(
         self,
         degree: int = 3,
@@ -64,16 +75,13 @@ class MechanicalLibrary(BaseFeatureLibrary):
         self.friction = friction
         self.friction_width = friction_width
 
-    def _validate_params(self):
-        if isinstance(self.degree, bool) or not isinstance(self.degree, (int, np.integer)) or self.degree < 0:
-            raise ValueError(f"degree must be a non-negative integer, got {self.degree!r}")
-        if not np.isfinite(self.friction_width) or self.friction_width <= 0:
-            raise ValueError(f"friction_width must be positive, got {self.friction_width!r}")
-
     def fit(self, x, y=None):
-        """Build the term table for data of shape (n_samples, n_states) (or a list of such)."""
-        self._validate_params()
-        x_full, _ = check_trajectories(x, "x")
+        """Build the term table for data of shape (n_samples, n_states) (or a list of such).
+
+        A 1-D array is refused (scikit-learn convention): pass one state as ``x.reshape(-1, 1)``.
+        """
+        validate_params(self)
+        x_full, _ = _check_states(x)
         n_states = x_full[0].shape[-1]
         combos = PolynomialFeatures(degree=self.degree, include_bias=self.include_bias)
         combos.fit(np.zeros((1, n_states)))
@@ -103,12 +111,14 @@ class MechanicalLibrary(BaseFeatureLibrary):
     def transform(self, x):
         """Evaluate the terms on data of shape (n_samples, n_states) (or a list of such)."""
         check_is_fitted(self, "term_table_")
-        x_full, multiple = check_trajectories(x, "x")
+        x_full, multiple = _check_states(x)
         out = []
         for xi in x_full:
             if xi.shape[-1] != self.n_features_in_:
                 raise ValueError(
-                    f"x has {xi.shape[-1]} states but the library was fitted on {self.n_features_in_}"
+                    f"X has {xi.shape[-1]} features, but MechanicalLibrary is expecting "
+                    f"{self.n_features_in_} features as input (x has {xi.shape[-1]} states, the library "
+                    f"was fitted on {self.n_features_in_})"
                 )
             out.append(AxesArray(self.term_table_.evaluate(xi), {"ax_time": 0, "ax_coord": 1}))
         return out if multiple else out[0]
@@ -130,3 +140,16 @@ class MechanicalLibrary(BaseFeatureLibrary):
                 parts.append(f"sgn({input_features[v]})")
             names.append(" ".join(parts) if parts else "1")
         return names
+
+
+def _check_states(x):
+    """``check_trajectories`` without its 1-D convenience: a library sees (n_samples, n_states) arrays."""
+    trajectories, multiple = check_trajectories(x, "x")
+    for i, raw in enumerate(x if multiple else [x]):
+        if np.asarray(raw).ndim == 1:
+            name, shape = (f"x[{i}]" if multiple else "x"), np.asarray(raw).shape
+            raise ValueError(
+                f"{name} must be 2-D (n_samples, n_states), got an array of shape {shape}; Reshape your data "
+                f"with {name}.reshape(-1, 1) for a single state"
+            )
+    return trajectories, multiple

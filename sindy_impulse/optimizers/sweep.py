@@ -10,19 +10,17 @@ term is left. Coefficients are compared on a unit-free scale, ``|xi_ik| * ||thet
 
 from __future__ import annotations
 
+from numbers import Integral, Real
+
 import numpy as np
 from pysindy.optimizers import BaseOptimizer
+from sklearn.utils.validation import check_is_fitted
 
-from .._validation import check_signal
+from .._params import Interval, validate_params
+from .._validation import check_array, check_signal
+from .path import least_squares
 
 __all__ = ["ThresholdSweep", "threshold_path"]
-
-
-def _lstsq_on_support(X: np.ndarray, y: np.ndarray, support: np.ndarray) -> np.ndarray:
-    coef = np.zeros(X.shape[1])
-    if support.any():
-        coef[support] = np.linalg.lstsq(X[:, support], y, rcond=None)[0]
-    return coef
 
 
 def threshold_path(X: np.ndarray, Y: np.ndarray, max_iter: int = 20):
@@ -52,6 +50,12 @@ def threshold_path(X: np.ndarray, Y: np.ndarray, max_iter: int = 20):
     >>> [int(np.count_nonzero(c)) for c in coefs]
     [3, 2, 1, 0]
     """
+    thresholds, coefficients, _ = _path(X, Y, max_iter)
+    return thresholds, coefficients
+
+
+def _path(X, Y, max_iter: int):
+    """:func:`threshold_path` plus the number of thresholding iterations it ran."""
     X = np.asarray(X, dtype=float)
     Y = np.asarray(Y, dtype=float).reshape(X.shape[0], -1)
     col_norm = np.linalg.norm(X, axis=0)
@@ -66,9 +70,10 @@ def threshold_path(X: np.ndarray, Y: np.ndarray, max_iter: int = 20):
         # Only the equations whose support changed are solved again (the others keep their solution).
         coef = np.zeros((n_targets, n_features)) if coef is None else coef.copy()
         for i in range(n_targets) if rows is None else np.flatnonzero(rows):
-            coef[i] = _lstsq_on_support(Xn, Yn[:, i], support[i])
+            coef[i] = least_squares(Xn, Yn[:, [i]], support[[i]])[0]
         return coef
 
+    n_iter = 0
     support = np.ones((n_targets, n_features), dtype=bool)
     support[:, np.all(X == 0, axis=0)] = False  # an all-zero column carries no information
     coef = solve(support)
@@ -77,6 +82,7 @@ def threshold_path(X: np.ndarray, Y: np.ndarray, max_iter: int = 20):
         lam = np.min(np.abs(coef[support]))
         lam = lam * (1 + 1e-9) + 1e-300
         for _ in range(max_iter):
+            n_iter += 1
             new_support = support & (np.abs(coef) > lam)
             changed = np.any(new_support != support, axis=1)
             if not changed.any():
@@ -89,7 +95,7 @@ def threshold_path(X: np.ndarray, Y: np.ndarray, max_iter: int = 20):
             thresholds.append(lam)
             coefs.append(coef.copy())
     scale = target_norm[None, :, None] / col_norm[None, None, :]
-    return np.asarray(thresholds), np.asarray(coefs) * scale
+    return np.asarray(thresholds), np.asarray(coefs) * scale, n_iter
 
 
 class ThresholdSweep(BaseOptimizer):
@@ -107,9 +113,9 @@ class ThresholdSweep(BaseOptimizer):
 
     Attributes
     ----------
-    coef_ : ndarray (n_targets, n_features)
+    coef_ : ndarray (n_targets, n_features), or (n_features,) for a 1-D ``y``
         The selected coefficients.
-    history_ : list of ndarray
+    history_ : list of ndarray (n_targets, n_features)
         Coefficients of every candidate along the path, densest first.
     thresholds_ : ndarray
         Relative threshold at which each candidate appears.
@@ -117,6 +123,16 @@ class ThresholdSweep(BaseOptimizer):
         The information criterion of each candidate.
     best_index_ : int
         Index of the selected candidate.
+    n_iter_ : int
+        Thresholding iterations run along the whole path.
+    n_features_in_ : int
+        Number of library terms (columns of ``x``).
+
+    Notes
+    -----
+    ``sample_weight`` weighs the samples' squared residuals (rows scaled by its square root, as in
+    PySINDy); the information criterion counts ``sum(sample_weight)`` samples, so an integer weight is the
+    same as repeating the sample.
 
     Examples
     --------
@@ -128,8 +144,18 @@ class ThresholdSweep(BaseOptimizer):
     3
     """
 
+    _parameter_constraints = {"max_iter": [Interval(Integral, 1, None, "left")]}
+
+    # BaseOptimizer's settings, fixed for the sweep (class attributes: not parameters, not set in __init__)
+    normalize_columns = False
+    unbias = False
+    initial_guess = None
+    copy_X = True
+    fit_intercept = False
+    positive = False  # LinearRegression reads it (tags)
+
     def __init__(self, max_iter: int = 20):
-        super().__init__(max_iter=max_iter, normalize_columns=False, unbias=False)
+        self.max_iter = max_iter
 
     @property
     def candidates_(self) -> np.ndarray:
@@ -141,23 +167,55 @@ class ThresholdSweep(BaseOptimizer):
         super().set_params(**params)
         return self
 
-    def fit(self, x_, y, sample_weight=None, **reduce_kws):
+    def fit(self, x_, y=None, sample_weight=None, **reduce_kws):
         """Compute the path for the library matrix ``x_`` (n_samples, n_features) and targets ``y``.
 
         Rows with NaN (e.g. the trimmed ends of a derivative) are dropped, as in PySINDy.
         """
+        validate_params(self)
         X = check_signal(x_, "x", ndim=(2,), allow_nan=True)
+        if y is None:
+            raise ValueError("ThresholdSweep requires y to be passed, but the target y is None")
         Y = check_signal(y, "y", allow_nan=True, as_2d=False)
         if Y.shape[0] != X.shape[0]:
             raise ValueError(f"y has {Y.shape[0]} samples but x has {X.shape[0]}")
+        weights = _sample_weights(sample_weight, X.shape[0])
         complete = np.all(np.isfinite(X), axis=1) & np.all(np.isfinite(Y.reshape(len(Y), -1)), axis=1)
         if not complete.any():
             raise ValueError(f"x and y have no sample without NaN (of {X.shape[0]})")
-        return super().fit(X, Y, sample_weight=sample_weight, **reduce_kws)
+        X, Y = X[complete], Y[complete]
+        if weights is not None:
+            weights = weights[complete]
+            if not np.any(weights > 0):
+                raise ValueError("sample_weight is zero for every sample (without NaN): nothing to fit")
+        self._n_weighted = float(X.shape[0] if weights is None else np.sum(weights))
+        Y2 = Y.reshape(len(Y), -1)
+        if weights is not None:  # weighted least squares: rows scaled by sqrt(weight), as in PySINDy
+            root = np.sqrt(weights)[:, None]
+            X, Y2 = X * root, Y2 * root
+        self.Theta_ = X
+        self._reduce(X, Y2, **reduce_kws)
+        self.ind_ = np.abs(self.coef_) > 1e-14
+        self.intercept_ = 0.0
+        if Y.ndim == 1:  # scikit-learn's convention: a 1-D target gives 1-D coefficients
+            self.coef_, self.ind_ = self.coef_[0], self.ind_[0]
+        self.n_features_in_ = X.shape[1]
+        return self
+
+    def predict(self, x):
+        """``x @ coef_.T`` for library matrices ``x`` (n_samples, n_features); NaN rows give NaN."""
+        check_is_fitted(self, "coef_")
+        X = check_signal(x, "x", ndim=(2,), allow_nan=True)
+        if X.shape[1] != self.n_features_in_:
+            raise ValueError(
+                f"X has {X.shape[1]} features, but ThresholdSweep is expecting {self.n_features_in_} "
+                "features as input"
+            )
+        return X @ self.coef_.T
 
     def _reduce(self, x, y):
-        thresholds, coefs = threshold_path(x, y, max_iter=self.max_iter)
-        n = x.shape[0] * y.shape[1]
+        thresholds, coefs, n_iter = _path(x, y, self.max_iter)
+        n = self._n_weighted * y.shape[1]
         aicc = np.empty(len(coefs))
         for j, c in enumerate(coefs):
             k = int(np.count_nonzero(c))
@@ -170,3 +228,24 @@ class ThresholdSweep(BaseOptimizer):
         self.aicc_ = aicc
         self.best_index_ = int(np.argmin(aicc))
         self.coef_ = coefs[self.best_index_].copy()
+        self.n_iter_ = n_iter
+
+    def __sklearn_tags__(self):
+        tags = super().__sklearn_tags__()
+        tags.input_tags.sparse = False
+        tags.input_tags.allow_nan = True  # NaN rows (a trimmed derivative) are dropped
+        return tags
+
+
+def _sample_weights(sample_weight, n_samples: int) -> np.ndarray | None:
+    """``sample_weight`` as a non-negative array of ``n_samples`` entries (None stays None)."""
+    if sample_weight is None:
+        return None
+    if isinstance(sample_weight, Real) and not isinstance(sample_weight, bool):
+        sample_weight = np.full(n_samples, float(sample_weight))
+    weights = check_array(sample_weight, "sample_weight", ndim=(1,))
+    if weights.shape[0] != n_samples:
+        raise ValueError(f"sample_weight has {weights.shape[0]} entries but x has {n_samples} samples")
+    if np.any(weights < 0):
+        raise ValueError("sample_weight must be non-negative")
+    return weights

@@ -1,0 +1,125 @@
+"""Automatic choice of TVRegDiff's regularization weight: the scan over alpha and its criteria.
+
+One normalized column is an :class:`AlphaProblem` (smoothing at a given weight, and the scores of a
+solution); :func:`select_alpha` scans a log grid of weights from the largest useful one downwards, with warm
+starts, and returns the best solution by modified GCV or by the paper's consistency error.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._banded import lambda_max, normal_band, penalty_weight, polynomial_residual, trace_inverse, tv_smooth
+
+__all__ = ["AlphaProblem", "select_alpha", "empty_curve"]
+
+# Modified GCV (Cummins, Filloon & Nychka 2001; Kim & Gu 2004): gamma > 1 counters GCV's tendency to
+# undersmooth and removes its spurious minimum where the effective number of parameters approaches N.
+_GCV_GAMMA = 1.4
+_GRID_STEP = 0.5  # decades between alphas of the coarse scan, refined to a quarter decade at the minimum
+_GRID_DECADES = 12.0  # alphas scanned from alpha_max down to alpha_max * 10**-12
+
+
+def select_alpha(problem: AlphaProblem, to_alpha: float, scale: float, use_gcv: bool):
+    """Scan alpha from alpha_max downwards (warm starts) and return the best solution."""
+    lam_max = problem.lambda_max()
+    if not np.isfinite(lam_max) or lam_max <= 0:  # g is a polynomial the penalty cannot see
+        c, its = problem.smooth(0.0)
+        return c, 0.0, empty_curve(), its
+    n = problem.g.shape[0]
+    records = {}  # exponent r (alpha = lam_max * 10**-r) -> (gcv, consistency, residual, dof, c)
+    c = None
+    for r in np.arange(0.0, _GRID_DECADES + 1e-9, _GRID_STEP):
+        c, _ = problem.smooth(lam_max * 10**-r, c)
+        records[r] = problem.score(lam_max * 10**-r, c) + (c,)
+        if use_gcv and records[r][3] * _GCV_GAMMA >= n:
+            break  # dof > N / gamma: GCV undefined for this and every smaller alpha
+        if use_gcv and _past_minimum(records):
+            break  # GCV has clearly turned up: smaller alphas only fit more noise
+    key = 0 if use_gcv else 1
+
+    def best_exponent():
+        return min(records, key=lambda r: (records[r][key], r))
+
+    r_best = best_exponent()
+    c_best = records[r_best][4]
+    for r in (r_best - _GRID_STEP / 2, r_best + _GRID_STEP / 2):
+        if r >= 0:
+            c, _ = problem.smooth(lam_max * 10**-r, c_best)
+            records[r] = problem.score(lam_max * 10**-r, c) + (c,)
+    r_best = best_exponent()
+    lam_best = lam_max * 10**-r_best
+    # Final solve from a cold start, so that alpha=alpha_ (and transform) reproduce the result.
+    c_sel, its_sel = problem.smooth(lam_best)
+    order = sorted(records, reverse=True)  # increasing alpha
+    table = np.array([records[r][:4] for r in order], dtype=float).reshape(-1, 4)
+    curve = {
+        "alpha": lam_max * 10.0 ** -np.array(order, dtype=float) * to_alpha,
+        "error": table[:, key] * (1.0 if use_gcv else scale),
+        "gcv": table[:, 0],
+        "consistency": table[:, 1] * scale,
+        "residual": table[:, 2] * scale,
+        "dof": table[:, 3],
+    }
+    return c_sel, lam_best, curve, its_sel
+
+
+def _past_minimum(records: dict, steps: int = 3, factor: float = 2.0) -> bool:
+    """True once the GCV scan is ``steps`` grid points past its minimum and ``factor`` times above it."""
+    order = sorted(records)
+    gcv = [records[r][0] for r in order]
+    best = int(np.argmin(gcv))
+    return len(gcv) - 1 - best >= steps and gcv[-1] > factor * gcv[best]
+
+
+class AlphaProblem:
+    """One normalized column: smoothing at a given lam and the selection criteria."""
+
+    def __init__(self, g, basis, coef, h, est):
+        self.g = g
+        self.basis = basis
+        self.coef = coef
+        self.h = h
+        self.rhs = basis.rhs(g)
+        self.c_start = basis.start(g)
+        self.options = {"max_iter": est.max_iter, "tol": est.tol, "eps_rel": est.eps}
+        self.trim = est.trim
+        self.m = coef.shape[1] - 1
+
+    def smooth(self, lam: float, c0=None):
+        start = self.c_start if c0 is None else c0
+        return tv_smooth(self.rhs, self.coef, self.h, lam, start, self.basis.gram, **self.options)
+
+    def lambda_max(self) -> float:
+        resid = polynomial_residual(self.g, self.basis.tau, self.m - 1)
+        return lambda_max(self.basis.rhs(resid), self.coef, self.h)
+
+    def score(self, lam: float, c):
+        """(modified GCV, paper's consistency error, RMS residual, effective dof), normalized units."""
+        n = self.g.shape[0]
+        weight = penalty_weight(self.coef, self.h, lam, c, self.options["eps_rel"])
+        gram = self.basis.gram
+        dof = trace_inverse(normal_band(self.coef, weight, c.shape[0], gram), gram)
+        y = self.basis.values(c)
+        rss = float(np.sum((self.g - y) ** 2))
+        denom = n - _GCV_GAMMA * dof
+        gcv = n * rss / denom**2 if denom > 0 and 0 < dof <= n else np.inf
+        consistency = _consistency_error(self.g, y, self.basis.slopes(c), self.basis.tau, self.trim)
+        return gcv, consistency, float(np.sqrt(rss / n)), dof
+
+
+def _consistency_error(g, y, slopes, tau, trim):
+    """Paper's criterion: RMS(input - time-integrated derivative) on the kept samples, offset free."""
+    n = g.shape[0]
+    lo, hi = trim, n - trim
+    u = slopes[lo:hi]
+    integral = np.concatenate(([0.0], np.cumsum(0.5 * (u[1:] + u[:-1]) * np.diff(tau[lo:hi]))))
+    diff = g[lo:hi] - integral
+    diff -= np.mean(diff)  # free integration constant (least squares)
+    return float(np.sqrt(np.mean(diff**2)))
+
+
+def empty_curve() -> dict:
+    """The curve of a column whose alpha was not chosen (given, or a constant column)."""
+    empty = np.empty(0)
+    return {k: empty for k in ("alpha", "error", "gcv", "consistency", "residual", "dof")}
