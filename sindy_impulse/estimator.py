@@ -354,7 +354,7 @@ class ImpulseSINDy(FittedModelMixin, ps.SINDy):
     def _refined(self, coef, score, compile_, measure, budget):
         """The candidate refined on the measure (paper section 2.5); never worse than unrefined."""
         if not self.refine:
-            return coef, score, {"score": [score], "coefficients": [coef]}
+            return coef, score, {"score": [], "coefficients": []}
         res = refine(compile_(coef), measure, self.bound_factor, self.refine_max_iter, budget=budget)
         if not res.score <= score:
             return coef, score, res.history

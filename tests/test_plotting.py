@@ -245,7 +245,7 @@ def test_sweep_marks_the_selected_candidate(model):
 def test_sweep_shows_diverged_candidates_and_thresholds():
     path = SweepPath(
         threshold=np.array([0.0, 0.01, 0.1, 0.5]),
-        gamma=np.array([np.inf, 0.0, 2.0, 40.0]),
+        score=np.array([np.inf, 0.0, 2.0, 40.0]),
         n_terms=np.array([6, 3, 2, 1]),
         coefficients=np.zeros((4, 2, 3)),
         selected=1,
@@ -265,8 +265,8 @@ def test_sweep_refuses_bad_input(model):
         plot_sweep(ImpulseSINDy())
     with pytest.raises(ValueError, match=r"x must be one of"):
         plot_sweep(model, x="gamma")
-    diverged = dataclasses.replace(model.path_, gamma=np.full(len(model.path_), np.inf))
-    with pytest.raises(ValueError, match=r"no candidate has a finite Gamma"):
+    diverged = dataclasses.replace(model.path_, score=np.full(len(model.path_), np.inf))
+    with pytest.raises(ValueError, match=r"no candidate has a finite score"):
         plot_sweep(diverged)
 
 
@@ -317,7 +317,7 @@ def test_refinement_draws_gamma_and_each_nonzero_coefficient(model):
     out = plot_refinement(model, axes=axes)
     assert list(out) == list(axes) and _n_figures() == 1
     history = model.refinement_history_
-    assert len(axes[0].lines) == 1 and len(axes[0].lines[0].get_xdata()) == len(history["gamma"])
+    assert len(axes[0].lines) == 1 and len(axes[0].lines[0].get_xdata()) == len(history["score"])
     n_active = int(np.count_nonzero(np.any(np.asarray(history["coefficients"]) != 0, axis=0)))
     assert len(axes[1].lines) == n_active >= 2
     assert axes[1].lines[0].get_ydata()[0] == pytest.approx(1.0)  # relative to the SINDy value
@@ -331,12 +331,12 @@ def test_refinement_refuses_missing_history(linear):
     unrefined = ImpulseSINDy(refine=False).fit(linear.x, t=linear.t)
     with pytest.raises(ValueError, match=r"model has no refinement history \(fitted with refine=False"):
         plot_refinement(unrefined)
-    with pytest.raises(ValueError, match=r"must have the keys 'gamma' and 'coefficients'"):
-        plot_refinement({"gamma": [1.0]})
+    with pytest.raises(ValueError, match=r"must have the keys 'score' and 'coefficients'"):
+        plot_refinement({"score": [1.0]})
     with pytest.raises(TypeError, match=r"relative must be True or False"):
-        plot_refinement({"gamma": [1.0], "coefficients": [COEF]}, relative="yes")
+        plot_refinement({"score": [1.0], "coefficients": [COEF]}, relative="yes")
     with pytest.raises(ValueError, match=r"history\['coefficients'\] must be 3-D"):
-        plot_refinement({"gamma": [1.0], "coefficients": [1.0]})
+        plot_refinement({"score": [1.0], "coefficients": [1.0]})
 
 
 # ------------------------------------------------------------------------------------------------------

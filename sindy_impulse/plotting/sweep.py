@@ -39,7 +39,7 @@ def _sweep_path(model_or_path):
         if not hasattr(path, "path_"):
             raise ValueError("model_or_path is not fitted (no path_): call fit first")
         path = path.path_
-    if not all(hasattr(path, a) for a in ("threshold", "gamma", "n_terms", "selected")):
+    if not all(hasattr(path, a) for a in ("threshold", "score", "n_terms", "selected")):
         raise TypeError(
             f"model_or_path must be a fitted ImpulseSINDy or a SweepPath, got {type(path).__name__}"
         )
@@ -76,12 +76,12 @@ def plot_sweep(model_or_path, ax=None, x: str = "n_terms") -> Axes:
     """
     path = _sweep_path(model_or_path)
     x = check_choice(x, "x", ("n_terms", "threshold"))
-    gamma = check_array(path.gamma, "path.gamma", ndim=(1,), allow_inf=True, allow_nan=True)
+    gamma = check_array(path.score, "path.score", ndim=(1,), allow_inf=True, allow_nan=True)
     xs = check_array(getattr(path, x), f"path.{x}", ndim=(1,), allow_nan=(x == "threshold"))
     if xs.shape != gamma.shape:
-        raise ValueError(f"path.{x} has {xs.size} entries but path.gamma has {gamma.size}")
+        raise ValueError(f"path.{x} has {xs.size} entries but path.score has {gamma.size}")
     if not np.any(np.isfinite(gamma)):
-        raise ValueError("no candidate has a finite Gamma (not simulated, or all diverged): nothing to plot")
+        raise ValueError("no candidate has a finite score (not simulated, or all diverged): nothing to plot")
     selected = check_int(path.selected, "path.selected", 0, gamma.size)
     order = np.argsort(xs, kind="stable")
     finite = np.isfinite(gamma[order])
@@ -244,7 +244,8 @@ def plot_refinement(model, axes=None, *, relative: bool = True) -> np.ndarray:
     Parameters
     ----------
     model : fitted ImpulseSINDy (fitted with ``refine=True``), or its ``refinement_history_`` dict
-        ``{"gamma": [...], "coefficients": [...]}`` with one entry per iteration.
+        ``{"score": [...], "coefficients": [...]}`` with one entry per iteration (the score is the fit's
+        error measure: the paper's Gamma for short records).
     axes : sequence of 2 Axes, optional
         Gamma panel, coefficient panel.
     relative : bool, default=True
@@ -270,14 +271,14 @@ def plot_refinement(model, axes=None, *, relative: bool = True) -> np.ndarray:
     if isinstance(relative, (bool, np.bool_)) is False:
         raise TypeError(f"relative must be True or False, got {relative!r}")
     history, term_names, states = _refinement_history(model)
-    if not {"gamma", "coefficients"} <= set(history):
-        raise ValueError("the refinement history must have the keys 'gamma' and 'coefficients'")
+    if not {"score", "coefficients"} <= set(history):
+        raise ValueError("the refinement history must have the keys 'score' and 'coefficients'")
     if len(history["coefficients"]) == 0:
         raise ValueError(
             "model has no refinement history (fitted with refine=False, or the selected model had no "
             "non-zero coefficient to refine)"
         )
-    gamma = check_array(history["gamma"], "history['gamma']", ndim=(1,), allow_inf=True)
+    gamma = check_array(history["score"], "history['score']", ndim=(1,), allow_inf=True)
     coef = check_array(history["coefficients"], "history['coefficients']", ndim=(3,))
     axes = many_axes(axes, 2, name="axes", sharex=True)
     _gamma_panel(axes[0], gamma)
