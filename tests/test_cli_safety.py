@@ -325,7 +325,8 @@ def test_parse_number_and_int_accept_plain_decimals():
         (["--fs", "nan"], "--fs must be a positive sampling frequency"),
         (["--fs", "0"], "--fs must be a positive sampling frequency"),
         (["--degree", "1_0"], "argument --degree: invalid number '1_0'"),
-        (["--degree", "2.5"], "not a whole number"),
+        (["--degree", "2.5"], "argument --degree: expected a positive integer, got '2.5'"),
+        (["--dimension", "two"], "argument --dimension: expected a positive integer or 'auto', got 'two'"),
         (["--tau", " 3"], "argument --tau: invalid number ' 3': spaces around the number"),
         (["--fs", "100", "--dt", "0.01"], "not allowed with argument"),
     ],
@@ -382,3 +383,12 @@ def test_fs_is_the_sampling_frequency(tmp_path):
     table = read_csv(str(path), **{**options, "columns": None}, extra=["force"])
     assert table.names == ["x"] and table.t == 0.01  # the extra column is not a state
     assert table.extra["force"].tolist() == [0, 1] * 4
+
+
+def test_an_interruption_is_one_line_and_status_130(ring, monkeypatch, capsys):
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr("sindy_impulse.cli.fit.read_csv", interrupted)
+    code, _, err = _run(["fit", ring], capsys)
+    assert code == 130 and err == "sindy-impulse: interrupted\n"

@@ -5,8 +5,9 @@ ring-down stored as a CSV file and reports Gamma, the nonlinearity test and the 
 turns many CSV files into one table of SINDy coefficient features (paper section 3.4).
 
 One module per command (:mod:`.demo`, :mod:`.fit`, :mod:`.features`: each ``add_parser(sub)`` and
-``run(args)``); the options they share are in :mod:`._options`, and every file they read or write goes
-through :mod:`._io` (strict numbers, regular files only, atomic outputs that never overwrite an input).
+``run(args)``; a new command is one more module in :data:`COMMANDS`). The options they share are in
+:mod:`._options`, numbers are parsed strictly by :mod:`._numbers`, and every file they read or write goes
+through :mod:`._io` (regular files only, atomic outputs that never overwrite an input).
 
 CSV files are read with the standard library (no pandas): a header row of column names, then one row of
 numbers per sample. Every mistake a user can make with the files or the options ends in a one-line

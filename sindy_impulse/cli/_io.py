@@ -333,7 +333,7 @@ def atomic_write(path: str, render: Callable, binary: bool = False) -> None:
         raise CLIError(f"cannot write {path}: {err.strerror}") from None
     try:
         with os.fdopen(fd, "wb") as fh:
-            if mode is not None:
+            if mode is not None and hasattr(os, "fchmod"):
                 os.fchmod(fh.fileno(), mode)
             fh.write(content)
             fh.flush()

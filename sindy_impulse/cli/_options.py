@@ -59,20 +59,24 @@ def integer(text: str) -> int:
         raise _refused(text, err, "int") from None
 
 
-def positive_int(text: str) -> int:
-    value = integer(text)
+def _positive(text: str, expected: str) -> int:
+    try:
+        value = parse_int(text)
+    except NumberError as err:
+        if err.reason in ("not a number", "empty", "not a whole number"):
+            raise argparse.ArgumentTypeError(f"expected {expected}, got {text!r}") from None
+        raise argparse.ArgumentTypeError(str(err)) from None
     if value < 1:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
+        raise argparse.ArgumentTypeError(f"expected {expected}, got {text!r}")
     return value
 
 
+def positive_int(text: str) -> int:
+    return _positive(text, "a positive integer")
+
+
 def auto_int(text: str):
-    if text == "auto":
-        return "auto"
-    try:
-        return positive_int(text)
-    except argparse.ArgumentTypeError as err:
-        raise argparse.ArgumentTypeError(f"{err} (or 'auto')") from None
+    return "auto" if text == "auto" else _positive(text, "a positive integer or 'auto'")
 
 
 # ----------------------------------------------------------------------------------------------------
