@@ -301,6 +301,16 @@ class SINDyFeatures(TransformerMixin, BaseEstimator):
             self.n_states_ = 1 if series[0].ndim == 1 else int(series[0].shape[1])
             state_names = [f"x{i}" for i in range(self.n_states_)]
         self.state_names_ = state_names
+        self.terms_ = self._term_names(template, state_names)
+        self.feature_names_out_ = np.array(
+            [f"{s}' : {term}" for s in state_names for term in self.terms_], dtype=object
+        )
+        self.min_samples_ = len(self.terms_) + _SAMPLE_MARGIN
+        return template
+
+    @staticmethod
+    def _term_names(template, state_names) -> list[str]:
+        """Names of the template library's terms over states called ``state_names``."""
         library = getattr(template, "feature_library", None)
         if library is None:
             import pysindy as ps
@@ -309,15 +319,10 @@ class SINDyFeatures(TransformerMixin, BaseEstimator):
         library = clone(library)
         from pysindy.utils import AxesArray
 
-        probe = np.linspace(0.5, 1.5, 4 * self.n_states_).reshape(4, self.n_states_)
+        n_states = len(state_names)
+        probe = np.linspace(0.5, 1.5, 4 * n_states).reshape(4, n_states)
         library.fit([AxesArray(probe, {"ax_time": 0, "ax_coord": 1})])
-        terms = library.get_feature_names(input_features=state_names)
-        self.terms_ = list(terms)
-        self.feature_names_out_ = np.array(
-            [f"{s}' : {term}" for s in state_names for term in terms], dtype=object
-        )
-        self.min_samples_ = len(terms) + _SAMPLE_MARGIN
-        return template
+        return list(library.get_feature_names(input_features=state_names))
 
     def _states(self, series) -> list[np.ndarray]:
         """Each series as the (n_times, n_states) array the estimator is fitted to."""
@@ -414,9 +419,33 @@ class SINDyFeatures(TransformerMixin, BaseEstimator):
         return features
 
     def get_feature_names_out(self, input_features=None) -> np.ndarray:
-        """Feature names ``"<state>' : <term>"``, e.g. ``"x1' : x0^3"`` (``input_features`` is ignored)."""
+        """Feature names ``"<state>' : <term>"``, e.g. ``"x1' : x0^3"``.
+
+        Parameters
+        ----------
+        input_features : list of str, optional
+            Names of the states of multivariate series, e.g. ``["x", "v"]`` gives ``"v' : x^3"``
+            (default ``x0, x1, ...``). Embedded series keep the embedding's names (``q1, q2, ...``);
+            then ``input_features`` may name the one measured signal and changes nothing.
+
+        Examples
+        --------
+        >>> from sindy_impulse import SINDyFeatures, damped_oscillator
+        >>> features = SINDyFeatures(dt=0.01).fit([damped_oscillator().x])
+        >>> [str(n) for n in features.get_feature_names_out(["x", "v"])[-2:]]
+        ["v' : x v^2", "v' : v^3"]
+        """
         check_is_fitted(self, "feature_names_out_")
-        return self.feature_names_out_.copy()
+        if input_features is None:
+            return self.feature_names_out_.copy()
+        names = [str(n) for n in input_features]
+        if self.embedding_ is not None:
+            self.embedding_.get_feature_names_out(names)  # one name (the measured signal), or ValueError
+            return self.feature_names_out_.copy()
+        if len(names) != self.n_states_:
+            raise ValueError(f"input_features has {len(names)} names for {self.n_states_} states: {names}")
+        terms = self._term_names(self._template(), names)
+        return np.array([f"{s}' : {term}" for s in names for term in terms], dtype=object)
 
     def __sklearn_tags__(self):
         tags = super().__sklearn_tags__()

@@ -227,3 +227,16 @@ def test_features_do_not_depend_on_n_jobs():
     serial = SINDyFeatures(dt=0.01, n_jobs=1).fit_transform(series)
     parallel = SINDyFeatures(dt=0.01, n_jobs=2).fit_transform(series)
     np.testing.assert_array_equal(serial, parallel)
+
+
+def test_feature_names_after_the_input_features(series):
+    feats = SINDyFeatures(estimator=_linear_estimator(), dt=DT).fit(series)
+    names = ["x' : 1", "x' : x", "x' : v", "v' : 1", "v' : x", "v' : v"]
+    assert list(feats.get_feature_names_out(["x", "v"])) == names
+    assert list(feats.get_feature_names_out())[-1] == "x1' : x1"  # the default names are unchanged
+    with pytest.raises(ValueError, match="input_features has 3 names for 2 states"):
+        feats.get_feature_names_out(["x", "v", "a"])
+    embedded = SINDyFeatures(estimator=_linear_estimator(), dt=DT).fit([s[:, 0] for s in series])
+    assert list(embedded.get_feature_names_out(["x"])) == list(embedded.get_feature_names_out())
+    with pytest.raises(ValueError, match="1 input feature"):
+        embedded.get_feature_names_out(["x", "v"])
