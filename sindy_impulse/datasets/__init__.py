@@ -5,14 +5,17 @@ hammer-impact records of a spring-mass chain with a known modal table, ``silverb
 real ring-downs.
 """
 
+from .impact import ImpactRecord, impact_record
 from .oscillator import MAX_SAMPLES, RingDown, add_noise, damped_oscillator
 from .silverbox import SilverboxWindows, load_silverbox
 
 __all__ = [
     "MAX_SAMPLES",
+    "ImpactRecord",
     "RingDown",
     "SilverboxWindows",
     "add_noise",
     "damped_oscillator",
+    "impact_record",
     "load_silverbox",
 ]
