@@ -28,6 +28,8 @@ __all__ = ["esprit", "EspritModes"]
 
 #: Singular values below this fraction of the largest are rounding (the Gram matrix squares them).
 _RELATIVE_FLOOR = 1e-7
+#: A pole within the half-power band of one this many times weaker is a split of that mode.
+_SPLIT_RATIO = 0.1
 #: Margin above the noise edge ``median * (1 + sqrt(L / K))`` of the singular values.
 _NOISE_MARGIN = 1.5
 
@@ -114,6 +116,19 @@ def _band_snr_db(s: np.ndarray, energy: np.ndarray, resid: np.ndarray, dt: float
         return 10 * np.log10(energy / np.maximum(noise, np.finfo(float).tiny))
 
 
+def _physical(z, s, c, loud, duration) -> np.ndarray:
+    """Indices of the physical poles sorted by frequency (see :func:`esprit`)."""
+    keep = (s.imag * duration >= 2 * np.pi) & (np.abs(z) < 1) & np.any(loud, axis=1)
+    keep &= np.angle(z) < np.pi * (1 - 1e-9)
+    idx = np.flatnonzero(keep)
+    f, half = s.imag[idx] / (2 * np.pi), -s.real[idx] / (2 * np.pi)  # half-power half-widths
+    amp = np.abs(c[idx]).max(axis=1)
+    overlap = np.abs(f[:, None] - f[None, :]) < half[:, None] + half[None, :]
+    split = np.any(overlap & (amp[None, :] * _SPLIT_RATIO > amp[:, None]), axis=1)
+    idx = idx[~split]
+    return idx[np.argsort(np.abs(s[idx]))]
+
+
 def _sampling_step(t, fs, n) -> float:
     if (t is None) == (fs is None):
         raise ValueError("esprit: give either t (a time step or vector) or fs (the sampling rate), not both")
@@ -145,7 +160,9 @@ def esprit(
     ``subtract_tail_mean``. Poles are kept when they are oscillatory (at least one period within the
     record, below Nyquist), stable (``|z| < 1``) and above the noise: the mode's energy over the record
     is at least ``min_snr_db`` above the energy of the fit's residual in the mode's band
-    ``f_d +- max(2 zeta f_n, 2 / duration)`` (so coloured noise is judged where the mode is).
+    ``f_d +- max(2 zeta f_n, 2 / duration)`` (so coloured noise is judged where the mode is). A pole
+    whose half-power band overlaps that of a pole ten times stronger is taken for a split of that mode
+    (an over-estimated order does that) and dropped.
 
     **Cost.** The Hankel matrix has ``L = min(max_rows, n // 3)`` rows and all ``n - L + 1`` columns, so
     every sample is used; its ``L x L`` Gram matrix is built in ``O(n L)`` (one correlation and a running
@@ -214,9 +231,7 @@ def esprit(
     c, resid, energy = _fit_amplitudes(Y, z)
     s = np.log(z) / dt
     snr_db = _band_snr_db(s, energy, resid, dt)
-    keep = (s.imag * n * dt >= 2 * np.pi) & (np.abs(z) < 1) & np.any(snr_db >= min_snr_db, axis=1)
-    keep &= np.angle(z) < np.pi * (1 - 1e-9)
-    idx = np.flatnonzero(keep)[np.argsort(np.abs(s[keep]))]
+    idx = _physical(z, s, c, snr_db >= min_snr_db, n * dt)
     amps, phases = 2 * np.abs(c[idx]), np.angle(c[idx])
     noise = np.sqrt(np.sum(resid**2, axis=0) / max(n - z.size, 1))
     squeeze = (lambda a: a[..., 0]) if np.ndim(y) == 1 else (lambda a: a)
