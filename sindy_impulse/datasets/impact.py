@@ -100,7 +100,11 @@ class ImpactRecord:
             "   f_n (Hz)     f_d (Hz)     zeta       amplitude",
         ]
         for m in self.modes:
-            amp = np.array2string(np.atleast_1d(m.amplitude), precision=4)
+            amp = (
+                f"{m.amplitude:.4g}"
+                if np.ndim(m.amplitude) == 0
+                else np.array2string(m.amplitude, precision=4)
+            )
             lines.append(
                 f"  {m.frequency_hz:10.4f}  {m.damped_frequency_hz:10.4f}  {m.damping_ratio:9.5f}  {amp}"
             )
