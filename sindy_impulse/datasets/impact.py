@@ -156,11 +156,11 @@ def impact_record(
     ``force_snr_db`` below the peak force.
 
     **The response.** Linear records are exact (closed-form modal response to the continuous half-sine,
-    vectorised: about 25 ms for 40,000 samples and 4 modes). Nonlinear records add an element between the
+    vectorised: about 15 ms CPU for 40,000 samples and 4 modes). Nonlinear records add an element between the
     ground and mass 0, with force ``m_0 (k3 x**3 + c2 x**2 x' + cq |x'| x')`` (``x`` the displacement of
     mass 0), integrated by classical RK4 in numba on the samples refined so that ``omega_max h <= 0.02``,
-    with 64 steps per contact (relative error about 5e-7 over 3,000 periods; 0.15 s for a single mode over
-    3,000 periods at 20 samples per period, plus a one-off compilation of a few seconds).
+    with 64 steps per contact (relative error about 5e-7 over 3,000 periods; about 0.06 s CPU for a single
+    mode over 3,000 periods at 20 samples per period, plus a one-off compilation of a few seconds).
 
     Parameters
     ----------
