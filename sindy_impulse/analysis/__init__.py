@@ -1,10 +1,12 @@
 """From models to answers (paper sections 3.2-3.4): complexity-error plane, consensus over repeated
-impacts, parameter tracking, the test for nonlinearity and modal parameters.
+impacts, parameter tracking, the test for nonlinearity and modal parameters; ESPRIT, a classical
+modal-analysis baseline.
 
 Imported eagerly: ``from .consensus import consensus`` binds the function, not the module of the same
 name, whatever the order in which names are first used.
 """
 
+from .classical import EspritModes, esprit
 from .complexity import ComplexityError, complexity_error
 from .consensus import Consensus, Histogram, consensus, consensus_fit
 from .modal import ModalParameters, jacobian_at_origin, modal_parameters
@@ -14,6 +16,7 @@ from .parameters import ParameterDependency, parameter_dependency
 __all__ = [
     "ComplexityError",
     "Consensus",
+    "EspritModes",
     "Histogram",
     "ModalParameters",
     "NonlinearTerm",
@@ -22,6 +25,7 @@ __all__ = [
     "complexity_error",
     "consensus",
     "consensus_fit",
+    "esprit",
     "jacobian_at_origin",
     "modal_parameters",
     "nonlinearity_test",

@@ -1,0 +1,21 @@
+"""Data sets: simulated ring-downs of the paper's oscillators, synthetic hammer tests, the Silverbox.
+
+``oscillator`` generates the paper's 1-DOF ring-downs and the noise model, ``impact`` synthetic
+hammer-impact records of a spring-mass chain with a known modal table, ``silverbox`` loads the shipped
+real ring-downs.
+"""
+
+from .impact import ImpactRecord, impact_record
+from .oscillator import MAX_SAMPLES, RingDown, add_noise, damped_oscillator
+from .silverbox import SilverboxWindows, load_silverbox
+
+__all__ = [
+    "MAX_SAMPLES",
+    "ImpactRecord",
+    "RingDown",
+    "SilverboxWindows",
+    "add_noise",
+    "damped_oscillator",
+    "impact_record",
+    "load_silverbox",
+]
