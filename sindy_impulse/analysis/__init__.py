@@ -1,10 +1,12 @@
 """From models to answers (paper sections 3.2-3.4): complexity-error plane, consensus over repeated
-impacts, parameter tracking, the test for nonlinearity and modal parameters.
+impacts, parameter tracking, the test for nonlinearity and modal parameters; beyond the paper, backbone
+curves (frequency and damping ratio against amplitude) of data and models.
 
 Imported eagerly: ``from .consensus import consensus`` binds the function, not the module of the same
 name, whatever the order in which names are first used.
 """
 
+from .backbone import Backbone, backbone, hilbert_backbone
 from .complexity import ComplexityError, complexity_error
 from .consensus import Consensus, Histogram, consensus, consensus_fit
 from .modal import ModalParameters, jacobian_at_origin, modal_parameters
@@ -12,6 +14,7 @@ from .nonlinearity import NonlinearityResult, NonlinearTerm, nonlinearity_test
 from .parameters import ParameterDependency, parameter_dependency
 
 __all__ = [
+    "Backbone",
     "ComplexityError",
     "Consensus",
     "Histogram",
@@ -19,9 +22,11 @@ __all__ = [
     "NonlinearTerm",
     "NonlinearityResult",
     "ParameterDependency",
+    "backbone",
     "complexity_error",
     "consensus",
     "consensus_fit",
+    "hilbert_backbone",
     "jacobian_at_origin",
     "modal_parameters",
     "nonlinearity_test",

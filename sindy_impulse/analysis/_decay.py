@@ -48,6 +48,10 @@ WINDOW_DECAY = 0.25
 LADDER = (1.0, 1.5, 2.25, 3.4, 5.0)
 #: Target relative standard error of the decay rate that selects the window.
 DAMPING_PRECISION = 0.01
+#: Smallest fall of ``ln A`` over the decay (5 %): less is not a free decay.
+MIN_DECAY = 0.05
+#: A fall of ``ln A`` below this (a factor 2) warns of a narrow amplitude range.
+NARROW_DECAY = np.log(2.0)
 #: Envelopes below this fraction of the largest are not analysed (round-off of the FFT).
 NUMERIC_FLOOR = 1e-9
 #: Order of the Butterworth band-pass (applied forwards and backwards).
@@ -149,10 +153,19 @@ def _noise_level(y: np.ndarray, ln_a: np.ndarray, phase: np.ndarray, window: int
 def _window_periods(envelope: np.ndarray, dt: float, w0: float, n_periods: float) -> tuple[float, float]:
     """Rough decay rate of the first-pass envelope (above the floor) and the smoothing window (periods)."""
     sigma = -np.polyfit(np.arange(len(envelope)) * dt, np.log(envelope), 1)[0]
-    if not sigma > 0:
+    drop = sigma * len(envelope) * dt  # fall of ln A over the decay
+    if not drop > MIN_DECAY:
         raise ValueError(
-            "the envelope does not decay: y is not a free decay (a forced or steady response has no "
-            "backbone from this estimator)"
+            f"the envelope does not decay (it falls by {100 * (1 - np.exp(-max(drop, 0))):.1f} % over "
+            f"{n_periods:.0f} periods): y is not a free decay; a steady or forced response has no backbone "
+            "from this estimator"
+        )
+    if drop < NARROW_DECAY:
+        warnings.warn(
+            f"the envelope falls by only {100 * (1 - np.exp(-drop)):.0f} % over the record: the backbone "
+            "covers a narrow amplitude range; record a longer decay",
+            DataWarning,
+            stacklevel=4,
         )
     k = WINDOW_DECAY / (2 * np.pi * sigma / w0)
     return float(sigma), float(np.clip(k, MIN_WINDOW_PERIODS, max(MIN_WINDOW_PERIODS, n_periods / 3)))
@@ -245,6 +258,11 @@ def instantaneous(
     noise, envelope = _noise_level(y, ln_a, phase + w0 * dt * np.arange(len(y)), first, dt)
     floor = max(min_snr * noise, NUMERIC_FLOOR * float(envelope.max()))
     start, stop = _decay_region(envelope, first // 2, floor, int(np.ceil(trim_periods * spp)))
+    if start > len(y) / 2:
+        raise ValueError(
+            f"the envelope does not decay (it is largest {start / spp:.0f} periods into the record of "
+            f"{len(y) / spp:.0f}): y is not a free decay, or a growing (unstable) response"
+        )
     if stop - start < first:
         raise ValueError(
             f"the decay above the noise floor ({min_snr:g} x the noise level {noise:.3g}) lasts "

@@ -65,14 +65,14 @@ def _run(model, state, c, n_states, dt, chunk, limit, min_samples, spp, target):
     """Chunks of the simulated coordinate and how the run ended ("decayed", "diverged" or "limit")."""
     pieces, t0, total = [], 0.0, 0
     while total < limit:
-        tt = t0 + np.arange(chunk + 1) * dt
+        tt = t0 + np.arange(min(chunk, limit - total) + 1) * dt
         out = _simulate(model, state, tt, n_states)
         bad = ~np.all(np.isfinite(out), axis=1)
         if bad.any():
             pieces.append(out[: int(np.argmax(bad)), c])
             return pieces, "diverged"
         pieces.append(out[:-1, c])
-        state, t0, total = out[-1], tt[-1], total + chunk
+        state, t0, total = out[-1], tt[-1], total + len(tt) - 1
         if total >= min_samples and _amplitude(pieces[-1][-2 * spp :]) < target / np.e:
             return pieces, "decayed"
     return pieces, "limit"

@@ -106,9 +106,7 @@ class Backbone:
 
     def at(self, amplitudes) -> Backbone:
         """The curve interpolated at ``amplitudes`` (NaN outside the curve's amplitude range)."""
-        a = check_array(amplitudes, "amplitudes", ndim=(0, 1)).ravel()
-        if np.any(a <= 0):
-            raise ValueError("amplitudes must be positive")
+        a = _check_amplitudes(amplitudes)
         order = np.argsort(self.amplitude)
         xs = self.amplitude[order]
         f = np.interp(a, xs, self.frequency_hz[order], left=np.nan, right=np.nan)
@@ -127,6 +125,13 @@ class Backbone:
             f"  frequency_hz   {f[lo]:.6g} to {f[hi]:.6g} ({100 * self.frequency_shift:+.3f} %)\n"
             f"  damping_ratio  {100 * z[lo]:.3g} % to {100 * z[hi]:.3g} % (x{z[hi] / z[lo]:.2f})"
         )
+
+
+def _check_amplitudes(amplitudes) -> np.ndarray:
+    a = check_array(amplitudes, "amplitudes", ndim=(0, 1)).ravel()
+    if np.any(a <= 0):
+        raise ValueError(f"amplitudes must be positive, got {a[a <= 0][0]!r}")
+    return a
 
 
 def _check_options(trim_periods, smooth_periods, min_snr, n_points, owner):
@@ -236,6 +241,8 @@ def hilbert_backbone(
             raise ValueError(f"y must be one signal (1-D), got shape {sig.shape}; pass one column (y[:, 0])")
         sig = sig[:, 0]
     dt = _uniform_step(t, len(sig))
+    if amplitudes is not None:
+        _check_amplitudes(amplitudes)
     if np.ptp(sig) == 0:
         raise ValueError("y is constant: there is no decay to analyse")
     curve = instantaneous(
@@ -319,12 +326,7 @@ def backbone(
     _check_options(trim_periods, smooth_periods, 0.0, n_points, owner)
     check_param("samples_per_period", samples_per_period, [Interval(Real, 8, None, "left")], owner)
     check_param("max_periods", max_periods, [Interval(Real, 1, None, "neither")], owner)
-    target = None
-    if amplitudes is not None:
-        a = check_array(amplitudes, "amplitudes", ndim=(0, 1))
-        if np.any(a <= 0):
-            raise ValueError("amplitudes must be positive")
-        target = float(a.min())
+    target = None if amplitudes is None else float(_check_amplitudes(amplitudes).min())
     min_periods = 2 * trim_periods + 8 * (smooth_periods or 4)
     y, dt = simulate_free_decay(model, coordinate, samples_per_period, max_periods, target, min_periods)
     curve = instantaneous(
