@@ -242,6 +242,13 @@ def test_measured_coordinate_of_the_model():
         np.testing.assert_allclose(curve.damping_ratio, ref.damping_ratio, rtol=1e-9)
 
 
+def test_model_with_several_trajectories_starts_from_the_largest():
+    ref = backbone(TrueModel("combined"))
+    model = TrueModel("combined")
+    model.x_filtered_, model.t_ = [0.1 * model.x_filtered_, model.x_filtered_], [model.t_, model.t_]
+    np.testing.assert_allclose(backbone(model).amplitude, ref.amplitude, rtol=1e-9)
+
+
 def test_model_that_does_not_decay_far_enough_warns():
     with pytest.warns(FitWarning, match="did not fall below"):
         curve = backbone(TrueModel("amplitude_damping"), max_periods=200)
@@ -259,6 +266,13 @@ def test_diverging_model_warns_and_refuses():
 # ------------------------------------------------------------------------------------------------------
 # the result, bad input, short records
 # ------------------------------------------------------------------------------------------------------
+def test_at_ignores_missing_points():
+    curve = Backbone(np.array([0.1, np.nan, 1.0]), np.array([10.0, np.nan, 11.0]), np.full(3, 0.01), "data")
+    at = curve.at([0.55, 2.0])
+    np.testing.assert_allclose(at.frequency_hz, [10.5, np.nan])
+    assert curve.frequency_shift == pytest.approx(0.1)
+
+
 def test_result_is_sorted_and_readable():
     t, y = _noisy("combined")
     curve = hilbert_backbone(y, t, n_points=30)
@@ -334,6 +348,15 @@ def test_steady_sine_is_not_a_free_decay():
     t = np.arange(20000) * 0.005
     with pytest.raises(ValueError, match="does not decay"):
         hilbert_backbone(np.sin(2 * np.pi * 10 * t), t)
+
+
+def test_short_decay_warns_of_a_narrow_range():
+    compiled = CompiledModel(_coefficients(0.0002, 0.0, 1.0), TERMS)
+    t = np.arange(300 * SPP) / (SPP * F0)
+    y = add_noise(compiled.simulate([1.0, 0.0], t)[:, 0], 40, random_state=0)
+    with pytest.warns(DataWarning, match="narrow amplitude range"):
+        curve = hilbert_backbone(y, t)
+    assert curve.amplitude.max() / curve.amplitude.min() < 2
 
 
 def test_few_samples_per_period_warn():

@@ -18,7 +18,8 @@ The estimator of :func:`sindy_impulse.analysis.hilbert_backbone`, in the spirit 
    (at least :data:`MIN_WINDOW_PERIODS` periods, at most a third of the decay); where the noise makes
    its decay rate imprecise (predicted relative standard error above :data:`DAMPING_PRECISION`), the
    next longer window of :data:`LADDER` (up to ``5 K``, and a third of the decay) is used. Half a
-   window at each end has no fit (the top of the curve starts ``trim + K / 2`` periods in);
+   window at each end has no fit (the top of the curve starts ``trim + K / 2`` periods in). The fits
+   reach past the floor by half the longest window, so the curve can end at the floor;
 6. ``w_n = sqrt(w_d^2 + sigma^2)``, ``zeta = sigma / w_n``: first order in the slow variation (FREEVIB's
    corrections with the derivatives of the frequency are not applied); the curve stops at the floor.
 
@@ -134,9 +135,15 @@ def _odd(n: float) -> int:
 
 
 def _local_fit(v: np.ndarray, window: int, dt: float) -> tuple[np.ndarray, np.ndarray]:
-    """Value and slope of local quadratic fits over ``window`` samples (centres with a full window)."""
-    value = signal.savgol_coeffs(window, 2, deriv=0, use="conv")
-    slope = signal.savgol_coeffs(window, 2, deriv=1, delta=dt, use="conv")
+    """Value and slope of local quadratic least-squares fits over ``window`` samples (full windows only).
+
+    Closed-form Savitzky-Golay weights for the centre of a symmetric window ``j = -h..h``: the value is
+    ``sum (S4 - S2 j^2) v_j / (S0 S4 - S2^2)``, the slope ``sum j v_j / (S2 dt)`` (``Sk = sum j^k``).
+    """
+    j = np.arange(-(window // 2), window // 2 + 1, dtype=float)
+    s0, s2, s4 = len(j), np.sum(j**2), np.sum(j**4)
+    value = (s4 - s2 * j**2) / (s0 * s4 - s2**2)
+    slope = -j / (s2 * dt)  # reversed for the convolution
     return signal.oaconvolve(v, value, mode="valid"), signal.oaconvolve(v, slope, mode="valid")
 
 
@@ -288,6 +295,11 @@ def instantaneous(
     amplitude, sigma, omega_d = np.exp(value[ok]), -slope[ok], phase_slope[ok] + w0
     below = amplitude <= floor
     keep = int(np.argmax(below)) if below.any() else len(amplitude)
+    if keep < 2:
+        raise ValueError(
+            f"no point of the smoothed decay is above the noise floor ({min_snr:g} x the noise level "
+            f"{noise:.3g}): record a stronger response or lower min_snr"
+        )
     omega_n = np.sqrt(omega_d[:keep] ** 2 + sigma[:keep] ** 2)
     return DecayCurve(amplitude[:keep], omega_n / (2 * np.pi), sigma[:keep] / omega_n, noise, k)
 

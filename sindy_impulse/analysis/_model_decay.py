@@ -96,7 +96,7 @@ def simulate_free_decay(
     if target is None:  # the amplitude at the end of the data, at most 120 dB below the start
         period = int(np.ceil(1 / (f * dt_data)))
         target = max(_amplitude(x_data[-2 * period :, c]), 1e-6 * _amplitude(x_data[: 2 * period, c]))
-    chunk = int(max((t_data[-1] - t_data[0]) / dt, min_periods * spp))
+    chunk = int(max((t_data[-1] - t_data[0]) / (4 * dt), min_periods * spp))
     limit = int(max_periods * spp)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # a divergence is reported below

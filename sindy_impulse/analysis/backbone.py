@@ -37,7 +37,7 @@ N_POINTS = 50
 MIN_SNR = 10.0
 
 
-@dataclass
+@dataclass(eq=False)
 class Backbone:
     """Natural frequency and damping ratio against amplitude.
 
@@ -107,10 +107,13 @@ class Backbone:
     def at(self, amplitudes) -> Backbone:
         """The curve interpolated at ``amplitudes`` (NaN outside the curve's amplitude range)."""
         a = _check_amplitudes(amplitudes)
-        order = np.argsort(self.amplitude)
-        xs = self.amplitude[order]
-        f = np.interp(a, xs, self.frequency_hz[order], left=np.nan, right=np.nan)
-        z = np.interp(a, xs, self.damping_ratio[order], left=np.nan, right=np.nan)
+        ok = np.isfinite(self.amplitude) & np.isfinite(self.frequency_hz) & np.isfinite(self.damping_ratio)
+        order = np.argsort(self.amplitude[ok])
+        xs, fs, zs = (v[ok][order] for v in (self.amplitude, self.frequency_hz, self.damping_ratio))
+        if xs.size == 0:
+            return Backbone(a, np.full(a.shape, np.nan), np.full(a.shape, np.nan), self.source)
+        f = np.interp(a, xs, fs, left=np.nan, right=np.nan)
+        z = np.interp(a, xs, zs, left=np.nan, right=np.nan)
         return Backbone(a, f, z, self.source)
 
     def __repr__(self) -> str:
@@ -183,14 +186,27 @@ def hilbert_backbone(
     The instantaneous envelope ``A`` and phase ``phi`` of the analytic signal are smoothed by local
     quadratic (Savitzky-Golay) fits over a window of several periods; their slopes give the decay rate
     ``sigma = -d ln A / dt`` and damped frequency ``w_d = d phi / dt``, converted to the undamped natural
-    frequency ``w_n = sqrt(w_d^2 + sigma^2)`` and damping ratio ``sigma / w_n``; the values are averaged in
-    ``n_points`` log-spaced amplitude bins.
+    frequency ``w_n = sqrt(w_d^2 + sigma^2)`` and damping ratio ``sigma / w_n`` (first order; FREEVIB's
+    corrections with the frequency's derivatives are not applied); the values are averaged in
+    ``n_points`` log-spaced amplitude bins, so the curve is sorted by increasing amplitude.
+
+    Smoothing: the shortest window spans a fall of 0.25 in ``ln A`` (at least 4 periods, at most a third
+    of the decay); where the noise would make its decay rate imprecise (predicted relative standard error
+    ``sqrt(12 / n) * noise / (A * W * sigma)`` above 1 %), windows up to 5 times longer are used.
 
     Trimming: ``trim_periods`` periods at each end of the record (end effects of the Hilbert transform;
     after a band-pass also the filter's settling time ``2 / (high_hz - low_hz)``), and half a smoothing
     window at each end (no full fit there); the curve stops where the smoothed envelope falls below
     ``min_snr`` times the noise level (the robust standard deviation of ``y - A cos(phi)``). A pre-trigger
-    stretch is skipped: the curve starts after the envelope's maximum.
+    stretch is skipped: the curve starts after the envelope's maximum. The offset is the Hann-weighted
+    mean of the record's last tenth.
+
+    Accuracy measured on single-mode free decays at 40 dB SNR (10 Hz, 20 samples per period, damping ratio
+    0.1-1 %, 300-3000 periods, cubic stiffness and/or damping ``c0 + c2 x^2``; ``tests/test_backbone.py``),
+    against first-order averaging over the middle 80 % of the amplitude range: frequency within 0.04 %,
+    damping ratio within 4 %, total shifts within 11 % of the true ones (10 noise seeds). On linear decays
+    (damping ratio 0.1-2 %) the curve is flat to ``|frequency_shift| < 0.1 %`` and
+    ``|damping_ratio_shift| < 0.1``: smaller shifts are noise.
 
     Parameters
     ----------
@@ -204,8 +220,7 @@ def hilbert_backbone(
     trim_periods : float, default=3
         Periods dropped at each end of the record.
     smooth_periods : float, optional
-        Smoothing window in periods. Default: the window across which the envelope drops by about 0.25 in
-        ``ln A`` (22 %), at least 4 periods and at most a third of the decay.
+        One fixed smoothing window, in periods. Default: adaptive (see above).
     min_snr : float, default=10
         The curve stops where the envelope is below ``min_snr`` times the noise standard deviation.
     n_points : int, default=50
@@ -245,9 +260,9 @@ def hilbert_backbone(
         _check_amplitudes(amplitudes)
     if np.ptp(sig) == 0:
         raise ValueError("y is constant: there is no decay to analyse")
+    band = _check_band(band, dt)
     curve = instantaneous(
-        sig, dt, band=_check_band(band, dt), trim_periods=trim_periods, smooth_periods=smooth_periods,
-        min_snr=min_snr,
+        sig, dt, band=band, trim_periods=trim_periods, smooth_periods=smooth_periods, min_snr=min_snr
     )
     result = Backbone(*bin_by_amplitude(curve, n_points), "data")
     return result if amplitudes is None else result.at(amplitudes)
