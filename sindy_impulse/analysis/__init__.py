@@ -1,11 +1,13 @@
 """From models to answers (paper sections 3.2-3.4): complexity-error plane, consensus over repeated
-impacts, parameter tracking, the test for nonlinearity and modal parameters; ESPRIT, a classical
+impacts, parameter tracking, the test for nonlinearity and modal parameters; beyond the paper, backbone
+curves (frequency and damping ratio against amplitude) of data and models, and ESPRIT, a classical
 modal-analysis baseline.
 
 Imported eagerly: ``from .consensus import consensus`` binds the function, not the module of the same
 name, whatever the order in which names are first used.
 """
 
+from .backbone import Backbone, backbone, hilbert_backbone
 from .classical import EspritModes, esprit
 from .complexity import ComplexityError, complexity_error
 from .consensus import Consensus, Histogram, consensus, consensus_fit
@@ -14,6 +16,7 @@ from .nonlinearity import NonlinearityResult, NonlinearTerm, nonlinearity_test
 from .parameters import ParameterDependency, parameter_dependency
 
 __all__ = [
+    "Backbone",
     "ComplexityError",
     "Consensus",
     "EspritModes",
@@ -22,10 +25,12 @@ __all__ = [
     "NonlinearTerm",
     "NonlinearityResult",
     "ParameterDependency",
+    "backbone",
     "complexity_error",
     "consensus",
     "consensus_fit",
     "esprit",
+    "hilbert_backbone",
     "jacobian_at_origin",
     "modal_parameters",
     "nonlinearity_test",
