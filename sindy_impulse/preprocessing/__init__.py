@@ -1,0 +1,1 @@
+"""Preparing raw hammer-test records for per-mode identification."""
