@@ -242,7 +242,7 @@ def find_impact(y, fs: float, *, force=None, t0: float = 0.0, n_sigma: float = 6
         source = "response" if onset > 0 else "no pre-trigger"
         return Impact(onset, t0 + onset / rate, onset, t0 + onset / rate, source)
     if np.shape(force)[:1] != arr.shape:
-        raise ValueError(f"force has shape {np.shape(force)} but y has {arr.size} samples; record them together")
+        raise ValueError(f"force has shape {np.shape(force)}, y has {arr.size} samples; record them together")
     pulses = force_pulses(force, level=level, n_sigma=n_sigma)
     onset, end = pulses[0].start, pulses[-1].end + 1
     if len(pulses) > 1:
