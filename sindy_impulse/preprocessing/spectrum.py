@@ -52,7 +52,9 @@ _FLOOR_GRID = 240
 _EFFECTIVE_BINS = 1000
 #: Noise power (over the floor) a ripple on a peak is allowed, in the prominence a peak needs.
 _RIPPLE = 5.0
-#: Median of the gated floor over the true mean on white noise (measured, 4x zero padding).
+#: A bin is rough (noise) when the local median of its log jumps exceeds this fraction of ln 3; the
+#: median of the gated floor over the true mean on white noise (measured, 4x zero padding).
+_ROUGH = 0.5
 _GATE_BIAS = 0.96
 #: Periods of the lowest frequency searched over the ring-down, and the highest frequency over fs.
 _MIN_PERIODS, _MAX_FRACTION = 20.0, 0.45
@@ -131,7 +133,7 @@ def noise_floor(psd, *, pad_factor: int = 1) -> np.ndarray:
     n, step = log_p.size, pad_factor
     jumps = np.abs(log_p[step:] - log_p[:-step])
     jumps = np.concatenate([jumps, jumps[-step:]])
-    rough = median_filter(jumps, size=8 * step + 1, mode="nearest") > 0.5 * np.log(3.0)
+    rough = median_filter(jumps, size=8 * step + 1, mode="nearest") > _ROUGH * np.log(3.0)
     grid = np.unique(np.geomspace(1, n - 1, _FLOOR_GRID).astype(int))
     level = _running_level(log_p, grid, pad_factor, rough, 0.5) - np.log(np.log(2.0) * _GATE_BIAS)
     seen = np.isfinite(level)
