@@ -151,8 +151,9 @@ class QualityReport:
         See :func:`ringdown_snr_db` and :func:`decay_db`.
     n_peaks : int
         Significant spectral peaks.
-    problems : tuple of str
-        One sentence per check past its limit (:data:`LIMITS`), saying what to do.
+    problems : dict
+        One sentence per check past its limit (:data:`LIMITS`), saying what to do, keyed by check:
+        ``"offset"``, ``"clipping"``, ``"quantisation"``, ``"snr"``, ``"no_ringdown"``.
     """
 
     offset_ratio: float
@@ -162,7 +163,7 @@ class QualityReport:
     snr_db: float
     decay_db: float
     n_peaks: int
-    problems: tuple
+    problems: dict
 
     @property
     def ringdown_found(self) -> bool:
@@ -175,22 +176,26 @@ class QualityReport:
             f"sample(s), quantisation step {self.relative_step:.3g} x amplitude, SNR {self.snr_db:.1f} dB, "
             f"decay {self.decay_db:.1f} dB, {self.n_peaks} peak(s))"
         )
-        return "\n".join([head, *(f"  - {p}" for p in self.problems)])
+        return "\n".join([head, *(f"  - {p}" for p in self.problems.values())])
 
 
-def _problems(offset, clipped, relative_step, snr, decay, n_peaks) -> tuple:
-    out = []
+def _problems(offset, clipped, relative_step, snr, decay, n_peaks) -> dict:
+    out = {}
     if offset > LIMITS["offset"]:
-        out.append(f"offset of {offset:.3g} x the ring-down amplitude: remove it (estimate_offset)")
+        out["offset"] = f"offset of {offset:.3g} x the ring-down amplitude: remove it (estimate_offset)"
     if clipped.any():
-        out.append(f"{int(clipped.sum())} sample(s) clipped: the sensor saturated; hit softer or drop them")
+        out["clipping"] = (
+            f"{int(clipped.sum())} sample(s) clipped: the sensor saturated; hit softer or drop them"
+        )
     if relative_step > LIMITS["quantisation"]:
-        out.append(f"coarse quantisation: step {relative_step:.3g} x the amplitude; use a finer input range")
+        out["quantisation"] = (
+            f"coarse quantisation: step {relative_step:.3g} x the amplitude; use a finer input range"
+        )
     if snr < LIMITS["snr_db"]:
-        out.append(f"low signal-to-noise ratio ({snr:.1f} dB): expect scattered models; hit harder")
+        out["snr"] = f"low signal-to-noise ratio ({snr:.1f} dB): expect scattered models; hit harder"
     if n_peaks == 0 and decay <= LIMITS["decay_db"]:
-        out.append("no ring-down found: no spectral peak and no decay; the record looks like noise")
-    return tuple(out)
+        out["no_ringdown"] = "no ring-down found: no spectral peak and no decay; the record looks like noise"
+    return out
 
 
 def check_quality(y, fs: float, *, onset_index: int = 0, peaks: SpectralPeaks | None = None) -> QualityReport:
@@ -217,10 +222,10 @@ def check_quality(y, fs: float, *, onset_index: int = 0, peaks: SpectralPeaks | 
     >>> x = np.exp(-2 * np.pi * 0.002 * 150 * t) * np.sin(2 * np.pi * 150 * t)
     >>> y = np.clip(x + 1e-3 * np.random.default_rng(0).standard_normal(t.size), -0.8, 0.8) + 0.5
     >>> report = check_quality(y, 5000.0)
-    >>> for problem in report.problems:
-    ...     print(problem)
-    offset of 0.625 x the ring-down amplitude: remove it (estimate_offset)
-    160 sample(s) clipped: the sensor saturated; hit softer or drop them
+    >>> for check, problem in report.problems.items():
+    ...     print(check, "->", problem)
+    offset -> offset of 0.625 x the ring-down amplitude: remove it (estimate_offset)
+    clipping -> 160 sample(s) clipped: the sensor saturated; hit softer or drop them
     """
     arr = check_signal_1d(y, "y")
     rate = check_fs(fs)
