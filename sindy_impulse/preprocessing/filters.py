@@ -10,21 +10,22 @@ Two zero-phase filters:
   (``sosfiltfilt``), order 4 (8 after the two passes).
 
 Both preserve the frequency and decay rate of a damped sinusoid exactly once their transient has passed
-(the response to ``exp(s t)`` is ``H(s) exp(s t)``). Measured on noise-free ring-downs at 5 kHz
-(150 Hz mode, bands from :func:`~sindy_impulse.preprocessing.spectrum.peak_bands`, transient trimmed at
-a 1e-3 tolerance, log-envelope fit; ``python benchmarks/bench_preprocessing.py``), worst relative errors:
+(the response to ``exp(s t)`` is ``H(s) exp(s t)``); what remains is the transient's tail and the leak
+of neighbouring modes. Measured on noise-free ring-downs at 5 kHz (first mode at 150 Hz, bands from
+:func:`~sindy_impulse.preprocessing.spectrum.peak_bands`, transient trimmed at a 1e-3 tolerance, kept
+down to -80 dB; ``python benchmarks/bench_preprocessing.py``), worst of 6 phases: relative errors of a
+log-envelope fit, trim in periods, residual of the best exact damped sinusoid over its envelope (RMS):
 
-=====================================  ==================  ==================  =================
-case                                   fft: frequency      fft: decay rate     butter: decay rate
-=====================================  ==================  ==================  =================
-one mode, damping 0.05 % - 1 %         < 1e-7              < 6e-6              < 4e-5
-one mode, damping 3 %                  2e-6                5e-5                1.3e-4
-two modes 3 % apart, damping 0.2 %     1e-7                1.7e-4              3.3e-3
-two modes 10 % apart, damping 1 %      4e-7                9e-5                6.6e-4
-=====================================  ==================  ==================  =================
+===================================  =================================  =================================
+case                                 fft: freq / decay / trim / resid.  butter: freq / decay / trim / res.
+===================================  =================================  =================================
+one mode, damping 0.05 - 1 %         4e-8 / 4e-6 / 19 / 4e-5            2e-7 / 3e-5 / 27 / 5e-4
+one mode, damping 3 %                2e-6 / 5e-5 / 7 / 5e-5             3e-6 / 1e-4 / 11 / 1.4e-3
+two modes 3 % apart, damping 0.2 %   1e-7 / 1.2e-4 / 125 / 1.5e-4       3e-6 / 1.9e-3 / 171 / 3e-3
+two modes 10 % apart, damping 1 %    5e-7 / 9e-5 / 39 / 4e-4            4e-6 / 9e-4 / 53 / 5e-3
+===================================  =================================  =================================
 
-with a transient (trimmed at each end) about 30 % shorter for ``"fft"`` (19 against 27 periods for a
-+-10 % band, 125 against 171 for the +-1.5 % band of the close pair): ``"fft"`` is the default.
+``"fft"`` distorts 5-20 times less with a 30 % shorter transient: it is the default.
 """
 
 from __future__ import annotations

@@ -11,8 +11,9 @@
   searched from 20 periods over the record to 0.45 fs. The default threshold is
   ``10 log10(ln(1000 M / 1e-3))`` for ``M`` resolution bins searched (13-14 dB for 1,000-100,000
   samples): a noise periodogram bin exceeds ``x`` times its mean with probability ``exp(-x)``; the factor
-  1000 covers the zero padding and the scatter of the floor. Measured false peaks: 1 in 2,600 white, 0 in
-  2,600 pink and 1 in 2,600 brown noise records of 1,000 to 20,000 samples.
+  1000 covers the zero padding and the scatter of the floor. Measured false peaks
+  (``python benchmarks/bench_preprocessing.py``): 1 in 1,300 white, 0 in 1,300 pink and 1 in 1,300
+  brown noise records of 1,000 to 20,000 samples (none in 3,900 more with another seed).
 - Bands: ``(f / (1 + q), f (1 + q))`` with ``q = max(width_factor * hpw / f, min_half_width)``, limited
   by the geometric midpoints to the neighbouring peaks (symmetric in log frequency, so a close neighbour
   narrows both edges and stays in the filter's stop band).
