@@ -84,13 +84,15 @@ class BandSignal:
         return (
             f"BandSignal({lo:.4g}-{hi:.4g} Hz: {self.y.size} samples at {self.fs:.6g} Hz "
             f"(decimation {self.decimation}, {self.samples_per_period:.1f} per period, {self.n_periods:.0f} "
-            f"periods), samples {self.start_index}-{self.stop_index} kept, {self.trimmed_start} trimmed "
-            f"for the filter, ended by the {self.end_reason}, SNR {self.snr_db:.1f} dB)"
+            f"periods), samples {self.start_index}-{self.stop_index} kept, {self.trimmed_start} "
+            f"({self.trimmed_start / (self.decimation * self.samples_per_period):.1f} periods) trimmed for "
+            f"the filter, ended by the {self.end_reason}, SNR {self.snr_db:.1f} dB)"
         )
 
 
 def band_noise_rms(spectrum: Spectrum, band_hz, *, method: str = "fft", order: int = 4) -> float:
-    """Standard deviation of the noise in a band: the spectrum's floor through the filter's gain.
+    """Standard deviation of the noise in a band: the spectrum's floor through the filter's gain,
+    integrated on a grid fine enough for narrow bands (the floor interpolated).
 
     Examples
     --------
@@ -102,9 +104,11 @@ def band_noise_rms(spectrum: Spectrum, band_hz, *, method: str = "fft", order: i
     if not isinstance(spectrum, Spectrum):
         raise TypeError(f"spectrum must be a Spectrum (from ringdown_spectrum), got {type(spectrum)}")
     fs = 2.0 * spectrum.frequency_hz[-1]
-    gain = filter_gain(spectrum.frequency_hz, fs, band_hz, method=method, order=order)
-    step = spectrum.frequency_hz[1] - spectrum.frequency_hz[0]
-    return float(np.sqrt(np.sum(spectrum.floor * gain**2) * step))
+    lo, hi = check_band(band_hz, fs)
+    grid = np.linspace(max(0.0, lo - 6 * (hi - lo)), min(fs / 2, hi + 6 * (hi - lo)), 4001)
+    gain = filter_gain(grid, fs, (lo, hi), method=method, order=order)
+    floor = np.interp(grid, spectrum.frequency_hz, spectrum.floor)
+    return float(np.sqrt(np.sum(floor * gain**2) * (grid[1] - grid[0])))
 
 
 def record_end(envelope, noise_rms: float, *, fs: float, frequency_hz: float, bandwidth_hz: float,

@@ -182,6 +182,8 @@ class Impact:
         ``"force"``, ``"response"``, ``"no pre-trigger"`` or ``"given"``.
     pulses : tuple of ForcePulse
         The contacts found in the force channel (empty without one).
+    fs : float
+        Sampling rate (Hz) of the record.
     """
 
     onset_index: int
@@ -190,11 +192,18 @@ class Impact:
     ringdown_time: float
     source: str
     pulses: tuple = ()
+    fs: float = float("nan")
 
     @property
     def double_hit(self) -> bool:
         """More than one contact in the force channel."""
         return len(self.pulses) > 1
+
+    @property
+    def hits(self) -> list[tuple[float, float]]:
+        """``(start time, amplitude relative to the largest)`` of every contact."""
+        t0 = self.onset_time - self.onset_index / self.fs
+        return [(t0 + p.start / self.fs, p.relative_amplitude) for p in self.pulses]
 
     def __repr__(self) -> str:
         hits = ""
@@ -240,7 +249,7 @@ def find_impact(y, fs: float, *, force=None, t0: float = 0.0, n_sigma: float = 6
     if force is None:
         onset = response_onset(arr, n_sigma=n_sigma)
         source = "response" if onset > 0 else "no pre-trigger"
-        return Impact(onset, t0 + onset / rate, onset, t0 + onset / rate, source)
+        return Impact(onset, t0 + onset / rate, onset, t0 + onset / rate, source, (), rate)
     if np.shape(force)[:1] != arr.shape:
         raise ValueError(f"force has shape {np.shape(force)}, y has {arr.size} samples; record them together")
     pulses = force_pulses(force, level=level, n_sigma=n_sigma)
@@ -255,4 +264,4 @@ def find_impact(y, fs: float, *, force=None, t0: float = 0.0, n_sigma: float = 6
             DataWarning,
             stacklevel=2,
         )
-    return Impact(onset, t0 + onset / rate, end, t0 + end / rate, "force", tuple(pulses))
+    return Impact(onset, t0 + onset / rate, end, t0 + end / rate, "force", tuple(pulses), rate)

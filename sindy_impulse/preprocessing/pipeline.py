@@ -77,7 +77,7 @@ def _impact(y, fs, t0, force, onset) -> Impact:
         return find_impact(y, fs, force=force, t0=t0)
     if onset >= y.size - 1:
         raise ValueError(f"onset={onset} is beyond the record ({y.size} samples)")
-    return Impact(int(onset), t0 + onset / fs, int(onset), t0 + onset / fs, "given")
+    return Impact(int(onset), t0 + onset / fs, int(onset), t0 + onset / fs, "given", (), fs)
 
 
 def _noise_spectrum(y: np.ndarray, impact: Impact, fs: float):

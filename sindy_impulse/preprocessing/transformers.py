@@ -138,7 +138,7 @@ class ImpactTrimmer(_OneSignal):
             self.impact_ = find_impact(x, self.fs, force=force, n_sigma=self.n_sigma, level=self.level)
         else:
             start = int(self.onset)
-            self.impact_ = Impact(start, start / self.fs, start, start / self.fs, "given")
+            self.impact_ = Impact(start, start / self.fs, start, start / self.fs, "given", (), self.fs)
         self.n_features_in_ = 1 if force is None else 2
         return self
 
