@@ -26,6 +26,12 @@ def test_onset_from_the_response_within_a_few_samples(offset, noise, phase):
     assert abs(response_onset(y) - int(0.2 * FS)) <= 3
 
 
+def test_a_lone_spike_in_the_pre_trigger_is_not_the_onset():
+    t, y = record(MODES, onset=0.2, noise=1e-3)
+    y[300] += 0.05  # 50 sigma
+    assert abs(response_onset(y) - 1000) <= 3
+
+
 def test_onset_is_zero_without_pre_trigger():
     t, y = record(MODES, onset=0.0, offset=3.0, noise=1e-3)
     assert response_onset(y) == 0

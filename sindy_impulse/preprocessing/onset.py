@@ -2,8 +2,9 @@
 
 The pre-trigger noise band is ``median +- n_sigma * sigma`` of the quiet stretch before the hit, with
 ``sigma = 1.4826 * MAD`` (robust to an offset, to hum and to a few spikes). The onset is the first sample
-leaving that band, walked back to the last sample inside ``+- 2 sigma`` (the start of the rise). A record
-whose first samples are already as loud as the hit has no pre-trigger: its onset is 0.
+leaving that band and followed by another within 16 samples (a lone spike is skipped), walked back to the
+last sample inside ``+- 2 sigma`` (the start of the rise). A record whose first samples are already as
+loud as the hit has no pre-trigger: its onset is 0.
 
 Force pulses are the stretches where the force (sign taken from its largest excursion) exceeds
 ``max(n_sigma * sigma, level * peak)``; their edges are walked out to ``max(2 sigma, 1e-3 * peak)``.
@@ -36,6 +37,13 @@ def _noise_band(x: np.ndarray) -> tuple[float, float]:
     return centre, 1.4826 * float(np.median(np.abs(x - centre)))
 
 
+def _first_sustained(exceeds: np.ndarray) -> int:
+    """First exceedance followed by another within ``_MIN_PRE`` samples (a lone spike is not a hit)."""
+    count = np.cumsum(exceeds)
+    ahead = count[np.minimum(np.arange(exceeds.size) + _MIN_PRE, exceeds.size - 1)] - count
+    return int(np.argmax(exceeds & (ahead > 0)))
+
+
 def _quiet_stretch(dev: np.ndarray, n_sigma: float) -> tuple[int, float, float] | None:
     """First exceedance after the quiet stretch before the largest excursion of ``dev``, the stretch's
     centre and noise sigma; None without a quiet stretch.
@@ -52,7 +60,7 @@ def _quiet_stretch(dev: np.ndarray, n_sigma: float) -> tuple[int, float, float] 
         sigma = max(sigma, 1e-12 * abs(dev[peak]))
         if n_sigma * sigma >= 0.5 * abs(dev[peak] - centre):
             return None  # the "pre-trigger" is as loud as the hit: there is none
-        first = int(np.argmax(np.abs(dev - centre) > n_sigma * sigma))
+        first = _first_sustained(np.abs(dev - centre) > n_sigma * sigma)
         if first >= end - 1:
             return first, centre, sigma
         end = max(first - 2, 0)
