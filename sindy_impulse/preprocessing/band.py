@@ -211,6 +211,7 @@ def extract_band(y, fs: float, band_hz, *, start: int = 0, t0: float = 0.0, samp
     check_param("order", order, _ORDER, "extract_band")
     check_param("noise_rms", noise_rms, [None, Interval(Real, 0, None)], "extract_band")
     check_param("end_snr_db", end_snr_db, [None, Real], "extract_band")
+    check_param("transient_tol", transient_tol, [Interval(Real, 1e-9, 1, "neither")], "extract_band")
     segment = arr[start:]
     trim = transient_samples(rate, band, method=method, order=order, tol=transient_tol)
     z = bandpass(segment, rate, band, method=method, order=order, analytic=True)
