@@ -27,6 +27,8 @@ _PUBLIC = {
     "add_noise": "sindy_impulse.datasets",
     "load_silverbox": "sindy_impulse.datasets",
     "analysis": "sindy_impulse.analysis",
+    "preprocessing": "sindy_impulse.preprocessing",
+    "preprocess": "sindy_impulse.preprocessing",
     "plotting": "sindy_impulse.plotting",
     "datasets": "sindy_impulse.datasets",
 }

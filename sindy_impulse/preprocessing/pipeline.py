@@ -1,0 +1,176 @@
+"""A raw hammer-test record to one band signal per mode, recording every choice (:func:`preprocess`)."""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field
+from numbers import Integral, Real
+
+import numpy as np
+
+from .._params import Interval, Options, check_param
+from ..exceptions import DataWarning
+from ._record import as_record
+from .band import band_noise_rms, extract_band
+from .offset import OffsetEstimate, estimate_offset, remove_offset
+from .onset import Impact, find_impact
+from .quality import QualityReport, check_quality
+from .spectrum import SpectralPeaks, ringdown_spectrum, spectral_peaks
+
+__all__ = ["Preprocessed", "preprocess"]
+
+#: Fewest pre-trigger samples whose spectrum gives the noise in each band.
+_MIN_NOISE_SAMPLES = 256
+
+
+@dataclass(frozen=True)
+class Preprocessed:
+    """What :func:`preprocess` found and did.
+
+    Attributes
+    ----------
+    y : ndarray
+        The record with the offset (and drift) removed.
+    fs, t0 : float
+        Sampling rate (Hz) and time of the first sample.
+    impact : Impact
+        Onset, start of the free ring-down, force pulses.
+    offset : OffsetEstimate
+        The offset removed and how it was estimated.
+    peaks : SpectralPeaks
+        The spectral peaks and their bands.
+    bands : list of BandSignal
+        One per band that could be extracted, in the order of ``peaks``.
+    skipped : list of (tuple, str)
+        Bands that could not be extracted and why.
+    quality : QualityReport
+        The data-quality checks of the raw record.
+    """
+
+    y: np.ndarray = field(repr=False)
+    fs: float
+    t0: float
+    impact: Impact
+    offset: OffsetEstimate
+    peaks: SpectralPeaks
+    bands: list
+    skipped: list
+    quality: QualityReport
+
+    def __repr__(self) -> str:
+        lines = [
+            f"Preprocessed({self.y.size} samples at {self.fs:.6g} Hz from t = {self.t0:.6g} s)",
+            f"  {self.impact!r}",
+            f"  {self.offset!r}",
+            f"  {len(self.peaks)} peak(s), threshold {self.peaks.threshold_db:.1f} dB over the noise floor",
+        ]
+        for f, h, band in zip(self.peaks.frequency_hz, self.peaks.height_db, self.peaks.band_hz):
+            done = [b for b in self.bands if b.band_hz == tuple(band)]
+            what = repr(done[0]) if done else "skipped: " + dict(self.skipped).get(tuple(band), "")
+            lines.append(f"  {f:.5g} Hz (+{h:.0f} dB): {what}")
+        lines += [f"  problem: {p}" for p in self.quality.problems.values()]
+        return "\n".join(lines)
+
+
+def _impact(y, fs, t0, force, onset) -> Impact:
+    if isinstance(onset, str):
+        return find_impact(y, fs, force=force, t0=t0)
+    if onset >= y.size - 1:
+        raise ValueError(f"onset={onset} is beyond the record ({y.size} samples)")
+    return Impact(int(onset), t0 + onset / fs, int(onset), t0 + onset / fs, "given", (), fs)
+
+
+def _noise_spectrum(y: np.ndarray, impact: Impact, fs: float):
+    """Spectrum of the pre-trigger (pure noise), when long enough to give the noise in each band."""
+    if impact.onset_index < _MIN_NOISE_SAMPLES:
+        return None
+    return ringdown_spectrum(y[: impact.onset_index], fs)
+
+
+def _extract_all(y, fs, t0, impact, peaks, noise_spectrum, options) -> tuple[list, list]:
+    bands, skipped = [], []
+    for band in peaks.band_hz:
+        noise = None
+        if noise_spectrum is not None:
+            noise = band_noise_rms(noise_spectrum, band, method=options["method"])
+        try:
+            bands.append(extract_band(y, fs, band, start=impact.ringdown_index, t0=t0, noise_rms=noise,
+                                      **options))
+        except ValueError as err:
+            skipped.append((tuple(band), str(err)))
+            warnings.warn(f"band skipped: {err}", DataWarning, stacklevel=3)
+    return bands, skipped
+
+
+def preprocess(y, t=None, *, fs: float | None = None, force=None, n_modes: int | None = None, bands=None,
+               onset="auto", offset="auto", samples_per_period: float = 16.0,
+               min_samples_per_period: float = 8.0, method: str = "fft", end_snr_db: float | None = 10.0,
+               threshold_db: float | None = None, quality_warnings: bool = True) -> Preprocessed:
+    """Prepare a raw hammer-test record for per-mode identification.
+
+    Impact (onset, end of contact, double hits) -> offset removal -> spectral peaks and bands of the free
+    ring-down -> per band: zero-phase band-pass, transient trim, end at the noise floor, decimation. The
+    noise in each band comes from the pre-trigger's spectrum when it has at least 256 samples. Every
+    automatic choice can be overridden.
+
+    Parameters
+    ----------
+    y : array-like (n,)
+        The raw response (any offset).
+    t : array-like (n,) or float, optional
+        Time vector (uniform) or step; or give ``fs``.
+    fs : float, optional
+        Sampling rate (Hz).
+    force : array-like (n,), optional
+        The force channel: onset and end of contact from it, double hits reported.
+    n_modes : int, optional
+        Keep the strongest ``n_modes`` peaks.
+    bands : sequence of (low, high), optional
+        The bands (Hz), instead of the detected ones.
+    onset : "auto" or int
+        First sample of the hit (then also the start of the ring-down).
+    offset : "auto", "pre_trigger", "tail", "linear" or float
+        See :func:`~sindy_impulse.preprocessing.offset.estimate_offset`.
+    samples_per_period, min_samples_per_period, method, end_snr_db
+        See :func:`~sindy_impulse.preprocessing.band.extract_band`.
+    threshold_db : float, optional
+        Peak detection threshold (see :func:`~sindy_impulse.preprocessing.spectrum.spectral_peaks`).
+    quality_warnings : bool
+        Warn (:class:`~sindy_impulse.exceptions.DataWarning`) for each quality problem found but the
+        offset (which is removed).
+
+    Returns
+    -------
+    Preprocessed
+
+    Examples
+    --------
+    >>> t = np.arange(15000) / 5000
+    >>> ring = sum(np.exp(-2 * np.pi * 0.004 * f * (t - 0.2)) * np.sin(2 * np.pi * f * (t - 0.2) + 1)
+    ...            for f in (120.0, 410.0))
+    >>> y = 0.3 + np.where(t >= 0.2, ring, 0.0) + 1e-3 * np.random.default_rng(0).standard_normal(t.size)
+    >>> pre = preprocess(y, fs=5000.0)
+    >>> pre.impact.onset_index, pre.offset.method, pre.peaks.frequency_hz.round(1).tolist()
+    (1000, 'pre_trigger', [120.0, 410.0])
+    >>> [(b.decimation, round(b.samples_per_period, 1)) for b in pre.bands]
+    [(2, 20.8), (1, 12.2)]
+    """
+    arr, rate, t0 = as_record(y, t, fs)
+    check_param("onset", onset, [Options({"auto"}), Interval(Integral, 0, None)], "preprocess")
+    check_param("quality_warnings", quality_warnings, ["boolean"], "preprocess")
+    check_param("threshold_db", threshold_db, [None, Real], "preprocess")
+    impact = _impact(arr, rate, t0, force, onset)
+    estimate = estimate_offset(arr, rate, onset_index=impact.onset_index, method=offset)
+    clean = remove_offset(arr, rate, estimate)
+    ring = clean[impact.ringdown_index :]
+    peaks = spectral_peaks(ring, rate, n_modes=n_modes, bands=bands, threshold_db=threshold_db)
+    quality = check_quality(arr, rate, onset_index=impact.onset_index, peaks=peaks)
+    if quality_warnings:
+        for check, problem in quality.problems.items():
+            if check != "offset":  # removed here
+                warnings.warn(problem, DataWarning, stacklevel=2)
+    options = dict(samples_per_period=samples_per_period, min_samples_per_period=min_samples_per_period,
+                   method=method, end_snr_db=end_snr_db)
+    noise = _noise_spectrum(clean, impact, rate)
+    extracted, skipped = _extract_all(clean, rate, t0, impact, peaks, noise, options)
+    return Preprocessed(clean, rate, t0, impact, estimate, peaks, extracted, skipped, quality)

@@ -1,0 +1,243 @@
+"""Data-quality checks of a hammer-test record, for diagnostics: each returns numbers, not verdicts;
+:func:`check_quality` gathers them and words the problems against documented limits.
+
+=====================  ==============================================================  =================
+check                  measure                                                         flagged when
+=====================  ==============================================================  =================
+offset                 ``|offset|`` over the ring-down's largest excursion              > 0.1
+clipping               samples in runs of >= 3 equal to the record's max or min        any
+quantisation           ADC step over the ring-down amplitude                           > 0.005
+signal-to-noise        ``10 log10(P_signal / P_noise)`` over the ring-down              < 20 dB
+                       (noise from the pre-trigger when there is one)
+no ring-down           no significant spectral peak and no decay (first over last      both
+                       quarter of the ring-down, RMS)
+=====================  ==============================================================  =================
+
+A step of 0.005 of the amplitude (about 400 levels across the ring-down) limits the SNR to about 54 dB
+(quantisation noise ``step / sqrt(12)``). The SNR is defined as in :func:`sindy_impulse.datasets.add_noise`
+(signal and noise power over the whole ring-down). Without a pre-trigger the noise power is an upper
+bound (:func:`ringdown_snr_db`), so the SNR is a lower bound. A heavily oversampled,
+coarsely quantised peak can sit 3 samples on one level: clipping and quantisation are then flagged
+together.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from numbers import Integral, Real
+
+import numpy as np
+
+from .._params import Interval, check_param
+from ._record import check_fs, check_signal_1d
+from .offset import estimate_offset
+from .onset import _runs
+from .spectrum import SpectralPeaks, ringdown_spectrum, spectral_peaks
+
+__all__ = [
+    "LIMITS",
+    "clipping_mask",
+    "quantisation_step",
+    "ringdown_snr_db",
+    "decay_db",
+    "QualityReport",
+    "check_quality",
+]
+
+#: Limits past which :func:`check_quality` words a problem.
+LIMITS = {"offset": 0.1, "quantisation": 0.005, "snr_db": 20.0, "decay_db": 6.0}
+
+
+def clipping_mask(y, *, min_run: int = 3) -> np.ndarray:
+    """Samples in runs of at least ``min_run`` equal to the record's maximum or minimum (saturation).
+
+    Examples
+    --------
+    >>> y = np.clip(np.sin(np.arange(100) / 5), -2, 0.9)
+    >>> mask = clipping_mask(y)
+    >>> int(mask.sum()), bool(clipping_mask(np.sin(np.arange(100) / 5)).any())
+    (13, False)
+    """
+    arr = check_signal_1d(y, "y", 1)
+    check_param("min_run", min_run, [Interval(Integral, 2, None)], "clipping_mask")
+    tol = 1e-12 * max(np.ptp(arr), np.finfo(float).tiny)
+    mask = np.zeros(arr.size, bool)
+    for at_extreme in (arr >= arr.max() - tol, arr <= arr.min() + tol):
+        for first, last in _runs(at_extreme):
+            if last - first + 1 >= min_run:
+                mask[first : last + 1] = True
+    return mask
+
+
+def quantisation_step(y) -> float:
+    """The ADC step of a quantised record (0.0 when its values are not on a regular grid).
+
+    The step is the smallest gap between distinct values; the record is quantised when 99 % of the gaps
+    between its sorted distinct values are whole multiples of it (to 1 %). Values exported with a fixed
+    number of significant digits lie on such a grid too, with a step far below the signal.
+
+    Examples
+    --------
+    >>> y = np.round(np.sin(np.arange(1000) / 7) / 0.05) * 0.05
+    >>> round(quantisation_step(y), 6), quantisation_step(np.sin(np.arange(1000) / 7))
+    (0.05, 0.0)
+    """
+    arr = check_signal_1d(y, "y", 1)
+    levels = np.unique(arr)
+    if levels.size < 3:
+        return float(np.ptp(arr))
+    gaps = np.diff(levels)
+    step = float(gaps.min())
+    ratio = gaps / step
+    return step if np.mean(np.abs(ratio - np.round(ratio)) < 0.01) >= 0.99 else 0.0
+
+
+def ringdown_snr_db(y, fs: float, *, noise_rms: float | None = None) -> float:
+    """``10 log10(P_signal / P_noise)`` of a ring-down (from the onset, offset removed).
+
+    ``P_noise`` is ``noise_rms**2`` when given (e.g. from the pre-trigger), else the smaller of the
+    spectrum's noise floor integrated over frequency and the mean square of the last tenth of the
+    ring-down (both upper bounds of the noise: the first under the skirts of strong modes, the second
+    while the modes still ring at the end). ``P_signal`` is the mean square minus ``P_noise``.
+
+    Examples
+    --------
+    >>> from sindy_impulse.datasets import add_noise
+    >>> t = np.arange(10000) / 5000
+    >>> x = np.exp(-2 * np.pi * 0.005 * 120 * t) * np.sin(2 * np.pi * 120 * t)
+    >>> round(ringdown_snr_db(add_noise(x, 20, random_state=0), 5000.0))
+    20
+    """
+    arr = check_signal_1d(y, "y")
+    rate = check_fs(fs)
+    check_param("noise_rms", noise_rms, [None, Interval(Real, 0, None, "neither")], "ringdown_snr_db")
+    if noise_rms is None:
+        spectrum = ringdown_spectrum(arr, rate)
+        floor = float(np.sum(spectrum.floor) * (spectrum.frequency_hz[1] - spectrum.frequency_hz[0]))
+        noise = min(floor, float(np.mean(arr[int(0.9 * arr.size) :] ** 2)))
+    else:
+        noise = float(noise_rms) ** 2
+    signal = max(float(np.mean(arr**2)) - noise, np.finfo(float).tiny)
+    return float(10.0 * np.log10(signal / noise))
+
+
+def decay_db(y) -> float:
+    """How much a ring-down decays: RMS of its first quarter over its last quarter, in dB.
+
+    Examples
+    --------
+    >>> round(decay_db(np.exp(-np.arange(400) / 100) * np.sin(np.arange(400))), 1)
+    26.0
+    """
+    arr = check_signal_1d(y, "y", 8)
+    q = arr.size // 4
+    first, last = np.sqrt(np.mean(arr[:q] ** 2)), np.sqrt(np.mean(arr[-q:] ** 2))
+    return float(20.0 * np.log10(max(first, np.finfo(float).tiny) / max(last, np.finfo(float).tiny)))
+
+
+@dataclass(frozen=True)
+class QualityReport:
+    """The checks of :func:`check_quality` and the problems they show.
+
+    Attributes
+    ----------
+    offset_ratio : float
+        ``|offset|`` over the ring-down's largest excursion from it.
+    clipped : ndarray of bool
+        Mask of the clipped samples (see :func:`clipping_mask`).
+    quantisation_step, relative_step : float
+        ADC step (0 if none found) and the step over the ring-down amplitude.
+    snr_db, decay_db : float
+        See :func:`ringdown_snr_db` and :func:`decay_db`.
+    n_peaks : int
+        Significant spectral peaks.
+    problems : dict
+        One sentence per check past its limit (:data:`LIMITS`), saying what to do, keyed by check:
+        ``"offset"``, ``"clipping"``, ``"quantisation"``, ``"snr"``, ``"no_ringdown"``.
+    """
+
+    offset_ratio: float
+    clipped: np.ndarray
+    quantisation_step: float
+    relative_step: float
+    snr_db: float
+    decay_db: float
+    n_peaks: int
+    problems: dict
+
+    @property
+    def ringdown_found(self) -> bool:
+        """A significant spectral peak or a decaying envelope."""
+        return self.n_peaks > 0 or self.decay_db > LIMITS["decay_db"]
+
+    def __repr__(self) -> str:
+        head = (
+            f"QualityReport(offset {self.offset_ratio:.3g} x amplitude, {int(self.clipped.sum())} clipped "
+            f"sample(s), quantisation step {self.relative_step:.3g} x amplitude, SNR {self.snr_db:.1f} dB, "
+            f"decay {self.decay_db:.1f} dB, {self.n_peaks} peak(s))"
+        )
+        return "\n".join([head, *(f"  - {p}" for p in self.problems.values())])
+
+
+def _problems(offset, clipped, relative_step, snr, decay, n_peaks) -> dict:
+    out = {}
+    if offset > LIMITS["offset"]:
+        out["offset"] = f"offset of {offset:.3g} x the ring-down amplitude: remove it (estimate_offset)"
+    if clipped.any():
+        out["clipping"] = (
+            f"{int(clipped.sum())} sample(s) clipped: the sensor saturated; hit softer or drop them"
+        )
+    if relative_step > LIMITS["quantisation"]:
+        out["quantisation"] = (
+            f"coarse quantisation: step {relative_step:.3g} x the amplitude; use a finer input range"
+        )
+    if snr < LIMITS["snr_db"]:
+        out["snr"] = f"low signal-to-noise ratio ({snr:.1f} dB): expect scattered models; hit harder"
+    if n_peaks == 0 and decay <= LIMITS["decay_db"]:
+        out["no_ringdown"] = "no ring-down found: no spectral peak and no decay; the record looks like noise"
+    return out
+
+
+def check_quality(y, fs: float, *, onset_index: int = 0, peaks: SpectralPeaks | None = None) -> QualityReport:
+    """Run every check on a raw record (any offset) and word the problems.
+
+    Parameters
+    ----------
+    y : array-like (n,)
+        The raw record.
+    fs : float
+        Sampling rate (Hz).
+    onset_index : int
+        First sample of the hit (the ring-down is ``y[onset_index:]``).
+    peaks : SpectralPeaks, optional
+        Already found peaks of the ring-down (saves a spectrum).
+
+    Returns
+    -------
+    QualityReport
+
+    Examples
+    --------
+    >>> t = np.arange(10000) / 5000
+    >>> x = np.exp(-2 * np.pi * 0.002 * 150 * t) * np.sin(2 * np.pi * 150 * t)
+    >>> y = np.clip(x + 1e-3 * np.random.default_rng(0).standard_normal(t.size), -0.8, 0.8) + 0.5
+    >>> report = check_quality(y, 5000.0)
+    >>> for check, problem in report.problems.items():
+    ...     print(check, "->", problem)
+    offset -> offset of 0.625 x the ring-down amplitude: remove it (estimate_offset)
+    clipping -> 160 sample(s) clipped: the sensor saturated; hit softer or drop them
+    """
+    arr = check_signal_1d(y, "y")
+    rate = check_fs(fs)
+    check_param("onset_index", onset_index, [Interval(Integral, 0, arr.size - 64)], "check_quality")
+    offset = estimate_offset(arr, rate, onset_index=onset_index)
+    ring = arr[onset_index:] - offset.trend(arr.size, rate)[onset_index:]
+    amplitude = max(float(np.max(np.abs(ring))), np.finfo(float).tiny)
+    clipped = clipping_mask(arr)
+    step = quantisation_step(arr)
+    pre = arr[:onset_index]
+    noise = 1.4826 * float(np.median(np.abs(pre - np.median(pre)))) if onset_index >= 32 else 0.0
+    snr, decay = ringdown_snr_db(ring, rate, noise_rms=noise or None), decay_db(ring)
+    n_peaks = len(spectral_peaks(ring, rate) if peaks is None else peaks)
+    problems = _problems(offset.relative, clipped, step / amplitude, snr, decay, n_peaks)
+    return QualityReport(offset.relative, clipped, step, step / amplitude, snr, decay, n_peaks, problems)

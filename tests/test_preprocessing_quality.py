@@ -1,0 +1,104 @@
+"""Data-quality checks (sindy_impulse.preprocessing.quality)."""
+
+import numpy as np
+import pytest
+from preprocessing_records import FS, pink_noise, record
+
+from sindy_impulse.datasets import add_noise
+from sindy_impulse.preprocessing import (
+    check_quality,
+    clipping_mask,
+    decay_db,
+    quantisation_step,
+    ringdown_snr_db,
+)
+
+MODES = [(120.0, 0.005, 1.0), (410.0, 0.003, 0.5)]
+
+
+def test_clean_record_has_no_problems():
+    t, y = record(MODES, offset=0.01, noise=1e-4)
+    report = check_quality(y, FS, onset_index=1000)
+    assert report.problems == {} and report.ringdown_found and not report.clipped.any()
+
+
+def test_clipping_is_flagged_with_a_mask_of_the_clipped_samples():
+    t, y = record(MODES, noise=1e-4)
+    clipped = np.clip(y, -0.9, 0.9)
+    mask = clipping_mask(clipped)
+    assert mask.any() and np.all(np.abs(clipped[mask]) == 0.9)
+    assert np.array_equal(mask, (np.abs(y) >= 0.9) & mask)  # only samples that were cut
+    assert "clipping" in check_quality(clipped, FS, onset_index=1000).problems
+
+
+def test_one_sample_peaks_are_not_clipping():
+    t, y = record(MODES, noise=1e-4)
+    assert not clipping_mask(y).any()
+
+
+def test_coarse_quantisation_is_flagged():
+    t, y = record(MODES, offset=0.2, noise=1e-4)
+    step = 0.02
+    quantised = np.round(y / step) * step
+    assert quantisation_step(quantised) == pytest.approx(step, rel=1e-6)
+    report = check_quality(quantised, FS, onset_index=1000)
+    assert report.relative_step > 0.005 and "quantisation" in report.problems
+
+
+def test_fine_quantisation_is_measured_not_flagged():
+    t, y = record(MODES, noise=1e-4)
+    quantised = np.round(y / 1e-5) * 1e-5
+    report = check_quality(quantised, FS, onset_index=1000)
+    assert report.quantisation_step == pytest.approx(1e-5, rel=1e-6) and "quantisation" not in report.problems
+
+
+def test_unquantised_record_has_no_step():
+    t, y = record(MODES, noise=1e-3)
+    assert quantisation_step(y) == 0.0
+
+
+def test_csv_rounded_record_is_not_flagged():
+    t, y = record(MODES, noise=1e-3)
+    rounded = np.array([float(f"{v:.8g}") for v in y])
+    report = check_quality(rounded, FS, onset_index=1000)
+    assert report.relative_step < 1e-7 and "quantisation" not in report.problems
+
+
+@pytest.mark.parametrize("snr", [10.0, 20.0, 40.0])
+def test_snr_estimate_of_a_ring_down(snr):
+    t = np.arange(10000) / FS
+    x = np.exp(-2 * np.pi * 0.005 * 120 * t) * np.sin(2 * np.pi * 120 * t)
+    assert ringdown_snr_db(add_noise(x, snr, random_state=1), FS) == pytest.approx(snr, abs=1.5)
+
+
+def test_snr_from_the_pre_trigger_noise():
+    t, y = record(MODES, noise=1e-3)
+    ring = y[1000:]
+    truth = 10 * np.log10((np.mean(ring**2) - 1e-6) / 1e-6)
+    assert check_quality(y, FS, onset_index=1000).snr_db == pytest.approx(truth, abs=0.5)
+
+
+def test_low_snr_is_flagged():
+    t, y = record(MODES, noise=0.2)
+    assert "snr" in check_quality(y, FS, onset_index=1000).problems
+
+
+@pytest.mark.parametrize("kind", ["white", "pink"])
+def test_no_ring_down_found_in_noise(kind):
+    rng = np.random.default_rng(7)
+    x = rng.standard_normal(10000) if kind == "white" else pink_noise(10000, rng)
+    report = check_quality(x, FS)
+    assert not report.ringdown_found and "no_ringdown" in report.problems
+
+
+def test_decay_of_a_ring_down_and_of_noise():
+    t, y = record(MODES, onset=0.0, noise=1e-4)
+    assert decay_db(y) > 30
+    assert abs(decay_db(np.random.default_rng(0).standard_normal(10000))) < 1
+
+
+def test_large_offset_is_flagged():
+    t, y = record(MODES, offset=3.0, noise=1e-4)
+    report = check_quality(y, FS, onset_index=1000)
+    expected = 3.0 / np.max(np.abs(y[1000:] - 3.0))
+    assert report.offset_ratio == pytest.approx(expected, rel=1e-3) and "offset" in report.problems
