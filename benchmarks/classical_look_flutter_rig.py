@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.signal import butter, find_peaks, hilbert, sosfiltfilt
 
-from sindy_impulse.real_records import load_flutter_rig
+from sindy_impulse.datasets import load_flutter_rig
 
 TRIM_S = 0.5
 

@@ -26,6 +26,8 @@ _PUBLIC = {
     "damped_oscillator": "sindy_impulse.datasets",
     "add_noise": "sindy_impulse.datasets",
     "load_silverbox": "sindy_impulse.datasets",
+    "load_flutter_rig": "sindy_impulse.datasets",
+    "impact_record": "sindy_impulse.datasets",
     "analysis": "sindy_impulse.analysis",
     "preprocessing": "sindy_impulse.preprocessing",
     "preprocess": "sindy_impulse.preprocessing",

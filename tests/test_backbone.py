@@ -21,11 +21,11 @@ from sklearn.exceptions import NotFittedError
 
 import sindy_impulse.analysis as analysis
 from sindy_impulse import ImpulseSINDy
-from sindy_impulse._plot_backbone import plot_backbone
 from sindy_impulse.analysis import Backbone, backbone, hilbert_backbone
 from sindy_impulse.datasets import add_noise
 from sindy_impulse.exceptions import DataWarning, DivergenceWarning, FitWarning, InvalidParameterError
 from sindy_impulse.feature_library import TermTable
+from sindy_impulse.plotting import plot_backbone
 from sindy_impulse.simulation import CompiledModel
 
 matplotlib.use("Agg")

@@ -4,7 +4,7 @@ from importlib.resources import files
 import numpy as np
 import pytest
 
-from sindy_impulse.real_records import FlutterRigFreeDecay, load_flutter_rig
+from sindy_impulse.datasets import FlutterRigFreeDecay, load_flutter_rig
 
 FLUTTER_SHA256 = "dedb5ae8315a9711b5487ac2d12211fdbd9f9684b2e1a6c557db26bace304ab7"
 

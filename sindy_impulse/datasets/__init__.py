@@ -1,15 +1,17 @@
-"""Data sets: simulated ring-downs of the paper's oscillators, synthetic hammer tests, the Silverbox.
+"""Data sets: simulated ring-downs of the paper's oscillators, synthetic hammer tests, real records.
 
 ``oscillator`` generates the paper's 1-DOF ring-downs and the noise model, ``impact`` synthetic
-hammer-impact records of a spring-mass chain with a known modal table, ``silverbox`` loads the shipped
-real ring-downs.
+hammer-impact records of a spring-mass chain with a known modal table; ``silverbox`` and ``flutter_rig``
+load the shipped real ring-downs (sources and licences in ``sindy_impulse/data/README.md``).
 """
 
+from .flutter_rig import FlutterRigFreeDecay, load_flutter_rig
 from .impact import ImpactRecord, impact_record
 from .oscillator import MAX_SAMPLES, RingDown, add_noise, damped_oscillator
 from .silverbox import SilverboxWindows, load_silverbox
 
 __all__ = [
+    "FlutterRigFreeDecay",
     "MAX_SAMPLES",
     "ImpactRecord",
     "RingDown",
@@ -17,5 +19,6 @@ __all__ = [
     "add_noise",
     "damped_oscillator",
     "impact_record",
+    "load_flutter_rig",
     "load_silverbox",
 ]

@@ -15,14 +15,17 @@ function                           figure of Stender, Oberst & Hoffmann (2019)
 :func:`plot_consensus`             12: histograms of the non-zero coefficients, consensus marked
 :func:`plot_linear_vs_nonlinear`   13: linear against nonlinear ring-down (and their coefficients)
 :func:`plot_feature_space`         14b: 2-D feature space (e.g. PCA of SINDyFeatures) by label
+:func:`plot_backbone`              beyond the paper: backbone curves of data and models overlaid
 =================================  ==============================================================
 
 The functions live in one module per family of figures (``filtering``, ``sweep``, ``embedding``,
-``complexity``, ``identification``, ``features``; shared helpers in ``_common``); import them from here.
+``complexity``, ``identification``, ``features``, ``backbone``; shared helpers in ``_common``); import them
+from here.
 matplotlib is imported only when a function is called. Bad input raises ``ValueError`` or ``TypeError``
 naming the argument (the array checks are the shared ones of :mod:`sindy_impulse._validation`).
 """
 
+from .backbone import plot_backbone
 from .complexity import plot_complexity_error
 from .embedding import plot_embedding
 from .features import plot_feature_space
@@ -32,6 +35,7 @@ from .sweep import plot_reconstruction, plot_refinement, plot_sweep
 
 __all__ = [
     "plot_alpha_curve",
+    "plot_backbone",
     "plot_complexity_error",
     "plot_consensus",
     "plot_embedding",

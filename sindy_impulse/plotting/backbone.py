@@ -1,6 +1,6 @@
 """Backbone curves of data and models overlaid: natural frequency and damping ratio against amplitude.
 
-(To move into the plotting package.) Reads only the public attributes of
+Reads only the public attributes of
 :class:`~sindy_impulse.analysis.Backbone` (``amplitude``, ``frequency_hz``, ``damping_ratio``, ``source``);
 matplotlib is imported only when the function is called, and ``plt.show()`` is never called.
 """
