@@ -1,0 +1,189 @@
+"""A raw hammer-test record in, a modal table out: :func:`identify_modes`.
+
+For each record (one hit; several sensors allowed): :func:`~sindy_impulse.preprocessing.preprocess` finds
+the impact, removes the offset, picks the spectral peaks and extracts one band-passed, decimated signal per
+peak; each band becomes one mode by the paper's machinery (:func:`._fit.fit_band`: derivative coordinates,
+TVRegDiff, the threshold sweep scored on the simulation error -- segment-wise for long records -- and the
+bounded refinement); the mode's frequency and damping ratio come from the identified model's linear part.
+Repeated hits of one structure are matched by frequency and combined by the paper's consensus (section
+3.3.2).
+"""
+
+from __future__ import annotations
+
+import warnings
+from numbers import Integral
+
+import numpy as np
+
+from .._params import HasMethods, Interval, Options, check_param
+from .._validation import check_signal
+from ..exceptions import DataWarning, NoDynamicsWarning
+from ..preprocessing import preprocess
+from ._fit import default_estimator, fit_band, fit_direct
+from ._hits import merge_hits
+from .result import ModalSurvey, Rejected
+
+__all__ = ["identify_modes"]
+
+_SENSORS = Options({"displacement", "velocity", "acceleration"})
+
+
+def _records(y, force) -> tuple[list[np.ndarray], list]:
+    """One (n_samples, n_channels) array per hit, and the force of each (or None)."""
+    many = isinstance(y, (list, tuple)) and len(y) > 0 and all(hasattr(r, "shape") for r in y)
+    ys = list(y) if many else [y]
+    arrays = [check_signal(r, "y" if not many else f"y[{i}]", ndim=(1, 2)) for i, r in enumerate(ys)]
+    if force is None:
+        return arrays, [None] * len(arrays)
+    forces = list(force) if many else [force]
+    if len(forces) != len(arrays):
+        raise ValueError(f"force has {len(forces)} records but y has {len(arrays)}")
+    checked = []
+    for i, (f, r) in enumerate(zip(forces, arrays)):
+        f = check_signal(f, "force" if not many else f"force[{i}]", ndim=(1, 2), as_2d=False).reshape(-1)
+        if f.size != r.shape[0]:
+            raise ValueError(f"force has {f.size} samples but y has {r.shape[0]}")
+        checked.append(f)
+    return arrays, checked
+
+
+def _times(t, n_records: int):
+    if isinstance(t, (list, tuple)) and len(t) == n_records and n_records > 1 and np.ndim(t[0]) == 1:
+        return list(t)
+    return [t] * n_records
+
+
+def _reference_channel(record: np.ndarray, channel) -> int:
+    if channel is not None:
+        check_param("channel", channel, [Interval(Integral, 0, record.shape[1] - 1)], "identify_modes")
+        return int(channel)
+    centred = record - np.median(record, axis=0)
+    return int(np.argmax(np.sqrt(np.mean(centred**2, axis=0))))
+
+
+def _impulse(force, pre) -> float | None:
+    """Impulse of the hammer (N s): the force integrated over the hit's pulses."""
+    if force is None or not pre.impact.hits:
+        return None
+    lo, hi = pre.impact.onset_index, pre.impact.ringdown_index
+    return float(np.sum(force[lo : hi + 1]) / pre.fs)
+
+
+def _survey_record(index, record, t, fs, force, options, template, sensor, channel):
+    """Preprocess one hit and fit every band: (modes, rejected, preprocessed, notes)."""
+    ref = _reference_channel(record, channel)
+    pre = preprocess(record[:, ref], t, fs=fs, force=force, **options)
+    notes = []
+    if pre.impact.double_hit:
+        notes.append(f"record {index}: double hit at {', '.join(f'{h[0]:.4g} s' for h in pre.impact.hits)}")
+    if len(pre.peaks) == 0:
+        notes.append(f"record {index}: no spectral peak significantly above the noise floor: no ring-down")
+    impulse = _impulse(force, pre)
+    if len(pre.peaks) == 1 and not pre.bands:  # one mode the band-pass cannot keep: strongly damped, short
+        out = fit_direct(pre, tuple(pre.peaks.band_hz[0]), template, index=index)
+        return ([out], [], pre, notes) if not isinstance(out, Rejected) else ([], [out], pre, notes)
+    modes, rejected = [], [Rejected(tuple(b), why, index) for b, why in pre.skipped]
+    for band in pre.bands:
+        out = fit_band(
+            band,
+            template,
+            onset_time=pre.impact.onset_time,
+            record=record,
+            channel=ref,
+            impulse=impulse,
+            sensor=sensor,
+            index=index,
+        )
+        (modes if not isinstance(out, Rejected) else rejected).append(out)
+    return modes, rejected, pre, notes
+
+
+def identify_modes(
+    y,
+    t=None,
+    *,
+    fs: float | None = None,
+    force=None,
+    n_modes: int | None = None,
+    bands=None,
+    sensor: str | None = None,
+    estimator=None,
+    channel: int | None = None,
+    onset="auto",
+    offset="auto",
+    samples_per_period: float = 16.0,
+) -> ModalSurvey:
+    """Identify the modes of a hammer-test record: a modal table with one equation per mode.
+
+    Parameters
+    ----------
+    y : array-like (n_samples,) or (n_samples, n_channels), or a list of them
+        One record (several synchronous sensors allowed), or a list of records (repeated hits of the same
+        test, combined by consensus). Raw: pre-trigger, offset and all modes included.
+    t : array-like (n_samples,) or float, optional
+        Time vector (uniform) or step (a list of vectors for several records); or give ``fs``.
+    fs : float, optional
+        Sampling rate (Hz).
+    force : array-like (n_samples,) or list, optional
+        The hammer's force: the onset and the end of contact come from it, double hits are reported, and
+        with ``sensor`` the driving-point residues are computed.
+    n_modes : int, optional
+        Keep the ``n_modes`` strongest spectral peaks.
+    bands : sequence of (low_hz, high_hz), optional
+        The bands to identify, instead of the detected peaks' bands.
+    sensor : {"displacement", "velocity", "acceleration"}, optional
+        The kind of sensor (for the residues).
+    estimator : ImpulseSINDy, optional
+        Template of the per-mode identification (cloned per mode); default: a cubic polynomial library on
+        the states ``[y, dy]`` (see :func:`~sindy_impulse.modes._fit.default_estimator`).
+    channel : int, optional
+        Reference channel (peaks and bands are found on it); default: the strongest.
+    onset, offset, samples_per_period
+        Passed to :func:`~sindy_impulse.preprocessing.preprocess` (every automatic choice can be
+        overridden).
+
+    Returns
+    -------
+    ModalSurvey
+        ``.modes`` (sorted by frequency), ``.table()``, ``.plot()``, ``.rejected``, ``.preprocessing``.
+
+    Examples
+    --------
+    >>> from sindy_impulse import identify_modes, impact_record
+    >>> rec = impact_record([120.0, 240.0], [0.005, 0.01], fs=5000, duration=1.0, snr_db=50, random_state=0)
+    >>> survey = identify_modes(rec.y, fs=rec.fs)
+    >>> [round(m.frequency_hz, 1) for m in survey.modes], [round(m.damping_ratio, 3) for m in survey.modes]
+    ([120.0, 240.0], [0.005, 0.01])
+    """
+    check_param("sensor", sensor, [None, _SENSORS], "identify_modes")
+    check_param("estimator", estimator, [None, HasMethods("fit", "an ImpulseSINDy")], "identify_modes")
+    records, forces = _records(y, force)
+    options = {
+        "n_modes": n_modes,
+        "bands": bands,
+        "onset": onset,
+        "offset": offset,
+        "samples_per_period": samples_per_period,
+    }
+    template = default_estimator() if estimator is None else estimator
+    per_record, rejected, preps, notes = [], [], [], []
+    for i, (record, ti, fi) in enumerate(zip(records, _times(t, len(records)), forces)):
+        modes, rej, pre, note = _survey_record(i, record, ti, fs, fi, options, template, sensor, channel)
+        per_record.append(modes)
+        rejected += rej
+        preps.append(pre)
+        notes += note
+    modes = merge_hits(per_record) if len(records) > 1 else per_record[0]
+    modes.sort(key=lambda m: m.frequency_hz)
+    for note in notes:
+        warnings.warn(note, DataWarning, stacklevel=2)
+    if not modes:
+        warnings.warn(
+            "no mode found: "
+            + ("; ".join(r.reason for r in rejected) or "no ring-down in the record")
+            + " (check the sensor, the sampling rate fs, or give bands=)",
+            NoDynamicsWarning,
+            stacklevel=2,
+        )
+    return ModalSurvey(modes, rejected, preps, notes)
