@@ -48,10 +48,16 @@ def random_case(rng: np.random.Generator) -> dict:
             break
     amplitudes = 10 ** (-rng.uniform(0, 20, n_modes) / 20)
     return dict(
-        frequencies_hz=f, damping_ratios=z, amplitudes=amplitudes, fs=fs, duration=n_samples / fs,
+        frequencies_hz=f,
+        damping_ratios=z,
+        amplitudes=amplitudes,
+        fs=fs,
+        duration=n_samples / fs,
         sensor=str(rng.choice(["displacement", "velocity", "acceleration"])),
-        pre_trigger=float(rng.uniform(0, 0.1)), offset=float(rng.uniform(0, 5)),
-        snr_db=float(rng.uniform(30, 60)), random_state=int(rng.integers(2**31)),
+        pre_trigger=float(rng.uniform(0, 0.1)),
+        offset=float(rng.uniform(0, 5)),
+        snr_db=float(rng.uniform(30, 60)),
+        random_state=int(rng.integers(2**31)),
     )
 
 
@@ -76,7 +82,9 @@ def run_case(case: dict) -> dict:
         warnings.simplefilter("ignore")
         survey = identify_modes(rec.y, fs=rec.fs)
     elapsed = time.perf_counter() - start
-    ours, spurious = _match(f_true, z_true, [m.frequency_hz for m in survey], [m.damping_ratio for m in survey])
+    ours, spurious = _match(
+        f_true, z_true, [m.frequency_hz for m in survey], [m.damping_ratio for m in survey]
+    )
     onset = find_impact(rec.y, rec.fs).ringdown_index
     start = time.perf_counter()
     try:
@@ -87,8 +95,17 @@ def run_case(case: dict) -> dict:
     es_time = time.perf_counter() - start
     passed = all(ef <= F_TOL and ez <= Z_TOL for ef, ez in ours)
     es_passed = all(ef <= F_TOL and ez <= Z_TOL for ef, ez in theirs)
-    return dict(case=case, ours=ours, theirs=theirs, spurious=spurious, es_spurious=es_spurious,
-                passed=passed, es_passed=es_passed, time=elapsed, es_time=es_time)
+    return dict(
+        case=case,
+        ours=ours,
+        theirs=theirs,
+        spurious=spurious,
+        es_spurious=es_spurious,
+        passed=passed,
+        es_passed=es_passed,
+        time=elapsed,
+        es_time=es_time,
+    )
 
 
 def noise_case(rng: np.random.Generator, kind: str) -> int:
@@ -110,41 +127,53 @@ def _summary(results: list[dict]) -> None:
     n = len(results)
     passed = sum(r["passed"] for r in results)
     clean = sum(r["spurious"] == 0 for r in results)
-    print(f"records: {n}; all modes within 0.3 % / 10 %: {passed} ({100 * passed / n:.1f} %); "
-          f"no spurious mode: {clean} ({100 * clean / n:.1f} %)")
+    print(
+        f"records: {n}; all modes within 0.3 % / 10 %: {passed} ({100 * passed / n:.1f} %); "
+        f"no spurious mode: {clean} ({100 * clean / n:.1f} %)"
+    )
     es_passed = sum(r["es_passed"] for r in results)
     es_clean = sum(r["es_spurious"] == 0 for r in results)
-    print(f"ESPRIT baseline: {es_passed} ({100 * es_passed / n:.1f} %) within the marks, "
-          f"{es_clean} ({100 * es_clean / n:.1f} %) without spurious poles")
+    print(
+        f"ESPRIT baseline: {es_passed} ({100 * es_passed / n:.1f} %) within the marks, "
+        f"{es_clean} ({100 * es_clean / n:.1f} %) without spurious poles"
+    )
     ours = np.array([e for r in results for e in r["ours"]])
     theirs = np.array([e for r in results for e in r["theirs"]])
     ok = np.all(np.isfinite(ours), axis=1) & np.all(np.isfinite(theirs), axis=1)
     mf, mz = np.median(ours[ok], axis=0)
     ef, ez = np.median(theirs[ok], axis=0)
-    print(f"median |df|/f: ours {mf:.2e}, ESPRIT {ef:.2e}, ratio {mf / ef:.2f}; "
-          f"median |dzeta|/zeta: ours {mz:.2e}, ESPRIT {ez:.2e}, ratio {mz / ez:.2f} (modes found by both)")
+    print(
+        f"median |df|/f: ours {mf:.2e}, ESPRIT {ef:.2e}, ratio {mf / ef:.2f}; "
+        f"median |dzeta|/zeta: ours {mz:.2e}, ESPRIT {ez:.2e}, ratio {mz / ez:.2f} (modes found by both)"
+    )
     t = np.array([r["time"] for r in results])
     te = np.array([r["es_time"] for r in results])
     print(f"time per record: median {np.median(t):.2f} s (ESPRIT {np.median(te):.2f} s), max {t.max():.1f} s")
+
+
+def _bin_label(bins, v) -> str:
+    k = np.searchsorted(bins, v, side="right")
+    return f"{bins[k - 1]:g}-{bins[k]:g}"
 
 
 def _misses(results: list[dict]) -> None:
     print("misses by category (failed / total):")
     for key, bins in (("sensor", None), ("snr_db", [30, 40, 50, 60.1]), ("n_modes", None)):
         values = [len(r["case"]["frequencies_hz"]) if key == "n_modes" else r["case"][key] for r in results]
-        labels = [str(v) for v in values] if bins is None else [
-            f"{bins[np.searchsorted(bins, v, side='right') - 1]:g}-{bins[np.searchsorted(bins, v, side='right')]:g}"
-            for v in values]
+        labels = (
+            [str(v) for v in values]
+            if bins is None
+            else [_bin_label(bins, v) for v in values]
+        )
         for label in sorted(set(labels)):
             group = [r for r, lab in zip(results, labels) if lab == label]
             print(f"  {key} {label}: {sum(not r['passed'] for r in group)} / {len(group)}")
-    worst_z = [(e[1], r) for r in results for e in r["ours"]]
     zetas = np.array([z for r in results for z in r["case"]["damping_ratios"]])
     errs = np.array([e[1] for r in results for e in r["ours"]])
     for lo, hi in ((1e-3, 3e-3), (3e-3, 1e-2), (1e-2, 3e-2)):
         sel = (zetas >= lo) & (zetas < hi)
-        print(f"  damping {lo:g}-{hi:g}: {int(np.sum(errs[sel] > Z_TOL))} of {int(sel.sum())} modes off by > 10 %")
-    del worst_z
+        off = int(np.sum(errs[sel] > Z_TOL))
+        print(f"  damping {lo:g}-{hi:g}: {off} of {int(sel.sum())} modes off by > 10 %")
 
 
 def main() -> None:
@@ -161,9 +190,13 @@ def main() -> None:
         results.append(r)
         if not r["passed"] or r["spurious"]:
             c = r["case"]
-            print(f"  miss {i}: f={np.round(c['frequencies_hz'], 2).tolist()} z={np.round(c['damping_ratios'], 4).tolist()} "
-                  f"{c['sensor']} snr={c['snr_db']:.0f} n={int(c['duration'] * c['fs'])} fs={c['fs']:g}: "
-                  f"errors {[(f'{a:.1e}', f'{b:.2f}') for a, b in r['ours']]} spurious {r['spurious']}", flush=True)
+            print(
+                f"  miss {i}: f={np.round(c['frequencies_hz'], 2).tolist()} "
+                f"z={np.round(c['damping_ratios'], 4).tolist()} "
+                f"{c['sensor']} snr={c['snr_db']:.0f} n={int(c['duration'] * c['fs'])} fs={c['fs']:g}: "
+                f"errors {[(f'{a:.1e}', f'{b:.2f}') for a, b in r['ours']]} spurious {r['spurious']}",
+                flush=True,
+            )
     _summary(results)
     _misses(results)
     n_noise = 10 if args.quick else 50

@@ -17,8 +17,18 @@ matplotlib.use("Agg")
 
 @pytest.fixture(scope="module")
 def two_modes():
-    rec = impact_record([120.0, 240.0], [0.004, 0.008], amplitudes=[1.0, 0.6], fs=4000, duration=1.5,
-                        sensor="velocity", offset=3.0, pre_trigger=0.05, snr_db=45, random_state=2)
+    rec = impact_record(
+        [120.0, 240.0],
+        [0.004, 0.008],
+        amplitudes=[1.0, 0.6],
+        fs=4000,
+        duration=1.5,
+        sensor="velocity",
+        offset=3.0,
+        pre_trigger=0.05,
+        snr_db=45,
+        random_state=2,
+    )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", DataWarning)
         return rec, identify_modes(rec.y, fs=rec.fs)
@@ -32,7 +42,9 @@ def test_two_modes_found_with_frequency_and_damping(two_modes):
         assert abs(mode.frequency_hz / f - 1) < 3e-3
         assert abs(mode.damping_ratio / z - 1) < 0.1
         assert mode.band_hz[0] < f < mode.band_hz[1]
-        assert mode.damped_frequency_hz == pytest.approx(mode.frequency_hz * np.sqrt(1 - mode.damping_ratio**2))
+        assert mode.damped_frequency_hz == pytest.approx(
+            mode.frequency_hz * np.sqrt(1 - mode.damping_ratio**2)
+        )
         assert 0 <= mode.fit_error < 0.1
 
 
@@ -88,8 +100,9 @@ def test_offset_five_times_the_amplitude_on_the_papers_oscillator():
 
 
 def test_several_channels_give_the_mode_shape():
-    rec = impact_record([150.0, 330.0], [0.005, 0.01], fs=4000, duration=1.0, sensor_dof=[0, 1],
-                        snr_db=50, random_state=3)
+    rec = impact_record(
+        [150.0, 330.0], [0.005, 0.01], fs=4000, duration=1.0, sensor_dof=[0, 1], snr_db=50, random_state=3
+    )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", DataWarning)
         survey = identify_modes(rec.y, fs=rec.fs, channel=0)
@@ -102,8 +115,18 @@ def test_several_channels_give_the_mode_shape():
 
 
 def test_repeated_hits_are_combined_with_spread():
-    hits = [impact_record([100.0, 260.0], [0.006, 0.01], amplitudes=[a, 0.5 * a], fs=3000, duration=1.0,
-                          snr_db=45, random_state=s) for s, a in enumerate([1.0, 0.7, 1.3, 0.9, 1.1])]
+    hits = [
+        impact_record(
+            [100.0, 260.0],
+            [0.006, 0.01],
+            amplitudes=[a, 0.5 * a],
+            fs=3000,
+            duration=1.0,
+            snr_db=45,
+            random_state=s,
+        )
+        for s, a in enumerate([1.0, 0.7, 1.3, 0.9, 1.1])
+    ]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", DataWarning)
         survey = identify_modes([h.y for h in hits], fs=3000.0)
@@ -117,8 +140,9 @@ def test_repeated_hits_are_combined_with_spread():
 
 
 def test_double_hit_in_the_force_channel_is_reported():
-    rec = impact_record([150.0], [0.01], fs=4000, duration=1.0, snr_db=50, double_hit=(0.004, 0.5),
-                        random_state=1)
+    rec = impact_record(
+        [150.0], [0.01], fs=4000, duration=1.0, snr_db=50, double_hit=(0.004, 0.5), random_state=1
+    )
     with pytest.warns(DataWarning, match="double hit"):
         survey = identify_modes(rec.y, fs=rec.fs, force=rec.force, sensor="acceleration")
     assert any("double hit" in n for n in survey.notes)
@@ -145,10 +169,13 @@ def test_bad_input_is_refused_clearly(kwargs, exc, match):
 def test_cli_modes(tmp_path, capsys):
     rec = impact_record([150.0], [0.01], fs=2000, duration=1.0, snr_db=50, random_state=0)
     path = tmp_path / "hit.csv"
-    path.write_text("t,y,f\n" + "\n".join(f"{t:.9g},{y:.9g},{f:.9g}" for t, y, f in zip(rec.t, rec.y, rec.force)))
+    path.write_text(
+        "t,y,f\n" + "\n".join(f"{t:.9g},{y:.9g},{f:.9g}" for t, y, f in zip(rec.t, rec.y, rec.force))
+    )
     out_json = tmp_path / "modes.json"
-    code = cli_main(["modes", str(path), "--columns", "y", "--force", "f", "--no-nonlinearity",
-                     "--json", str(out_json)])
+    code = cli_main(
+        ["modes", str(path), "--columns", "y", "--force", "f", "--no-nonlinearity", "--json", str(out_json)]
+    )
     printed = capsys.readouterr().out
     assert code == 0 and "1 mode(s)" in printed and "150" in printed
     import json
