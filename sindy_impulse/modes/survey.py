@@ -19,10 +19,10 @@ import numpy as np
 from .._params import HasMethods, Interval, Options, check_param
 from .._validation import check_signal
 from ..exceptions import DataWarning, NoDynamicsWarning
-from ..preprocessing import preprocess
-from ._fit import default_estimator, fit_band, fit_direct
+from ..preprocessing import extract_band, preprocess
+from ._fit import default_estimator, fit_band, fit_direct, fit_group
 from ._hits import merge_hits
-from .result import ModalSurvey, Rejected
+from .result import ModalSurvey, Mode, Rejected
 
 __all__ = ["identify_modes"]
 
@@ -83,7 +83,7 @@ def _survey_record(index, record, t, fs, force, options, template, sensor, chann
     if len(pre.peaks) == 1 and not pre.bands:  # one mode the band-pass cannot keep: strongly damped, short
         out = fit_direct(pre, tuple(pre.peaks.band_hz[0]), template, index=index)
         return ([out], [], pre, notes) if not isinstance(out, Rejected) else ([], [out], pre, notes)
-    modes, rejected = [], [Rejected(tuple(b), why, index) for b, why in pre.skipped]
+    modes, rejected = [], []
     for band in pre.bands:
         out = fit_band(
             band,
@@ -96,7 +96,39 @@ def _survey_record(index, record, t, fs, force, options, template, sensor, chann
             index=index,
         )
         (modes if not isinstance(out, Rejected) else rejected).append(out)
+    for skipped, why in pre.skipped:
+        out = _joint(pre, tuple(skipped), template, index) if "periods remain" in why else None
+        if isinstance(out, Mode):
+            modes.append(out)
+        else:
+            rejected.append(out if isinstance(out, Rejected) else Rejected(tuple(skipped), why, index))
     return modes, rejected, pre, notes
+
+
+def _joint(pre, skipped: tuple, template, index: int):
+    """A peak whose own band is too narrow for its damping, fitted jointly with its closest neighbour in
+    one wide band holding both (see :func:`._fit.fit_group`); None when it has no neighbour.
+
+    The joint band reaches out to the geometric midpoints towards the next peaks outside the pair: the
+    wider the band, the shorter the band-pass transient that would otherwise swallow a strongly damped mode.
+    """
+    bands = sorted((tuple(b) for b in pre.peaks.band_hz), key=lambda b: b[0])
+    centres = [float(np.sqrt(b[0] * b[1])) for b in bands]
+    k = bands.index(skipped)
+    if len(bands) < 2:
+        return None
+    j = min(
+        (i for i in (k - 1, k + 1) if 0 <= i < len(bands)), key=lambda i: abs(np.log(centres[i] / centres[k]))
+    )
+    lo_i, hi_i = min(j, k), max(j, k)
+    low = np.sqrt(centres[lo_i] * centres[lo_i - 1]) if lo_i > 0 else 0.5 * centres[lo_i]
+    high = np.sqrt(centres[hi_i] * centres[hi_i + 1]) if hi_i + 1 < len(bands) else 2.0 * centres[hi_i]
+    joint = (float(low), float(min(high, 0.45 * pre.fs)))
+    try:
+        band = extract_band(pre.y, pre.fs, joint, start=pre.impact.ringdown_index, t0=pre.t0)
+    except ValueError as err:
+        return Rejected(skipped, f"jointly with its neighbour: {err}", index)
+    return fit_group(band, [skipped, bands[j]], template, onset_time=pre.impact.onset_time, index=index)[0]
 
 
 def identify_modes(
