@@ -127,7 +127,6 @@ def fit_band(
     shape = None if record is None or record.shape[1] == 1 else _shape(record, band, states, omega, channel)
     return Mode(
         frequency_hz=frequency,
-        damped_frequency_hz=omega_d / (2 * np.pi),
         damping_ratio=zeta,
         band_hz=tuple(float(b) for b in band.band_hz),
         amplitude=amplitude,
@@ -165,12 +164,10 @@ def fit_direct(pre, band_hz, template, *, index: int = 0):
     fit_error = float(model.score_) / states.size
     if not fit_error <= MAX_FIT_ERROR:
         return _poor_fit(band_hz, fit_error, index)
-    omega = 2 * np.pi * frequency
     period = max(2, int(round(pre.fs / frequency)))
     amplitude = float(np.max(np.abs(y[:period])))
     return Mode(
         frequency_hz=frequency,
-        damped_frequency_hz=omega * math.sqrt(max(1 - zeta**2, 0.0)) / (2 * np.pi),
         damping_ratio=zeta,
         band_hz=tuple(float(b) for b in band_hz),
         amplitude=amplitude,
@@ -210,11 +207,9 @@ def fit_group(band, peak_bands, template, *, onset_time: float, index: int = 0) 
             )
             continue
         frequency, zeta = found
-        omega = 2 * np.pi * frequency
         out.append(
             Mode(
                 frequency_hz=frequency,
-                damped_frequency_hz=omega * math.sqrt(max(1 - zeta**2, 0.0)) / (2 * np.pi),
                 damping_ratio=zeta,
                 band_hz=tuple(float(b) for b in band.band_hz),
                 amplitude=float("nan"),
