@@ -273,12 +273,45 @@ class FittedModelMixin:
         return self.model_.rhs(np.atleast_2d(x), u)[0]
 
     def score(self, x, t=None, x_dot=None, u=None, metric=None, **metric_kws) -> float:
-        """How well the model explains ``x``: higher is better.
+        """How well the model explains ``x`` (and ``u``): higher is better, as scikit-learn expects.
 
-        With ``sweep=False`` PySINDy's score: ``metric`` (default R^2) of the predicted against the
-        differentiated derivatives. Otherwise the negative error measure of the fit (``error_measure_``) of
-        the model simulated from ``x``'s first sample: R^2 on derivatives favours dense models, which the
-        paper's sweep on the simulation error exists to avoid.
+        Two scores, chosen by ``sweep`` (the parameter that decides how the model was selected):
+
+        - ``sweep=False``: PySINDy's score, ``metric`` (default R^2) of the model's right-hand side against
+          the derivatives of ``x`` (``x_dot``, or ``differentiation_method_`` applied to ``x``); 1 is
+          perfect. ``metric`` and ``metric_kws`` are PySINDy's.
+        - ``sweep=True``: minus the fit's error measure (``error_measure_``, the paper's Gamma by default)
+          of the model simulated from the first sample of each trajectory of ``x``, driven by ``u``; 0 is
+          perfect, ``-inf`` a simulation that diverged. R^2 on derivatives rewards dense models, whose
+          spurious terms fit the noise of the derivatives and then make the simulation drift: the very
+          problem the sweep on the simulation error solves (paper section 2.4). A ``GridSearchCV`` over an
+          ImpulseSINDy therefore ranks candidates the way its fit does.
+
+        Parameters
+        ----------
+        x : array-like (n_samples, n_states) or list of them
+            States; a list is several (possibly ragged) trajectories.
+        t : float, array or list of arrays, optional
+            Time step or vector(s), as in :meth:`fit`; defaults to ``dt``.
+        x_dot : array-like or list, optional
+            Known derivatives (``sweep=False`` only).
+        u : array-like or list, optional
+            Inputs; required if the model was fitted with inputs.
+        metric : callable, optional
+            ``metric(x_dot, x_dot_predicted, **metric_kws)`` (``sweep=False`` only).
+
+        Returns
+        -------
+        float
+
+        Examples
+        --------
+        >>> from sindy_impulse import ImpulseSINDy, damped_oscillator
+        >>> t, x, _ = damped_oscillator(snr_db=40, random_state=0)
+        >>> bool(ImpulseSINDy(sweep=False, refine=False).fit(x, t=t).score(x, t=t) > 0.99)  # R^2
+        True
+        >>> bool(-3 < ImpulseSINDy().fit(x, t=t).score(x, t=t) < 0)  # minus Gamma
+        True
         """
         check_is_fitted(self, "coef_")
         trajectories, multiple = self._check_states(x, min_samples=2)
