@@ -197,7 +197,13 @@ def _print_causes(plain: dict, impulse: dict) -> None:
             print(f"        {name}")
         if len(names) > 6:
             print(f"        ... and {len(names) - 6} more")
+    refused = sum(len(names) for cause, names in groups.items() if "UnsupportedProblemError" in cause)
     print(f"\n({also} further failures also fail with pysindy.SINDy)")
+    print(
+        f"{refused} of the failures are UnsupportedProblemError (a NotImplementedError): PDE, weak-form, "
+        "implicit (SINDy-PI) or spatiotemporal problems, refused by design; "
+        f"{sum(map(len, groups.values())) - refused} other failures"
+    )
 
 
 def main(argv=None) -> int:

@@ -16,13 +16,14 @@ import numpy as np
 import pysindy as ps
 from pysindy.utils import AxesArray
 
+from ._components import ComponentsMixin
 from ._fitted import FittedModelMixin, SweepPath, fresh_measure
 from ._params import HasMethods, Interval, Satisfies, validate_params
 from ._trajectories import as_trajectories, check_derivatives, refuse_unsupported
 from .differentiation import differentiate
 from .exceptions import DataWarning, NoDynamicsWarning, WorkBudgetWarning
 from .feature_library.terms import library_terms
-from .optimizers import ThresholdSweep, candidate_path, fresh_copy
+from .optimizers import candidate_path
 from .refinement import refine
 from .selection import SELECTION_RULES, select_candidate
 from .simulation import ERROR_MEASURES, ErrorMeasure, WorkBudget, compile_model
@@ -31,29 +32,27 @@ from .simulation import simulation_gamma as _gamma
 __all__ = ["ImpulseSINDy", "SweepPath"]
 
 
-_DEFAULTS = {
-    "optimizer": ThresholdSweep,
-    "feature_library": lambda: ps.PolynomialLibrary(degree=3),
-    "differentiation_method": lambda: __import__("sindy_impulse.differentiation").differentiation.TVRegDiff(),
-}
-
-
-class ImpulseSINDy(FittedModelMixin, ps.SINDy):
+class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
     """SINDy for impulse responses: threshold sweep on the simulation error and bounded refinement.
 
     A drop-in :class:`pysindy.SINDy` (the same constructor arguments and methods: ``fit``, ``predict``,
-    ``simulate``, ``score``, ``coefficients``, ``equations``, ``print``) and a scikit-learn estimator.
-    Every distinct sparse model along the optimizer's threshold path is simulated and scored by an error
+    ``simulate``, ``score``, ``coefficients``, ``equations``, ``print``; several and ragged trajectories,
+    control inputs ``u``, any optimizer and ODE library; PDE, weak-form and implicit problems raise
+    :class:`~sindy_impulse.exceptions.UnsupportedProblemError`) and a scikit-learn estimator. Every distinct
+    sparse model along the optimizer's threshold path is simulated (driven by ``u``) and scored by an error
     measure (the paper's Gamma for short records, a segment-wise measure for long ones); one is selected
-    and its non-zero coefficients refined within ``[0, bound_factor * xi]``.
+    and its non-zero coefficients refined within ``[0, bound_factor * xi]``. ``score`` is minus that error
+    with ``sweep=True`` and PySINDy's R^2 of the derivatives otherwise (see :meth:`score`). Unlike PySINDy,
+    a ``None`` component stays ``None`` (scikit-learn's rule): the fitted ones are ``optimizer_``,
+    ``feature_library_``, ``differentiation_method_``.
 
     Parameters
     ----------
     optimizer : PySINDy optimizer, default=ThresholdSweep()
         Its threshold path gives the candidates (see :func:`~sindy_impulse.optimizers.candidate_path`).
     feature_library : PySINDy feature library, default=PolynomialLibrary(degree=3)
-        Libraries the compiled simulator knows (polynomial, Fourier, their concatenation,
-        :class:`~sindy_impulse.MechanicalLibrary`) run fast; any other is simulated by a general fallback.
+        Polynomial, Fourier and :class:`~sindy_impulse.MechanicalLibrary` terms (also concatenated, tensored
+        or generalized) run compiled; any other library (e.g. ``CustomLibrary``) is simulated by a fallback.
     differentiation_method : PySINDy differentiation, default=TVRegDiff()
         Its ``smoothed_x_`` (the filtered states) is what the library, the simulations and the error use.
     error_measure : "auto", "gamma", "segmented", a registered name, ErrorMeasure or callable, default="auto"
@@ -168,16 +167,6 @@ class ImpulseSINDy(FittedModelMixin, ps.SINDy):
         self.divergence_factor = divergence_factor
         self.dt = dt
 
-    def set_params(self, **params):
-        """scikit-learn's ``set_params``; a nested parameter of a ``None`` component (e.g.
-        ``feature_library__degree``) first puts the default component in place, so grids work from the
-        defaults."""
-        for key in params:
-            name = key.split("__", 1)[0]
-            if "__" in key and name in _DEFAULTS and getattr(self, name, None) is None:
-                setattr(self, name, _DEFAULTS[name]())
-        return super().set_params(**params)
-
     # ------------------------------------------------------------------------------------------------
     # fit: the paper's pipeline
     # ------------------------------------------------------------------------------------------------
@@ -201,6 +190,18 @@ class ImpulseSINDy(FittedModelMixin, ps.SINDy):
         Returns
         -------
         self
+
+        Examples
+        --------
+        A forced oscillator ``x'' + 0.8 x' + 64 x = f(t)`` identified from its measured random force and
+        its response (40 dB noise): the sweep and the refinement simulate every candidate driven by ``u``.
+
+        >>> from sindy_impulse.datasets import forced_oscillator
+        >>> t, x, force = forced_oscillator(force="random", snr_db=40, random_state=0)
+        >>> model = ImpulseSINDy().fit(x, t=t, u=force, feature_names=["x", "v", "f"])
+        >>> model.print(precision=2)
+        (x)' =  1.00 v
+        (v)' = -64.02 x + -0.80 v +  1.00 f
         """
         validate_params(self)
         refuse_unsupported(x, self.feature_library)
@@ -248,14 +249,6 @@ class ImpulseSINDy(FittedModelMixin, ps.SINDy):
                 stacklevel=2,
             )
         return self._keep(candidates, thresholds, index, coef, compile_, measure, history, scores, score)
-
-    def _resolve_components(self) -> None:
-        """The components of this fit: the given objects (plain mode, as PySINDy) or fresh copies."""
-        plain = not (self.sweep or self.refine)
-        for name, make in _DEFAULTS.items():
-            given = getattr(self, name)
-            value = make() if given is None else (given if plain else fresh_copy(given))
-            setattr(self, name + "_", value)
 
     def _regression(self, filtered, data, derivs):
         """The library matrix on the filtered states (and inputs) and the stacked derivatives."""
