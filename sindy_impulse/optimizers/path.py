@@ -23,10 +23,15 @@ MAX_REFITS = 60
 
 
 def fresh_copy(obj):
-    """An unfitted copy: scikit-learn's ``clone``, or a deep copy for objects clone cannot rebuild."""
+    """An unfitted copy: scikit-learn's ``clone``, or a deep copy for objects clone cannot rebuild.
+
+    Clone fails on objects whose ``get_params`` does not match their constructor (PySINDy's
+    ``CustomLibrary`` stores ``library_functions`` as ``functions``: an ``AttributeError``) or that change
+    their parameters in ``__init__`` (``WrappedOptimizer``: a ``RuntimeError``).
+    """
     try:
         return clone(obj)
-    except (RuntimeError, TypeError, ValueError):
+    except (AttributeError, RuntimeError, TypeError, ValueError):
         return copy.deepcopy(obj)
 
 
@@ -126,6 +131,14 @@ def candidate_path(optimizer, theta: np.ndarray, y: np.ndarray, sweep: bool = Tr
         return single
     if hasattr(optimizer, "candidates_") and hasattr(optimizer, "thresholds_"):
         return np.asarray(optimizer.thresholds_, dtype=float), np.asarray(optimizer.candidates_, dtype=float)
-    if "threshold" in optimizer.get_params(deep=False):
+    if "threshold" in _parameters(optimizer):
         return _threshold_grid(optimizer, theta, y)
     return single
+
+
+def _parameters(optimizer) -> dict:
+    """The optimizer's parameters; none for one whose ``get_params`` fails (``WrappedOptimizer``)."""
+    try:
+        return optimizer.get_params(deep=False)
+    except (AttributeError, RuntimeError, TypeError):
+        return {}
