@@ -14,7 +14,9 @@ import math
 
 import numpy as np
 
-from .integrators import MAX_SUBSTEPS, NO_INPUT, rhs_points, rk4_simulate, solve_ivp_simulate, weighted_l1
+from . import integrators as kernels
+from .integrators import MAX_SUBSTEPS, NO_INPUT, scratch_size, solve_ivp_simulate
+from .program import build_program, pack, propagators
 from .terms import TermTable
 
 __all__ = ["CompiledModel", "FallbackModel", "compile_model", "STEP_SCALE", "FALLBACK_COST"]
@@ -28,21 +30,9 @@ FALLBACK_COST = 100.0
 #: Python, about 25x a kernel RK4 step).
 ADAPTIVE_COST = 25.0
 
-
-def _kernel_arrays(terms: TermTable) -> tuple:
-    """The term table in the sparse form the kernels read."""
-    counts = terms.powers.sum(axis=1)
-    factor_ptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
-    factor_state = np.concatenate(
-        [np.zeros(0, np.int64)] + [np.repeat(np.arange(terms.powers.shape[1]), row) for row in terms.powers]
-    ).astype(np.int64)
-    return (
-        factor_ptr,
-        factor_state,
-        np.ascontiguousarray(terms.func, dtype=np.int64),
-        np.ascontiguousarray(terms.func_state, dtype=np.int64),
-        np.ascontiguousarray(terms.func_param, dtype=float),
-    )
+_FIRST = np.zeros(1, dtype=np.int64)  # one segment from the first sample
+_NO_WEIGHTS = np.zeros((1, 0))
+_NO_OUTPUT = np.empty((0, 0))
 
 
 def _as_inputs(u, n_times: int, n_inputs: int) -> np.ndarray:
@@ -225,29 +215,66 @@ class CompiledModel(_SparseModel):
             )
         super().__init__(coef, terms.n_inputs, reference, divergence_factor, reference_u)
         self.terms = terms.subset(self.active)
-        self._kernel = _kernel_arrays(self.terms)
+        self.program = build_program(self.terms, self.n_states)
+        self._scratch = np.empty(scratch_size(terms.n_inputs, self.program.n_values))
+        self._own = None  # (grid key, packed arrays) of the model's own coefficients
+
+    @property
+    def is_linear(self) -> bool:
+        """True for a linear model without inputs: simulated by its RK4 propagator (same solution)."""
+        return self.program.linear_state is not None
 
     def _rhs_z(self, Z, coef) -> np.ndarray:
-        return rhs_points(np.ascontiguousarray(Z, dtype=float), np.ascontiguousarray(coef), *self._kernel)
+        Z = np.ascontiguousarray(Z, dtype=float)
+        prog, vals = pack(self.program, np.asarray(coef, dtype=float)[None])
+        out = np.empty((Z.shape[0], self.n_states))
+        kernels.rhs_points(Z, prog, vals[0], out, self._scratch)
+        return out
+
+    def _packed(self, c, t, steps):
+        """The kernel program, coefficient rows and propagators of a batch (the model's own: cached)."""
+        own = c is None
+        key = (steps, float(t[1] - t[0]) if len(t) > 1 else 0.0, len(t))
+        if own and self._own is not None and self._own[0] == key:
+            return self._own[1]
+        batch = self.coef[None] if own else c
+        prog, vals = pack(self.program, batch)
+        packed = (prog, vals, propagators(self.program, batch, t, steps))
+        if own:
+            self._own = (key, packed)
+        return packed
+
+    def _integrate(self, ref, t, starts, weights, c, u, substeps, out):
+        """Run the kernel (see :func:`integrators.integrate`); returns ``(errors, rows)``."""
+        steps = self.substeps(t) if substeps is None else int(substeps)
+        prog, vals, props = self._packed(c, t, steps)
+        bound = np.maximum(self.bound, 10 * np.max(np.abs(ref[starts]), axis=0))
+        errors = np.empty(vals.shape[0])
+        rows = np.empty(vals.shape[0], dtype=np.int64)
+        uu = _as_inputs(u, len(t), self.n_inputs)
+        kernels.integrate(
+            ref, t, starts, weights, steps, prog, vals, props, bound, uu, self._scratch, out, errors, rows
+        )
+        self.work_done += self.work(t, 1 if props.size else steps, int(rows.sum()))
+        return errors, rows
 
     def simulate(self, x0, t, u=None, coef=None, substeps: int | None = None, **integrator_kws) -> np.ndarray:
         """Integrate from ``x0`` over the time grid ``t`` (inputs ``u`` on the grid, if the model has any).
 
-        RK4 with sub-steps from the model's time scale; the adaptive integrator when the model is stiff or
-        when ``integrator_kws`` (options of ``scipy.integrate.solve_ivp``) are given. Returns an array
-        (len(t), n_states); rows after a divergence are NaN.
+        RK4 with sub-steps from the model's time scale (a linear model: RK4's map over a sample interval,
+        the same solution); the adaptive integrator when the model is stiff or when ``integrator_kws``
+        (options of ``scipy.integrate.solve_ivp``) are given. Returns an array (len(t), n_states); rows
+        after a divergence are NaN.
         """
         t = np.ascontiguousarray(t, dtype=float)
         x0 = self._check_x0(x0)
-        c = self.coef if coef is None else np.ascontiguousarray(coef, dtype=float)
-        uu = u if callable(u) else _as_inputs(u, len(t), self.n_inputs)
+        c = None if coef is None else np.ascontiguousarray(coef, dtype=float)[None]
         if integrator_kws or callable(u) or (substeps is None and self.is_stiff(t)):
+            c = self.coef if coef is None else c[0]
+            uu = u if callable(u) or self.n_inputs == 0 else _as_inputs(u, len(t), self.n_inputs)
             return self._adaptive(x0, t, None if self.n_inputs == 0 else uu, c, **integrator_kws)
-        steps = self.substeps(t) if substeps is None else int(substeps)
         out = np.empty((t.shape[0], self.n_states))
-        bound = np.maximum(self.bound, 10 * np.abs(x0))
-        rows = rk4_simulate(x0, t, steps, c, *self._kernel, bound, uu, out)
-        self.work_done += self.work(t, steps, rows)
+        self._integrate(x0[None], t, _FIRST, _NO_WEIGHTS, c, u, substeps, out)
         return out
 
     def weighted_l1(self, reference, t, starts, weights, coefs=None, u=None, substeps=None):
@@ -273,24 +300,16 @@ class CompiledModel(_SparseModel):
         t = np.ascontiguousarray(t, dtype=float)
         if substeps is None and self.is_stiff(t):
             return super().weighted_l1(reference, t, starts, weights, coefs, u)
-        ref = np.ascontiguousarray(reference, dtype=float)
-        c = self.coef[None] if coefs is None else np.ascontiguousarray(coefs, dtype=float)
-        steps = self.substeps(t) if substeps is None else int(substeps)
-        starts = np.ascontiguousarray(starts, dtype=np.int64)
-        bound = np.maximum(self.bound, 10 * np.max(np.abs(ref[starts]), axis=0))
-        errors, rows = weighted_l1(
-            ref,
+        return self._integrate(
+            np.ascontiguousarray(reference, dtype=float),
             t,
             np.ascontiguousarray(starts, dtype=np.int64),
             np.ascontiguousarray(weights, dtype=float),
-            steps,
-            c,
-            *self._kernel,
-            bound,
-            _as_inputs(u, len(t), self.n_inputs),
+            None if coefs is None else np.ascontiguousarray(coefs, dtype=float),
+            u,
+            substeps,
+            _NO_OUTPUT,
         )
-        self.work_done += sum(self.work(t, steps, int(r)) for r in rows)
-        return errors, rows
 
 
 class FallbackModel(_SparseModel):
