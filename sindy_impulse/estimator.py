@@ -247,11 +247,10 @@ class ImpulseSINDy(FittedModelMixin, ps.SINDy):
         thresholds, candidates = candidate_path(self.optimizer_, theta, y, self.sweep)
         terms = library_terms(self.feature_library_, data.n_states + data.n_inputs)
         reference_u = None if data.u is None else np.vstack(data.u)
+        reference = filtered[0] if len(filtered) == 1 else np.vstack(filtered)
 
         def compile_(coef):
-            return compile_model(
-                coef, terms, np.vstack(filtered), self.divergence_factor, reference_u, data.n_inputs
-            )
+            return compile_model(coef, terms, reference, self.divergence_factor, reference_u, data.n_inputs)
 
         if not (self.sweep or self.refine):  # plain PySINDy: one model, no simulation
             return self._keep(candidates, thresholds, 0, candidates[0], compile_, None, {}, np.nan, np.nan)
@@ -306,7 +305,7 @@ class ImpulseSINDy(FittedModelMixin, ps.SINDy):
         theta = self.feature_library_.fit_transform(
             [AxesArray(j, {"ax_time": 0, "ax_coord": 1}) for j in joined]
         )
-        theta = np.vstack([np.asarray(th) for th in theta])
+        theta = np.asarray(theta[0]) if len(theta) == 1 else np.vstack([np.asarray(th) for th in theta])
         y = np.vstack(derivs)
         usable = int(np.sum(np.all(np.isfinite(y), axis=1) & np.all(np.isfinite(theta), axis=1)))
         if usable < theta.shape[1] + 1:

@@ -219,6 +219,18 @@ class CompiledModel(_SparseModel):
         self._scratch = np.empty(scratch_size(terms.n_inputs, self.program.n_values))
         self._own = None  # (grid key, packed arrays) of the model's own coefficients
 
+    def __getstate__(self):
+        state = self.__dict__.copy()
+        for name in ("program", "_scratch", "_own"):  # rebuilt on unpickling (writable, not memory-mapped)
+            state.pop(name, None)
+        return state
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        self.program = build_program(self.terms, self.n_states)
+        self._scratch = np.empty(scratch_size(self.terms.n_inputs, self.program.n_values))
+        self._own = None
+
     @property
     def is_linear(self) -> bool:
         """True for a linear model without inputs: simulated by its RK4 propagator (same solution)."""
@@ -252,7 +264,8 @@ class CompiledModel(_SparseModel):
         errors = np.empty(vals.shape[0])
         rows = np.empty(vals.shape[0], dtype=np.int64)
         uu = _as_inputs(u, len(t), self.n_inputs)
-        kernels.integrate(
+        ref, t, starts, weights, uu = (a if a.flags.writeable else a.copy() for a in (ref, t, starts, weights, uu))
+        kernels.integrate(  # (read-only arrays are copied above: they would compile another kernel)
             ref, t, starts, weights, steps, prog, vals, props, bound, uu, self._scratch, out, errors, rows
         )
         self.work_done += self.work(t, 1 if props.size else steps, int(rows.sum()))
