@@ -264,8 +264,10 @@ class CompiledModel(_SparseModel):
         errors = np.empty(vals.shape[0])
         rows = np.empty(vals.shape[0], dtype=np.int64)
         uu = _as_inputs(u, len(t), self.n_inputs)
-        ref, t, starts, weights, uu = (a if a.flags.writeable else a.copy() for a in (ref, t, starts, weights, uu))
-        kernels.integrate(  # (read-only arrays are copied above: they would compile another kernel)
+        # read-only arrays (e.g. memory-mapped data) would compile another kernel: copy them
+        arrays = (ref, t, starts, weights, uu)
+        ref, t, starts, weights, uu = (a if a.flags.writeable else a.copy() for a in arrays)
+        kernels.integrate(
             ref, t, starts, weights, steps, prog, vals, props, bound, uu, self._scratch, out, errors, rows
         )
         self.work_done += self.work(t, 1 if props.size else steps, int(rows.sum()))

@@ -76,92 +76,112 @@ def integrate(ref, t, starts, weights, substeps, prog, vals, props, bound, u, wo
     weighted by ``weights[k, j]`` and summed into ``errors[b]`` (``inf`` once a segment diverged); else
     the trajectory of the (single) model is written into ``out``, NaN after a divergence. ``rows[b]`` is
     the number of grid intervals simulated (the work done).
-
-    One loop nest without calls: numba adds reference counting at every call that passes arrays, which
-    would cost more than the arithmetic of a small model.
     """
-    parent, var, fcode, fslot, finput, fparam, eq_ptr, slot = prog
     n = ref.shape[1]
-    n_u = u.shape[1]
-    n_z = n + n_u
-    n_mono = parent.shape[0]
-    n_seg = starts.shape[0]
-    store = out.shape[0] > 0
-    acc = work[0:n]
-    x_old = work[n_z : n_z + n]
+    n_z = n + u.shape[1]
     x = work[2 * n_z : 2 * n_z + n]
-    dx = work[3 * n_z : 3 * n_z + n]
-    theta = work[4 * n_z :]
-    theta[0] = 1.0
-    z = theta[1 : 1 + n_z]  # the inputs are the first monomials
-    linear = props.shape[0] > 0
-    m = props.shape[1]
+    store = out.shape[0] > 0
     for b in range(vals.shape[0]):
         total = 0.0
         done = 0
-        for k in range(n_seg):
+        for k in range(starts.shape[0]):
             s0 = starts[k]
-            s1 = starts[k + 1] if k + 1 < n_seg else t.shape[0] - 1
+            s1 = starts[k + 1] if k + 1 < starts.shape[0] else t.shape[0] - 1
             for i in range(n):
                 x[i] = ref[s0, i]
                 if store:
                     out[s0, i] = x[i]
             for s in range(s0 + 1, s1 + 1):
-                if linear:  # RK4's map over the interval
-                    for i in range(n):
-                        x_old[i] = x[i]
-                    for i in range(n):
-                        d = props[b, i, n] if m > n else 0.0
-                        for q in range(n):
-                            d += props[b, i, q] * x_old[q]
-                        x[i] = d
+                if props.shape[0] > 0:
+                    _propagate(x, props[b], work)
                 else:
-                    h = (t[s] - t[s - 1]) / substeps
-                    for j in range(substeps):
-                        for i in range(n):
-                            x_old[i] = x[i]
-                            z[i] = x[i]
-                            acc[i] = 0.0
-                        for stage in range(4):
-                            if n_u > 0:
-                                frac = (j + (0.0 if stage == 0 else (1.0 if stage == 3 else 0.5))) / substeps
-                                for q in range(n_u):
-                                    a = u[s - 1, q]
-                                    z[n + q] = a + frac * (u[s, q] - a)
-                            # term values: monomials by the product tree, then the other terms
-                            for q in range(1 + n_z, n_mono):
-                                theta[q] = theta[parent[q]] * z[var[q]]
-                            for f in range(fcode.shape[0]):
-                                theta[n_mono + f] = theta[fslot[f]] * _factor(fcode[f], z[finput[f]], fparam[f])
-                            step = h if stage == 2 else 0.5 * h
-                            weight = 1.0 if (stage == 0 or stage == 3) else 2.0
-                            for i in range(n):
-                                d = 0.0
-                                for p in range(eq_ptr[i], eq_ptr[i + 1]):
-                                    d += vals[b, p] * theta[slot[p]]
-                                dx[i] = d
-                            for i in range(n):  # after every equation: z is part of theta
-                                acc[i] += weight * dx[i]
-                                z[i] = x_old[i] + step * dx[i]
-                        for i in range(n):
-                            x[i] = x_old[i] + h / 6.0 * acc[i]
+                    _rk4_interval(x, t, s, substeps, prog, vals[b], u, work)
                 done += 1
-                for i in range(n):
-                    if not (abs(x[i]) <= bound[i]):  # also true for NaN
-                        total = np.inf
-                        break
-                    if store:
-                        out[s, i] = x[i]
-                    else:
-                        total += weights[k, i] * abs(x[i] - ref[s, i])
+                total = _compare(x, s, k, ref, weights, bound, out, total)
                 if total == np.inf:
-                    if store:
-                        out[s:, :] = np.nan
                     break
             if total == np.inf:
                 break
         errors[b] = total
         rows[b] = done
+
+
+# The helpers of ``integrate`` run without numba's reference counting (``_nrt=False``): with it, every call
+# passing arrays would cost more than the arithmetic of a small model.
+
+
+@jit(_nrt=False)
+def _rk4_interval(x, t, s, substeps, prog, vals, u, work):
+    """Integrate ``x`` in place from ``t[s-1]`` to ``t[s]`` with ``substeps`` RK4 steps."""
+    parent, var, fcode, fslot, finput, fparam, eq_ptr, slot = prog
+    n = x.shape[0]
+    n_z = n + u.shape[1]
+    n_mono = parent.shape[0]
+    acc = work[0:n]
+    x_old = work[n_z : n_z + n]
+    dx = work[3 * n_z : 3 * n_z + n]
+    theta = work[4 * n_z :]
+    theta[0] = 1.0
+    z = theta[1 : 1 + n_z]  # the inputs are the first monomials
+    h = (t[s] - t[s - 1]) / substeps
+    for j in range(substeps):
+        for i in range(n):
+            x_old[i] = x[i]
+            z[i] = x[i]
+            acc[i] = 0.0
+        for stage in range(4):
+            if n_z > n:
+                frac = (j + (0.0 if stage == 0 else (1.0 if stage == 3 else 0.5))) / substeps
+                for q in range(n_z - n):
+                    z[n + q] = u[s - 1, q] + frac * (u[s, q] - u[s - 1, q])
+            for q in range(1 + n_z, n_mono):  # monomials by the product tree, then the other terms
+                theta[q] = theta[parent[q]] * z[var[q]]
+            for f in range(fcode.shape[0]):
+                theta[n_mono + f] = theta[fslot[f]] * _factor(fcode[f], z[finput[f]], fparam[f])
+            for i in range(n):
+                d = 0.0
+                for p in range(eq_ptr[i], eq_ptr[i + 1]):
+                    d += vals[p] * theta[slot[p]]
+                dx[i] = d
+            step = h if stage == 2 else 0.5 * h
+            weight = 1.0 if (stage == 0 or stage == 3) else 2.0
+            for i in range(n):  # after every equation: z is part of theta
+                acc[i] += weight * dx[i]
+                z[i] = x_old[i] + step * dx[i]
+        for i in range(n):
+            x[i] = x_old[i] + h / 6.0 * acc[i]
+
+
+@jit(_nrt=False)
+def _propagate(x, prop, work):
+    """``x <- M x`` with RK4's map ``M`` over an interval (an extra column: the constant term)."""
+    n = x.shape[0]
+    x_old = work[0:n]
+    for i in range(n):
+        x_old[i] = x[i]
+    for i in range(n):
+        d = prop[i, n] if prop.shape[1] > n else 0.0
+        for q in range(n):
+            d += prop[i, q] * x_old[q]
+        x[i] = d
+
+
+@jit(_nrt=False)
+def _compare(x, s, k, ref, weights, bound, out, total):
+    """Sample ``s``: store it (``out`` not empty) or add its weighted error; ``inf`` once diverged."""
+    n = x.shape[0]
+    for i in range(n):
+        if not (abs(x[i]) <= bound[i]):  # also true for NaN
+            if out.shape[0] > 0:
+                for r in range(s, out.shape[0]):
+                    for j in range(n):
+                        out[r, j] = np.nan
+            return np.inf
+        if out.shape[0] > 0:
+            out[s, i] = x[i]
+        else:
+            total += weights[k, i] * abs(x[i] - ref[s, i])
+    return total
 
 
 @jit
