@@ -8,10 +8,10 @@ from sklearn.base import clone
 from sindy_impulse.datasets import add_noise, damped_oscillator
 from sindy_impulse.differentiation import TVRegDiff
 from sindy_impulse.differentiation._banded import (
-    SplineBasis,
     _trace_inverse_py,
     apply_difference,
     apply_difference_transpose,
+    consistency_error,
     difference_stencil,
     lambda_max,
     normal_band,
@@ -19,6 +19,7 @@ from sindy_impulse.differentiation._banded import (
     trace_inverse,
     tv_smooth,
 )
+from sindy_impulse.differentiation._spline import SplineBasis
 
 T = np.arange(401) * 0.01
 X = np.exp(-1.6 * T) * np.cos(7.8 * T)
@@ -85,6 +86,17 @@ def test_spline_basis_reproduces_cubics_and_their_slopes():
                      basis.gram, max_iter=1)
     np.testing.assert_allclose(basis.values(c), poly, atol=1e-6)
     np.testing.assert_allclose(basis.slopes(c), 0.003 * tau**2 - 0.1 * tau + 1, atol=1e-6)
+
+
+def test_spline_basis_scores_in_one_pass_match_the_arrays():
+    rng = np.random.default_rng(3)
+    tau = np.sort(rng.uniform(0, 80, 500))
+    basis = SplineBasis(tau, 40)
+    c, g = rng.standard_normal(basis.n_coef), rng.standard_normal(tau.size)
+    values, slopes = basis.evaluate(c)
+    rss, consistency = basis.fit_scores(c, g, trim=5)
+    assert rss == pytest.approx(np.sum((g - values) ** 2), rel=1e-12)
+    assert consistency == pytest.approx(consistency_error(g, slopes, tau, 5), rel=1e-10)
 
 
 @pytest.mark.parametrize("uniform", [True, False])

@@ -8,7 +8,7 @@ coefficients per row, and the normal matrix ``G + lam D^T W D`` in the lower ban
 
 The smoothed signal is ``y = B c``: ``B`` is the identity (``c`` are the smoothed samples, ``G = I``) or,
 for long records, a uniform cubic B-spline basis with fewer coefficients than samples (P-splines, Eilers &
-Marx 1996; ``G = B^T B`` banded). The penalty acts on differences of ``c``.
+Marx 1996; ``G = B^T B`` banded; :mod:`._spline`). The penalty acts on differences of ``c``.
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ __all__ = [
     "tv_smooth",
     "trace_inverse",
     "IdentityBasis",
-    "SplineBasis",
+    "consistency_error",
     "penalty_weight",
     "polynomial_residual",
 ]
@@ -124,58 +124,27 @@ class IdentityBasis:
         """d y / d tau at the samples: centred differences (second order, no lag)."""
         return np.gradient(c, self.tau)
 
+    def evaluate(self, c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The smoothed samples and their derivative per unit of ``tau``."""
+        return c, self.slopes(c)
+
+    def fit_scores(self, c: np.ndarray, g: np.ndarray, trim: int) -> tuple[float, float]:
+        """Residual sum of squares against ``g`` and the paper's consistency error."""
+        return float(np.sum((g - c) ** 2)), consistency_error(g, self.slopes(c), self.tau, trim)
+
     def start(self, f: np.ndarray) -> np.ndarray:
         return f.copy()
 
 
-class SplineBasis:
-    """Uniform cubic B-splines with ``n_intervals`` knot intervals spanning ``tau`` (P-splines).
-
-    ``y(tau) = sum_k c_k B_k(tau)``; each sample touches 4 coefficients, so ``G = B^T B`` has 3
-    off-diagonals and ``B^T f`` is 4 weighted bincounts: O(N). The derivative is the exact derivative of
-    the spline, so ``y`` is exactly the time integral of the derivative.
-    """
-
-    def __init__(self, tau: np.ndarray, n_intervals: int):
-        self.tau = tau
-        self.n_coef = n_intervals + 3
-        self.spacing = float(tau[-1] - tau[0]) / n_intervals
-        pos = (tau - tau[0]) / self.spacing
-        self.start_index = np.clip(np.floor(pos).astype(int), 0, n_intervals - 1)
-        u = pos - self.start_index
-        self.w = np.column_stack(
-            [(1 - u) ** 3, 3 * u**3 - 6 * u**2 + 4, -3 * u**3 + 3 * u**2 + 3 * u + 1, u**3]
-        ) / 6.0
-        self.dw = np.column_stack(
-            [-((1 - u) ** 2), 3 * u**2 - 4 * u, -3 * u**2 + 2 * u + 1, u**2]
-        ) / (2.0 * self.spacing)
-        gram = np.zeros((4, self.n_coef))
-        for s in range(4):
-            for a in range(4 - s):
-                gram[s] += np.bincount(
-                    self.start_index + a, self.w[:, a] * self.w[:, a + s], minlength=self.n_coef
-                )
-        # a tiny ridge keeps G + lam P positive definite where knot intervals hold no sample
-        gram[0] += 1e-10 * max(float(np.max(gram[0])), 1.0)
-        self.gram = gram
-
-    def rhs(self, f: np.ndarray) -> np.ndarray:
-        out = np.zeros(self.n_coef)
-        for a in range(4):
-            out += np.bincount(self.start_index + a, self.w[:, a] * f, minlength=self.n_coef)
-        return out
-
-    def values(self, c: np.ndarray) -> np.ndarray:
-        j = self.start_index
-        return sum(self.w[:, a] * c[j + a] for a in range(4))
-
-    def slopes(self, c: np.ndarray) -> np.ndarray:
-        j = self.start_index
-        return sum(self.dw[:, a] * c[j + a] for a in range(4))
-
-    def start(self, f: np.ndarray) -> np.ndarray:
-        centres = self.tau[0] + (np.arange(self.n_coef) - 1) * self.spacing
-        return np.interp(centres, self.tau, f)
+def consistency_error(g: np.ndarray, slopes: np.ndarray, tau: np.ndarray, trim: int) -> float:
+    """Paper's criterion: RMS(input - time-integrated derivative) on the kept samples, offset free."""
+    n = g.shape[0]
+    lo, hi = trim, n - trim
+    u = slopes[lo:hi]
+    integral = np.concatenate(([0.0], np.cumsum(0.5 * (u[1:] + u[:-1]) * np.diff(tau[lo:hi]))))
+    diff = g[lo:hi] - integral
+    diff -= np.mean(diff)  # free integration constant (least squares)
+    return float(np.sqrt(np.mean(diff**2)))
 
 
 def lambda_max(grad: np.ndarray, coef: np.ndarray, h: np.ndarray) -> float:

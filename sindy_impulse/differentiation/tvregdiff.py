@@ -32,8 +32,9 @@ from sklearn.utils.validation import check_is_fitted
 
 from .._params import Interval, Options, Satisfies, validate_params
 from .._validation import check_array, check_signal, check_time
-from ._banded import IdentityBasis, SplineBasis, difference_stencil
+from ._banded import IdentityBasis, difference_stencil
 from ._selection import AlphaProblem, empty_curve, select_alpha
+from ._spline import SplineBasis
 
 __all__ = ["TVRegDiff"]
 
@@ -328,8 +329,9 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
                 lam = alphas[j] / to_alpha
                 c, its = problem.smooth(lam)
                 curve = empty_curve()
-            smoothed[:, j] = center + scale * basis.values(c)
-            x_dot[:, j] = scale * basis.slopes(c) / dt_mean
+            values, slopes = basis.evaluate(c)
+            smoothed[:, j] = center + scale * values
+            x_dot[:, j] = scale * slopes / dt_mean
             alpha_used[j] = lam * to_alpha
             n_iter[j] = its
             curves.append(curve)

@@ -36,7 +36,7 @@ import math
 
 import numpy as np
 
-from ._jit import jit
+from .._jit import jit
 
 __all__ = [
     "integrate",
