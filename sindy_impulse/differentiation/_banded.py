@@ -180,7 +180,8 @@ def polynomial_residual(f: np.ndarray, tau: np.ndarray, degree: int) -> np.ndarr
     """``f`` minus its least-squares polynomial fit of ``degree`` in ``tau`` (Legendre basis)."""
     x = (tau - tau[0]) / max(float(tau[-1] - tau[0]), 1e-300) * 2.0 - 1.0
     vander = np.polynomial.legendre.legvander(x, degree)
-    return f - vander @ np.linalg.lstsq(vander, f, rcond=None)[0]
+    # Legendre polynomials on [-1, 1] are close to orthogonal: the normal equations are well conditioned
+    return f - vander @ np.linalg.solve(vander.T @ vander, vander.T @ f)
 
 
 def tv_smooth(

@@ -54,7 +54,7 @@ def select_alpha(problem: AlphaProblem, to_alpha: float, scale: float, use_gcv: 
     order = sorted(records, reverse=True)  # increasing alpha
     table = np.array([records[r][:4] for r in order], dtype=float).reshape(-1, 4)
     curve = {
-        "alpha": lam_max * 10.0 ** -np.array(order, dtype=float) * to_alpha,
+        "alpha": np.array([lam_max * 10**-r for r in order]) * to_alpha,  # as alpha_ is computed
         "error": table[:, key] * (1.0 if use_gcv else scale),
         "gcv": table[:, 0],
         "consistency": table[:, 1] * scale,

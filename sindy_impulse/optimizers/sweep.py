@@ -14,6 +14,7 @@ from numbers import Integral, Real
 
 import numpy as np
 from pysindy.optimizers import BaseOptimizer
+from scipy.linalg import solve_triangular
 from sklearn.utils.validation import check_is_fitted
 
 from .._params import Interval, validate_params
@@ -67,19 +68,43 @@ _BLOCK = 1 << 16
 def reduced(X: np.ndarray, Y: np.ndarray):
     """A square problem with the same least squares as ``(X, Y)`` on every subset of columns.
 
-    ``[X Y] = Q R`` (a QR factorization in blocks of rows, so memory stays small): ``||X_S c - y||`` equals
-    ``||R_x,S c - R_y||`` for every column subset ``S``, and column norms are kept. Returns ``(R_x, R_y,
-    rcond)``, ``rcond`` the cut-off ``numpy.linalg.lstsq`` would have used on ``X`` (None when ``X`` is
-    returned unchanged: it has few rows). The cost of the path then does not depend on the record length.
+    ``[X Y] = Q R``: ``||X_S c - y||`` equals ``||R_x,S c - R_y||`` for every column subset ``S``, and
+    column norms are kept. Returns ``(R_x, R_y, rcond)``, ``rcond`` the cut-off ``numpy.linalg.lstsq``
+    would have used on ``X`` (None when ``X`` is returned unchanged: it has few rows). The cost of the
+    path then does not depend on the record length.
     """
     n, p = X.shape
     if n <= 4 * (p + Y.shape[1]):
         return X, Y, None
-    R = np.zeros((0, p + Y.shape[1]))
-    for start in range(0, n, _BLOCK):
+    R = _triangular_factor(X, Y)
+    return R[:, :p], R[:, p:], np.finfo(float).eps * n
+
+
+def _triangular_factor(X, Y) -> np.ndarray:
+    """``R`` of ``[X Y] = Q R`` without forming ``[X Y]`` or ``Q`` (memory: a block of rows).
+
+    Cholesky QR twice on unit-norm columns (two passes of matrix products, accurate while the columns are
+    not nearly dependent); Householder QR block by block when they are.
+    """
+    norms = np.sqrt(np.concatenate([np.einsum("ij,ij->j", X, X), np.einsum("ij,ij->j", Y, Y)]))
+    norms = np.where(norms > 0, norms, 1.0)
+    gram = np.block([[X.T @ X, X.T @ Y], [Y.T @ X, Y.T @ Y]]) / np.outer(norms, norms)
+    try:
+        r1 = np.linalg.cholesky(gram).T
+        if np.linalg.cond(r1) < 1e6:
+            gram2 = np.zeros_like(gram)
+            inverse = solve_triangular(r1, np.eye(r1.shape[0])) / norms[:, None]
+            for start in range(0, X.shape[0], _BLOCK):
+                q = np.hstack([X[start : start + _BLOCK], Y[start : start + _BLOCK]]) @ inverse
+                gram2 += q.T @ q
+            return (np.linalg.cholesky(gram2).T @ r1) * norms
+    except np.linalg.LinAlgError:
+        pass
+    R = np.zeros((0, gram.shape[0]))
+    for start in range(0, X.shape[0], _BLOCK):
         block = np.hstack([X[start : start + _BLOCK], Y[start : start + _BLOCK]])
         R = np.linalg.qr(np.vstack([R, block]), mode="r")
-    return R[:, :p], R[:, p:], np.finfo(float).eps * n
+    return R
 
 
 def _path(X, Y, max_iter: int, rcond=None):

@@ -64,7 +64,7 @@ class _SparseModel:
         ref = (
             np.zeros((1, self.n_states)) if reference is None else np.atleast_2d(np.asarray(reference, float))
         )
-        scale = np.max(np.abs(ref), axis=0)
+        scale = np.maximum(ref.max(axis=0), -ref.min(axis=0))  # max |ref| without a temporary array
         self.bound = divergence_factor * np.where(scale > 0, scale, 1.0)
         idx = np.unique(np.linspace(0, ref.shape[0] - 1, min(64, ref.shape[0])).astype(int))
         probe = ref[idx]
