@@ -26,7 +26,7 @@ from .feature_library.terms import library_terms
 from .optimizers import ThresholdSweep, candidate_path, fresh_copy
 from .refinement import refine
 from .selection import SELECTION_RULES, select_candidate
-from .simulation import ERROR_MEASURES, ErrorMeasure, WorkBudget, compile_model, get_error_measure
+from .simulation import ERROR_MEASURES, ErrorMeasure, Reference, WorkBudget, compile_model, get_error_measure
 from .simulation import simulation_gamma as _gamma
 
 __all__ = ["ImpulseSINDy", "SweepPath"]
@@ -247,7 +247,7 @@ class ImpulseSINDy(FittedModelMixin, ps.SINDy):
         thresholds, candidates = candidate_path(self.optimizer_, theta, y, self.sweep)
         terms = library_terms(self.feature_library_, data.n_states + data.n_inputs)
         reference_u = None if data.u is None else np.vstack(data.u)
-        reference = filtered[0] if len(filtered) == 1 else np.vstack(filtered)
+        reference = Reference(np.vstack(filtered), reference_u, data.n_inputs)  # once for every model
 
         def compile_(coef):
             return compile_model(coef, terms, reference, self.divergence_factor, reference_u, data.n_inputs)

@@ -12,7 +12,7 @@ run it, the error measures score it, and the work budget bounds it.
 """
 
 from .budget import WORK_BUDGET, OutOfBudget, WorkBudget
-from .compile import STEP_SCALE, CompiledModel, FallbackModel, compile_model
+from .compile import STEP_SCALE, CompiledModel, FallbackModel, Reference, compile_model
 from .integrators import MAX_SUBSTEPS
 from .scoring import (
     AUTO_PERIODS,
@@ -38,6 +38,7 @@ __all__ = [
     "Gamma",
     "MAX_SUBSTEPS",
     "OutOfBudget",
+    "Reference",
     "STEP_SCALE",
     "Segmented",
     "TermTable",

@@ -19,7 +19,7 @@ from .integrators import MAX_SUBSTEPS, NO_INPUT, scratch_size, solve_ivp_simulat
 from .program import build_program, pack, propagators
 from .terms import TermTable
 
-__all__ = ["CompiledModel", "FallbackModel", "compile_model", "STEP_SCALE", "FALLBACK_COST"]
+__all__ = ["CompiledModel", "FallbackModel", "Reference", "compile_model", "STEP_SCALE", "FALLBACK_COST"]
 
 #: Target of ``h * rho`` per Runge-Kutta sub-step (``h`` the sub-step, ``rho`` the spectral radius).
 #: 0.02 keeps RK4's global error below 1e-7 relative on the paper's oscillator.
@@ -47,6 +47,44 @@ def _as_inputs(u, n_times: int, n_inputs: int) -> np.ndarray:
     return arr
 
 
+class Reference:
+    """What a model takes from the data it was fitted to, computed once for every model of a fit.
+
+    Parameters
+    ----------
+    states : array (n_samples, n_states)
+        The reference states (e.g. the filtered states of a fit).
+    inputs : array (n_samples, n_inputs), optional
+        The control inputs along them (zeros if the models have inputs and none are given).
+    n_inputs : int, default=0
+        Number of control inputs of the models.
+
+    Attributes
+    ----------
+    scale : ndarray (n_states,)
+        Largest absolute value of each state (1 for a state that is zero throughout).
+    probe : ndarray (<= 64, n_states + n_inputs)
+        Samples along the reference at which the model's fastest time scale is estimated.
+
+    Examples
+    --------
+    >>> Reference([[1.0, 0.0], [0.0, -8.0]]).scale.tolist()
+    [1.0, 8.0]
+    """
+
+    def __init__(self, states, inputs=None, n_inputs: int = 0):
+        ref = np.atleast_2d(np.asarray(states, dtype=float))
+        scale = np.maximum(ref.max(axis=0), -ref.min(axis=0))  # max |ref| without a temporary array
+        self.scale = np.where(scale > 0, scale, 1.0)
+        idx = np.unique(np.linspace(0, ref.shape[0] - 1, min(64, ref.shape[0])).astype(int))
+        probe = ref[idx]
+        if inputs is not None:
+            probe = np.hstack([probe, np.asarray(inputs, dtype=float).reshape(ref.shape[0], -1)[idx]])
+        elif n_inputs:
+            probe = np.hstack([probe, np.zeros((probe.shape[0], n_inputs))])
+        self.probe = np.ascontiguousarray(probe)
+
+
 class _SparseModel:
     """What both model kinds share: coefficients, admissible box, time scale, work accounting."""
 
@@ -61,17 +99,15 @@ class _SparseModel:
         self.full_coefficients = coef
         self.active = np.flatnonzero(np.any(coef != 0, axis=0))
         self.coef = np.ascontiguousarray(coef[:, self.active])
-        ref = (
-            np.zeros((1, self.n_states)) if reference is None else np.atleast_2d(np.asarray(reference, float))
-        )
-        scale = np.maximum(ref.max(axis=0), -ref.min(axis=0))  # max |ref| without a temporary array
-        self.bound = divergence_factor * np.where(scale > 0, scale, 1.0)
-        idx = np.unique(np.linspace(0, ref.shape[0] - 1, min(64, ref.shape[0])).astype(int))
-        probe = ref[idx]
-        if self.n_inputs:
-            ru = np.zeros((ref.shape[0], self.n_inputs)) if reference_u is None else np.asarray(reference_u)
-            probe = np.hstack([probe, np.asarray(ru, float).reshape(ref.shape[0], -1)[idx]])
-        self._probe = np.ascontiguousarray(probe)
+        if not isinstance(reference, Reference):
+            states = np.zeros((1, self.n_states)) if reference is None else reference
+            reference = Reference(states, reference_u, self.n_inputs)
+        if reference.probe.shape[1] != n_inputs_total:
+            raise ValueError(
+                f"the reference has {reference.probe.shape[1]} states and inputs, the model {n_inputs_total}"
+            )
+        self.bound = divergence_factor * reference.scale
+        self._probe = reference.probe
         self.work_done = 0.0
 
     # -- time scale and cost ---------------------------------------------------------------------------
