@@ -16,6 +16,7 @@ from numbers import Integral, Real
 import numpy as np
 import pysindy as ps
 from pysindy.utils import AxesArray
+from threadpoolctl import threadpool_limits
 
 from ._fitted import FittedModelMixin
 from ._params import HasMethods, Interval, Satisfies, validate_params
@@ -237,6 +238,10 @@ class ImpulseSINDy(FittedModelMixin, ps.SINDy):
         -------
         self
         """
+        with threadpool_limits(limits=1):  # small matrices: one BLAS thread is faster, and reproducible
+            return self._fit(x, t, x_dot, u, feature_names)
+
+    def _fit(self, x, t, x_dot, u, feature_names):
         validate_params(self)
         _refuse_pde(x, self.feature_library)
         data = as_trajectories(x, t, u, default_dt=1.0 if self.dt is None else self.dt, min_samples=3)
@@ -275,7 +280,7 @@ class ImpulseSINDy(FittedModelMixin, ps.SINDy):
                 "candidates were not simulated or the refinement stopped early; the model may be less "
                 "accurate (see sindy_impulse.simulation.WORK_BUDGET)",
                 WorkBudgetWarning,
-                stacklevel=2,
+                stacklevel=3,
             )
         return self._keep(candidates, thresholds, index, coef, compile_, measure, history, scores, score)
 
@@ -318,7 +323,7 @@ class ImpulseSINDy(FittedModelMixin, ps.SINDy):
             warnings.warn(  # plain PySINDy solves it (minimum norm): warn, do not refuse
                 message + " for a determined regression; use a longer record or a smaller library",
                 DataWarning,
-                stacklevel=3,
+                stacklevel=4,
             )
         return theta, y
 
@@ -407,7 +412,7 @@ def _usable(scores, n_terms) -> np.ndarray:
         "every non-trivial candidate model diverged when simulated; the fitted model is x' = 0 (no "
         "deterministic dynamics found in the data)",
         NoDynamicsWarning,
-        stacklevel=3,
+        stacklevel=4,
     )
     return np.isfinite(scores)
 
