@@ -16,7 +16,7 @@ import numpy as np
 
 from . import integrators as kernels
 from .integrators import MAX_SUBSTEPS, NO_INPUT, scratch_size, solve_ivp_simulate
-from .program import build_program, pack, propagators
+from .program import build_program, pack, propagators, term_values, uniform_step
 from .terms import TermTable
 
 __all__ = ["CompiledModel", "FallbackModel", "Reference", "compile_model", "STEP_SCALE", "FALLBACK_COST"]
@@ -108,6 +108,7 @@ class _SparseModel:
             )
         self.bound = divergence_factor * reference.scale
         self._probe = reference.probe
+        self._last_grid = None
         self.work_done = 0.0
 
     # -- time scale and cost ---------------------------------------------------------------------------
@@ -140,10 +141,17 @@ class _SparseModel:
     def spectral_radius(self, value: float) -> None:
         self._radius = float(value)
 
+    def _grid(self, t) -> tuple[float, float | None]:
+        """Largest step of the grid ``t`` and its step if uniform (kept for the last grid seen)."""
+        if self._last_grid is None or self._last_grid[0] is not t:
+            dt_max = float(np.max(np.diff(t))) if len(t) > 1 else 0.0
+            self._last_grid = (t, (dt_max, uniform_step(t)))  # holds t: its id cannot be reused
+        return self._last_grid[1]
+
     def required_substeps(self, t, radius: float | None = None) -> float:
         """RK4 sub-steps per sample interval for ``h * rho <= STEP_SCALE`` (inf if not finite)."""
         rho = self.spectral_radius if radius is None else radius
-        dt_max = float(np.max(np.diff(t))) if len(t) > 1 else 0.0
+        dt_max = self._grid(t)[0]
         return math.inf if not np.isfinite(rho) else max(1.0, math.ceil(dt_max * rho / STEP_SCALE))
 
     def substeps(self, t, radius: float | None = None) -> int:
@@ -257,7 +265,7 @@ class CompiledModel(_SparseModel):
 
     def __getstate__(self):
         state = self.__dict__.copy()
-        for name in ("program", "_scratch", "_own"):  # rebuilt on unpickling (writable, not memory-mapped)
+        for name in ("program", "_scratch", "_own", "_last_grid"):  # rebuilt on unpickling (writable)
             state.pop(name, None)
         return state
 
@@ -265,7 +273,7 @@ class CompiledModel(_SparseModel):
         self.__dict__.update(state)
         self.program = build_program(self.terms, self.n_states)
         self._scratch = np.empty(scratch_size(self.terms.n_inputs, self.program.n_values))
-        self._own = None
+        self._own = self._last_grid = None
 
     @property
     def is_linear(self) -> bool:
@@ -273,29 +281,25 @@ class CompiledModel(_SparseModel):
         return self.program.linear_state is not None
 
     def _rhs_z(self, Z, coef) -> np.ndarray:
-        Z = np.ascontiguousarray(Z, dtype=float)
-        prog, vals = pack(self.program, np.asarray(coef, dtype=float)[None])
-        out = np.empty((Z.shape[0], self.n_states))
-        kernels.rhs_points(Z, prog, vals[0], out, self._scratch)
-        return out
+        Z = np.asarray(Z, dtype=float)
+        return term_values(self.program, Z) @ np.asarray(coef, dtype=float).T
 
-    def _packed(self, c, t, steps):
+    def _packed(self, c, dt, steps):
         """The kernel program, coefficient rows and propagators of a batch (the model's own: cached)."""
         own = c is None
-        key = (steps, float(t[1] - t[0]) if len(t) > 1 else 0.0, len(t))
-        if own and self._own is not None and self._own[0] == key:
+        if own and self._own is not None and self._own[0] == (dt, steps):
             return self._own[1]
         batch = self.coef[None] if own else c
         prog, vals = pack(self.program, batch)
-        packed = (prog, vals, propagators(self.program, batch, t, steps))
+        packed = (prog, vals, propagators(self.program, batch, dt, steps))
         if own:
-            self._own = (key, packed)
+            self._own = ((dt, steps), packed)
         return packed
 
     def _integrate(self, ref, t, starts, weights, c, u, substeps, out):
         """Run the kernel (see :func:`integrators.integrate`); returns ``(errors, rows)``."""
         steps = self.substeps(t) if substeps is None else int(substeps)
-        prog, vals, props = self._packed(c, t, steps)
+        prog, vals, props = self._packed(c, self._grid(t)[1], steps)
         bound = np.maximum(self.bound, 10 * np.max(np.abs(ref[starts]), axis=0))
         errors = np.empty(vals.shape[0])
         rows = np.empty(vals.shape[0], dtype=np.int64)

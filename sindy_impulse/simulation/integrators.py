@@ -1,11 +1,15 @@
-"""Integrators of a compiled model: fixed-step RK4 kernels (the hot path) and an adaptive fallback.
+"""Integrators of a compiled model: the fixed-step RK4 kernel (the hot path) and an adaptive fallback.
 
-The numba kernels integrate ``x' = coef @ Theta([x, u(t)])`` on a time grid with ``substeps`` equal
+:func:`integrate` integrates ``x' = coef @ Theta([x, u(t)])`` on a time grid with ``substeps`` equal
 classical Runge-Kutta steps per grid interval; control inputs ``u`` given on the same grid are interpolated
 linearly inside each interval. A trajectory that leaves the admissible box (``bound`` per state) or becomes
-non-finite is stopped at once, so every simulation takes bounded time.
+non-finite is stopped at once, so every simulation takes bounded time. It either stores the trajectory
+(``simulate``) or, the fused path every built-in error measure uses, restarts the simulation from the
+reference state at each segment start (one segment: the paper's simulation from the first sample;
+several: multiple shooting) and accumulates ``sum weights[segment, state] * |x_sim - x_ref|`` without
+storing the trajectory, for a batch of coefficient rows in one call.
 
-A model reaches the kernels as a *program* (built by :mod:`.compile`): its monomials as a product tree
+A model reaches the kernel as a *program* (:mod:`.program`): its monomials as a product tree
 (``theta[q] = theta[parent[q]] * z[var[q]]``, ``theta[0] = 1``), so a term costs one multiplication
 whatever its degree; its non-polynomial factors (``x|x|``, ``tanh``, ``|x|``, ``sin``, ``cos``) appended
 after the monomials; and its non-zero coefficients per equation in compressed rows (``eq_ptr``,
@@ -13,20 +17,15 @@ after the monomials; and its non-zero coefficients per equation in compressed ro
 
 A linear model without inputs (every term ``x_j`` or the constant) integrated by RK4 is a linear map per
 grid interval: ``x_s = M x_{s-1}`` with ``M = P(hA)^substeps`` and ``P`` RK4's stability polynomial.
-:mod:`.compile` then passes ``M`` (the *propagator*) and the kernels apply it instead of the stages: the
-same RK4 solution (to rounding) at a fraction of the cost.
+The kernel then applies ``M`` (the *propagator*) instead of the stages: the same RK4 solution (to
+rounding) at a fraction of the cost.
 
-``weighted_l1`` is the fused kernel every built-in error measure uses: it restarts the simulation from the
-reference state at each segment start (one segment: the paper's simulation from the first sample; several:
-multiple shooting) and accumulates ``sum weights[segment, state] * |x_sim - x_ref|`` without storing the
-trajectory, for a batch of coefficient rows in one call.
+The kernel allocates nothing (the caller passes scratch space), which keeps its compilation short, and is
+cached on disk by numba (:mod:`sindy_impulse._warmup` builds the cache in the background on a machine's
+first import).
 
-The kernels allocate nothing (the caller passes scratch space), which keeps their compilation short, and
-are cached on disk by numba (:mod:`sindy_impulse._warmup` builds the cache in the background on a
-machine's first import).
-
-``solve_ivp_simulate`` is the adaptive path: SciPy's ``solve_ivp`` on the compiled right-hand side, used for
-stiff models (more RK4 sub-steps than :data:`MAX_SUBSTEPS` would be needed) and when a caller asks for
+``solve_ivp_simulate`` is the adaptive path: SciPy's ``solve_ivp`` on the right-hand side, used for stiff
+models (more RK4 sub-steps than :data:`MAX_SUBSTEPS` would be needed) and when a caller asks for
 PySINDy's integrator options.
 """
 
@@ -40,7 +39,6 @@ from .._jit import jit
 
 __all__ = [
     "integrate",
-    "rhs_points",
     "solve_ivp_simulate",
     "scratch_size",
     "MAX_SUBSTEPS",
@@ -196,33 +194,6 @@ def _factor(code, zv, param):
     if code == 4:
         return math.sin(param * zv)
     return math.cos(param * zv)
-
-
-@jit(_nrt=False)
-def _values(z, parent, var, fcode, fslot, finput, fparam, theta):
-    """Term values at ``z``: the inputs, monomials by the product tree, then the non-polynomial terms."""
-    n_mono = parent.shape[0]
-    for q in range(z.shape[0]):
-        theta[1 + q] = z[q]
-    for q in range(1 + z.shape[0], n_mono):
-        theta[q] = theta[parent[q]] * z[var[q]]
-    for f in range(fcode.shape[0]):
-        theta[n_mono + f] = theta[fslot[f]] * _factor(fcode[f], z[finput[f]], fparam[f])
-
-
-@jit
-def rhs_points(Z, prog, vals, out, work):
-    """Right-hand side at every row of ``Z`` (n_points, n_states + n_inputs) into ``out``."""
-    parent, var, fcode, fslot, finput, fparam, eq_ptr, slot = prog
-    theta = work[4 * Z.shape[1] :]
-    theta[0] = 1.0
-    for r in range(Z.shape[0]):
-        _values(Z[r], parent, var, fcode, fslot, finput, fparam, theta)
-        for i in range(out.shape[1]):
-            d = 0.0
-            for p in range(eq_ptr[i], eq_ptr[i + 1]):
-                d += vals[p] * theta[slot[p]]
-            out[r, i] = d
 
 
 #: Most right-hand-side evaluations per output sample the adaptive integrator may spend (a stiff solver on a

@@ -3,7 +3,7 @@ for a linear model, its RK4 propagator (see :mod:`.integrators`).
 
 :func:`build_program` runs once per model (it depends on the active terms only); :func:`pack` once per
 batch of coefficient matrices (only their non-zero entries are kept); :func:`propagators` when the model
-is linear and the time grid uniform.
+is linear and the time grid uniform; :func:`term_values` evaluates the terms at many points in numpy.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import numpy as np
 from .integrators import NO_PROPAGATOR
 from .terms import PLAIN, TermTable
 
-__all__ = ["Program", "build_program", "pack", "propagators"]
+__all__ = ["Program", "build_program", "pack", "propagators", "term_values", "uniform_step"]
 
 
 @dataclass(frozen=True)
@@ -104,6 +104,33 @@ def build_program(terms: TermTable, n_states: int) -> Program:
     )
 
 
+_FACTORS = {
+    1: lambda z, p: z * np.abs(z),
+    2: lambda z, p: np.tanh(z / p),
+    3: lambda z, p: np.abs(z),
+    4: lambda z, p: np.sin(p * z),
+    5: lambda z, p: np.cos(p * z),
+}
+
+
+def term_values(program: Program, Z: np.ndarray) -> np.ndarray:
+    """The terms at the points ``Z`` (n_points, n_inputs), by the product tree: (n_points, n_terms).
+
+    Numpy, vectorized over the points (the right-hand side at many points, e.g. ``predict``, and the
+    Jacobian probes need no compiled kernel).
+    """
+    n_mono, n_z = program.parent.shape[0], Z.shape[1]
+    theta = np.empty((Z.shape[0], program.n_values))
+    theta[:, 0] = 1.0
+    theta[:, 1 : 1 + n_z] = Z
+    for q in range(1 + n_z, n_mono):
+        np.multiply(theta[:, program.parent[q]], Z[:, program.var[q]], out=theta[:, q])
+    for f, code in enumerate(program.fcode):
+        g = _FACTORS[int(code)](Z[:, program.finput[f]], program.fparam[f])
+        np.multiply(theta[:, program.fslot[f]], g, out=theta[:, n_mono + f])
+    return theta[:, program.term_slot]
+
+
 def pack(program: Program, coefs: np.ndarray) -> tuple[tuple, np.ndarray]:
     """The kernel program and the coefficient values of a batch ``coefs`` (n_models, n_states, n_terms).
 
@@ -134,15 +161,14 @@ def uniform_step(t: np.ndarray) -> float | None:
     return float(mean) if mean > 0 and np.max(np.abs(steps - mean)) <= 1e-9 * mean else None
 
 
-def propagators(program: Program, coefs: np.ndarray, t: np.ndarray, substeps: int) -> np.ndarray:
-    """RK4's map over one interval of the uniform grid ``t``, per model of the batch ``coefs``.
+def propagators(program: Program, coefs: np.ndarray, dt: float | None, substeps: int) -> np.ndarray:
+    """RK4's map over one interval of a uniform grid of step ``dt``, per model of the batch ``coefs``.
 
     ``M = P(h A)^substeps`` with ``P(z) = 1 + z + z^2/2 + z^3/6 + z^4/24`` (an extra row and column carry
     a constant term). :data:`~.integrators.NO_PROPAGATOR` when the model is not linear or the grid not
-    uniform.
+    uniform (``dt`` None).
     """
-    dt = uniform_step(t) if program.linear_state is not None else None
-    if dt is None:
+    if dt is None or program.linear_state is None:
         return NO_PROPAGATOR
     n_models, n = coefs.shape[0], coefs.shape[1]
     constant = program.linear_state < 0
