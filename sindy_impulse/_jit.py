@@ -1,15 +1,22 @@
-"""The one numba decorator of the package's kernels: compiled once, cached on disk when possible.
+"""The one numba decorator of the package's kernels: compiled once per machine, cached on disk.
 
 Numba caches a compiled kernel next to its source (``__pycache__``) or, where the installed package is
 not writable (a system or read-only site-packages), in the user's cache directory (``NUMBA_CACHE_DIR`` if
 set). Where neither can be written the kernels are compiled in every process (correct, slower to start).
+
+:func:`kernel` marks the entry points called from Python: their first call waits for a background build
+of the cache that is under way (see :mod:`sindy_impulse._warmup`) instead of compiling the same code twice.
 """
 
 from __future__ import annotations
 
+import functools
+
 import numba
 
-__all__ = ["jit"]
+from . import _warmup
+
+__all__ = ["jit", "kernel"]
 
 _OPTIONS = {"error_model": "numpy", "nogil": True}
 
@@ -22,3 +29,20 @@ def jit(function=None, **options):
         return numba.njit(cache=True, **_OPTIONS, **options)(function)
     except RuntimeError:  # numba found no writable cache location for this source file
         return numba.njit(**_OPTIONS, **options)(function)
+
+
+def kernel(function):
+    """:func:`jit` for an entry point called from Python (``.dispatcher`` is the numba dispatcher)."""
+    dispatcher = jit(function)
+    name = f"{function.__module__}.{function.__qualname__}"
+    ready = []
+
+    @functools.wraps(function)
+    def call(*args):
+        if not ready:
+            _warmup.wait(name)
+            ready.append(True)
+        return dispatcher(*args)
+
+    call.dispatcher = dispatcher
+    return call

@@ -19,6 +19,8 @@ import numpy as np
 from scipy.linalg import solveh_banded
 from scipy.linalg.lapack import dpbsv
 
+from .._jit import kernel
+
 __all__ = [
     "difference_stencil",
     "apply_difference",
@@ -287,22 +289,14 @@ def _trace_inverse_py(band: np.ndarray, gram: np.ndarray) -> float:
     return trace
 
 
-_trace_inverse_jit = None
+_trace_inverse_kernel = kernel(_trace_inverse_py)
 
 
 def trace_inverse(band: np.ndarray, gram: np.ndarray | None = None) -> float:
     """``trace((G + lam D^T W D)^-1 G)``: the effective number of parameters of the linearized smoother.
 
-    Compiled with numba on first use (cached on disk); the pure-Python version is the fallback.
+    Compiled with numba (cached on disk; ``_trace_inverse_py`` is the same code in Python).
     """
-    global _trace_inverse_jit
-    if _trace_inverse_jit is None:
-        try:
-            import numba
-
-            _trace_inverse_jit = numba.njit(cache=True)(_trace_inverse_py)
-        except Exception:  # pragma: no cover - numba missing or broken
-            _trace_inverse_jit = _trace_inverse_py
     if gram is None:
         gram = np.ones((1, band.shape[1]))
-    return float(_trace_inverse_jit(np.ascontiguousarray(band), np.ascontiguousarray(gram)))
+    return float(_trace_inverse_kernel(np.ascontiguousarray(band), np.ascontiguousarray(gram)))

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._jit import jit
+from .._jit import jit, kernel
 
 __all__ = ["SplineBasis"]
 
@@ -41,7 +41,7 @@ def _at(c, j, v):
     return y, dy
 
 
-@jit
+@kernel
 def _evaluate(c, start, u, spacing, values, slopes):
     """The spline and its derivative (per unit of ``tau``) at every sample."""
     for i in range(start.shape[0]):
@@ -50,7 +50,7 @@ def _evaluate(c, start, u, spacing, values, slopes):
         slopes[i] = dy / spacing
 
 
-@jit
+@kernel
 def _scores(c, start, u, spacing, g, tau, lo, hi):
     """``(rss, consistency)`` of the spline ``c`` against ``g`` in one pass (``SplineBasis.fit_scores``)."""
     rss = 0.0

@@ -35,7 +35,7 @@ import math
 
 import numpy as np
 
-from .._jit import jit
+from .._jit import jit, kernel
 
 __all__ = [
     "integrate",
@@ -64,7 +64,7 @@ def scratch_size(n_z: int, n_values: int) -> int:
     return 4 * n_z + n_values
 
 
-@jit
+@kernel
 def integrate(ref, t, starts, weights, substeps, prog, vals, props, bound, u, work, out, errors, rows):
     """Simulate a batch of models over the grid ``t``, restarted from ``ref`` at each segment start.
 
