@@ -241,12 +241,16 @@ def _trace_inverse_py(band: np.ndarray, gram: np.ndarray) -> float:
 
     LDL^T factorization followed by the selected-inversion recursion of Hutchinson & de Hoog (1985):
     only the entries of ``A^-1`` inside the band of ``A`` are computed, from the last row upwards; ``G``'s
-    band must not be wider than ``A``'s.
+    band must not be wider than ``A``'s. (Python; :func:`trace_inverse` runs the same code compiled.)
     """
+    return _selected_trace(band, gram, np.zeros(band.shape), np.zeros(band.shape[1]), np.zeros(band.shape))
+
+
+def _selected_trace(band, gram, low, diag, inv) -> float:
+    """:func:`_trace_inverse_py` with its work arrays given (``low[s, j] = L[j + s, j]`` of the unit lower
+    factor, the diagonal ``D``, ``inv[s, i] = (A^-1)[i + s, i]``): the compiled kernel allocates nothing."""
     b = band.shape[0] - 1
     n = band.shape[1]
-    low = np.zeros((b + 1, n))  # low[s, j] = L[j + s, j] (unit lower factor)
-    diag = np.zeros(n)
     for j in range(n):
         acc = band[0, j]
         for k in range(max(0, j - b), j):
@@ -261,7 +265,6 @@ def _trace_inverse_py(band: np.ndarray, gram: np.ndarray) -> float:
             for k in range(max(0, i - b), j):
                 acc -= low[i - k, k] * low[j - k, k] * diag[k]
             low[s, j] = acc / diag[j]
-    inv = np.zeros((b + 1, n))  # inv[s, i] = (A^-1)[i + s, i]
     trace = 0.0
     for i in range(n - 1, -1, -1):
         for s in range(1, b + 1):
@@ -289,7 +292,7 @@ def _trace_inverse_py(band: np.ndarray, gram: np.ndarray) -> float:
     return trace
 
 
-_trace_inverse_kernel = kernel(_trace_inverse_py)
+_trace_inverse_kernel = kernel(_selected_trace)
 
 
 def trace_inverse(band: np.ndarray, gram: np.ndarray | None = None) -> float:
@@ -297,6 +300,7 @@ def trace_inverse(band: np.ndarray, gram: np.ndarray | None = None) -> float:
 
     Compiled with numba (cached on disk; ``_trace_inverse_py`` is the same code in Python).
     """
-    if gram is None:
-        gram = np.ones((1, band.shape[1]))
-    return float(_trace_inverse_kernel(np.ascontiguousarray(band), np.ascontiguousarray(gram)))
+    band = np.ascontiguousarray(band, dtype=float)
+    gram = np.ones((1, band.shape[1])) if gram is None else np.ascontiguousarray(gram, dtype=float)
+    work = np.zeros((3, *band.shape))
+    return float(_trace_inverse_kernel(band, gram, work[0], work[1, 0], work[2]))

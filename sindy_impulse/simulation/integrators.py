@@ -77,6 +77,7 @@ def integrate(ref, t, starts, weights, substeps, prog, vals, props, bound, u, wo
     """
     n = ref.shape[1]
     n_z = n + u.shape[1]
+    x_old = work[n_z : n_z + n]
     x = work[2 * n_z : 2 * n_z + n]
     store = out.shape[0] > 0
     for b in range(vals.shape[0]):
@@ -90,12 +91,27 @@ def integrate(ref, t, starts, weights, substeps, prog, vals, props, bound, u, wo
                 if store:
                     out[s0, i] = x[i]
             for s in range(s0 + 1, s1 + 1):
-                if props.shape[0] > 0:
-                    _propagate(x, props[b], work)
+                if props.shape[0] > 0:  # RK4's map over the interval
+                    for i in range(n):
+                        x_old[i] = x[i]
+                    for i in range(n):
+                        d = props[b, i, n] if props.shape[2] > n else 0.0
+                        for q in range(n):
+                            d += props[b, i, q] * x_old[q]
+                        x[i] = d
                 else:
                     _rk4_interval(x, t, s, substeps, prog, vals[b], u, work)
                 done += 1
-                total = _compare(x, s, k, ref, weights, bound, out, total)
+                for i in range(n):
+                    if not (abs(x[i]) <= bound[i]):  # diverged (also true for NaN)
+                        total = np.inf
+                        if store:
+                            out[s:, :] = np.nan
+                        break
+                    if store:
+                        out[s, i] = x[i]
+                    else:
+                        total += weights[k, i] * abs(x[i] - ref[s, i])
                 if total == np.inf:
                     break
             if total == np.inf:
@@ -104,8 +120,8 @@ def integrate(ref, t, starts, weights, substeps, prog, vals, props, bound, u, wo
         rows[b] = done
 
 
-# The helpers of ``integrate`` run without numba's reference counting (``_nrt=False``): with it, every call
-# passing arrays would cost more than the arithmetic of a small model.
+# The RK4 interval runs without numba's reference counting (``_nrt=False``): with it, every call passing
+# arrays would cost more than the arithmetic of a small model.
 
 
 @jit(_nrt=False)
@@ -148,38 +164,6 @@ def _rk4_interval(x, t, s, substeps, prog, vals, u, work):
                 z[i] = x_old[i] + step * dx[i]
         for i in range(n):
             x[i] = x_old[i] + h / 6.0 * acc[i]
-
-
-@jit(_nrt=False)
-def _propagate(x, prop, work):
-    """``x <- M x`` with RK4's map ``M`` over an interval (an extra column: the constant term)."""
-    n = x.shape[0]
-    x_old = work[0:n]
-    for i in range(n):
-        x_old[i] = x[i]
-    for i in range(n):
-        d = prop[i, n] if prop.shape[1] > n else 0.0
-        for q in range(n):
-            d += prop[i, q] * x_old[q]
-        x[i] = d
-
-
-@jit(_nrt=False)
-def _compare(x, s, k, ref, weights, bound, out, total):
-    """Sample ``s``: store it (``out`` not empty) or add its weighted error; ``inf`` once diverged."""
-    n = x.shape[0]
-    for i in range(n):
-        if not (abs(x[i]) <= bound[i]):  # also true for NaN
-            if out.shape[0] > 0:
-                for r in range(s, out.shape[0]):
-                    for j in range(n):
-                        out[r, j] = np.nan
-            return np.inf
-        if out.shape[0] > 0:
-            out[s, i] = x[i]
-        else:
-            total += weights[k, i] * abs(x[i] - ref[s, i])
-    return total
 
 
 @jit
