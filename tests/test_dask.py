@@ -9,7 +9,8 @@ import joblib  # noqa: E402
 
 from sindy_impulse import SINDyFeatures, damped_oscillator  # noqa: E402
 
-SERIES = [damped_oscillator(k=k, k_nl=k_nl).x for k, k_nl in [(64, 0), (100, 0), (150, 0), (64, 50), (100, 50), (150, 50)]]
+CASES = [(64, 0), (100, 0), (150, 0), (64, 50), (100, 50), (150, 50)]  # (k, k_nl)
+SERIES = [damped_oscillator(k=k, k_nl=k_nl).x for k, k_nl in CASES]
 
 
 @pytest.fixture(scope="module")
