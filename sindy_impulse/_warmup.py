@@ -33,6 +33,7 @@ KERNEL_FILES = (
     "simulation/integrators.py",
     "differentiation/_banded.py",
     "differentiation/_spline.py",
+    "differentiation/_smoother.py",
 )
 #: Longest wait of a kernel's first call for a build under way (then it compiles itself).
 WAIT_SECONDS = 120.0
@@ -136,7 +137,7 @@ def build(marker: Path | None = None) -> None:
     """Compile every kernel (in the order a fit needs them), marking each as it is cached."""
     import numpy as np
 
-    from .differentiation import _banded, _spline
+    from .differentiation import _banded, _smoother, _spline
     from .simulation import CompiledModel, TermTable, integrators
 
     def mark(entry) -> None:
@@ -148,6 +149,9 @@ def build(marker: Path | None = None) -> None:
     band[0], band[1] = 4.0, 1.0
     _banded.trace_inverse(band)
     mark(_banded._trace_inverse_kernel)
+    coef, h = _banded.difference_stencil(None, 12, 4)
+    _banded.tv_smooth(np.linspace(0.0, 1.0, 12) ** 2, coef, h, 1.0, np.ones(12), max_iter=2)
+    mark(_smoother.lagged_diffusivity)
     model = CompiledModel([[0.0, 1.0], [-1.0, -0.1]], TermTable.polynomial([[1, 0], [0, 1]]), [[1.0, 1.0]])
     model.simulate([1.0, 0.0], np.linspace(0.0, 1.0, 5))
     mark(integrators.integrate)

@@ -20,6 +20,7 @@ from scipy.linalg import solveh_banded
 from scipy.linalg.lapack import dpbsv
 
 from .._jit import kernel
+from ._smoother import smooth
 
 __all__ = [
     "difference_stencil",
@@ -208,17 +209,25 @@ def tv_smooth(
 
     Returns the coefficients and the number of iterations used.
     """
-    n = rhs.shape[0]
-    c = c0.copy()
     if lam <= 0 and gram is None:
         return rhs.copy(), 0
+    compiled = smooth(rhs, coef, h, lam, c0, gram, max_iter, tol, eps_rel)  # the same steps, compiled
+    if compiled is not None:
+        return compiled
+    return lapack_smooth(rhs, coef, h, lam, c0, gram, max_iter, tol, eps_rel)  # a pivot was not positive
+
+
+def lapack_smooth(rhs, coef, h, lam, c0, gram, max_iter, tol, eps_rel) -> tuple[np.ndarray, int]:
+    """:func:`tv_smooth`'s iteration in numpy with LAPACK's banded solver (a ridge where it fails)."""
+    n = rhs.shape[0]
+    c = c0.copy()
     scale = max(float(np.sqrt(np.mean(c0**2))), 1e-300)
     it = 0
     for it in range(1, max_iter + 1):  # noqa: B007
         weight = penalty_weight(coef, h, lam, c, eps_rel)
         band = normal_band(coef, weight, n, gram)
         _, c_new, info = dpbsv(band, rhs, lower=1)  # LAPACK banded Cholesky solve, no wrapper overhead
-        if info != 0:  # pragma: no cover - only for pathological weights
+        if info != 0:  # only for pathological weights
             band[0] += 1e-10 * np.max(band[0])
             c_new = solveh_banded(band, rhs, lower=True, check_finite=False)
         change = float(np.sqrt(np.mean((c_new - c) ** 2)))
