@@ -1,0 +1,61 @@
+"""The background build of the compiled kernels at a machine's first import (sindy_impulse._warmup)."""
+
+import pytest
+
+from sindy_impulse import _warmup
+
+
+@pytest.fixture
+def cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
+    monkeypatch.delenv("SINDY_IMPULSE_PRECOMPILE", raising=False)
+    monkeypatch.delenv("SINDY_IMPULSE_WARMUP_CHILD", raising=False)
+    started = []
+    monkeypatch.setattr(_warmup, "_spawn", lambda lock: started.append(lock) or True)
+    return started
+
+
+def test_first_import_starts_one_build(cache):
+    assert _warmup.start() is True
+    assert _warmup.start() is False  # the lock of the build under way
+    assert len(cache) == 1 and cache[0].exists()
+
+
+def test_no_build_once_the_kernels_were_built(cache):
+    done, lock = _warmup._paths()
+    done.parent.mkdir(parents=True)
+    done.touch()
+    assert _warmup.start() is False
+    assert not cache and not lock.exists()
+
+
+def test_no_build_when_turned_off(cache, monkeypatch):
+    monkeypatch.setenv("SINDY_IMPULSE_PRECOMPILE", "0")
+    assert _warmup.start() is False
+    assert not cache
+
+
+def test_a_stale_lock_is_replaced(cache):
+    import os
+
+    done, lock = _warmup._paths()
+    lock.parent.mkdir(parents=True)
+    lock.touch()
+    old = lock.stat().st_mtime - 2 * _warmup.STALE_SECONDS
+    os.utime(lock, (old, old))
+    assert _warmup.start() is True
+
+
+def test_a_kernel_waits_for_its_own_mark_only(cache, monkeypatch):
+    import time
+
+    monkeypatch.setattr(_warmup, "WAIT_SECONDS", 0.3)
+    done, lock = _warmup._paths()
+    lock.parent.mkdir(parents=True)
+    lock.touch()  # a build under way
+    done.with_name(done.stem + ".mine.done").touch()  # ... that has cached kernel "mine"
+    start = time.monotonic()
+    _warmup.wait("mine")
+    assert time.monotonic() - start < 0.2
+    _warmup.wait("other")  # not built yet: waits, at most WAIT_SECONDS
+    assert time.monotonic() - start >= 0.3
