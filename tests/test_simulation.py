@@ -154,3 +154,14 @@ def test_a_reference_object_gives_the_model_of_its_array():
     shared = CompiledModel(coef, TermTable.polynomial(lib.powers_), reference=Reference(x))
     np.testing.assert_array_equal(shared.bound, model.bound)
     assert shared.spectral_radius == model.spectral_radius
+
+
+def test_a_batch_stepped_together_scores_as_one_by_one():
+    t, x, _ = damped_oscillator(k_nl=10.0)
+    model, _, _ = _poly_model({(0, "x1"): 1.0, (1, "x0"): -64, (1, "x1"): -3.2, (1, "x0^3"): -10.0}, x)
+    coefs = model.coef[None] * np.array([1.0, 1.01, 0.99, -1.0])[:, None, None]  # the last one diverges
+    together, rows = model.weighted_l1(x, t, *_gamma_plan(x), coefs=coefs)
+    alone = [model.weighted_l1(x, t, *_gamma_plan(x), coefs=c[None]) for c in coefs]
+    np.testing.assert_array_equal(together, [a[0][0] for a in alone])
+    np.testing.assert_array_equal(rows, [a[1][0] for a in alone])
+    assert together[-1] == np.inf

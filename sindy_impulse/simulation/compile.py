@@ -307,9 +307,13 @@ class CompiledModel(_SparseModel):
         # read-only arrays (e.g. memory-mapped data) would compile another kernel: copy them
         arrays = (ref, t, starts, weights, uu)
         ref, t, starts, weights, uu = (a if a.flags.writeable else a.copy() for a in arrays)
-        kernels.integrate(
-            ref, t, starts, weights, steps, prog, vals, props, bound, uu, self._scratch, out, errors, rows
-        )
+        if vals.shape[0] > 2 and props.size == 0 and out.size == 0:  # models stepped together
+            work = np.empty((self._scratch.shape[0], vals.shape[0]))
+            kernels.integrate_batch(ref, t, starts, weights, steps, prog, vals, bound, uu, work, errors, rows)
+        else:
+            kernels.integrate(
+                ref, t, starts, weights, steps, prog, vals, props, bound, uu, self._scratch, out, errors, rows
+            )
         self.work_done += self.work(t, 1 if props.size else steps, int(rows.sum()))
         return errors, rows
 

@@ -39,6 +39,7 @@ from .._jit import jit, kernel
 
 __all__ = [
     "integrate",
+    "integrate_batch",
     "solve_ivp_simulate",
     "scratch_size",
     "MAX_SUBSTEPS",
@@ -164,6 +165,95 @@ def _rk4_interval(x, t, s, substeps, prog, vals, u, work):
                 z[i] = x_old[i] + step * dx[i]
         for i in range(n):
             x[i] = x_old[i] + h / 6.0 * acc[i]
+
+
+@kernel
+def integrate_batch(ref, t, starts, weights, substeps, prog, vals, bound, u, work, errors, rows):
+    """:func:`integrate`'s weighted error for a batch of models stepped together, stage by stage.
+
+    One model's RK4 stages wait on memory; several models interleaved fill the wait (the gradient of the
+    refinement scores one model per coefficient). The arithmetic of each model is :func:`integrate`'s, in
+    the same order: the same errors and work. ``work`` is (scratch rows, n_models).
+    """
+    n = ref.shape[1]
+    n_z = n + u.shape[1]
+    x = work[2 * n_z : 2 * n_z + n]
+    for b in range(vals.shape[0]):
+        errors[b] = 0.0
+        rows[b] = 0
+    for k in range(starts.shape[0]):
+        s0 = starts[k]
+        s1 = starts[k + 1] if k + 1 < starts.shape[0] else t.shape[0] - 1
+        for i in range(n):
+            for b in range(vals.shape[0]):
+                x[i, b] = ref[s0, i]
+        for s in range(s0 + 1, s1 + 1):
+            _rk4_interval_batch(x, t, s, substeps, prog, vals, u, work)
+            alive = 0
+            for b in range(vals.shape[0]):
+                if errors[b] == np.inf:
+                    continue
+                rows[b] += 1
+                total = errors[b]
+                for i in range(n):
+                    if not (abs(x[i, b]) <= bound[i]):  # diverged (also true for NaN)
+                        total = np.inf
+                        break
+                    total += weights[k, i] * abs(x[i, b] - ref[s, i])
+                errors[b] = total
+                alive += total != np.inf
+            if alive == 0:
+                return
+
+
+@jit(_nrt=False)
+def _rk4_interval_batch(x, t, s, substeps, prog, vals, u, work):
+    """:func:`_rk4_interval` for the columns of ``x`` (n_states, n_models), each with its ``vals`` row."""
+    parent, var, fcode, fslot, finput, fparam, eq_ptr, slot = prog
+    n, n_b = x.shape
+    n_z = n + u.shape[1]
+    n_mono = parent.shape[0]
+    acc = work[0:n]
+    x_old = work[n_z : n_z + n]
+    dx = work[3 * n_z : 3 * n_z + n]
+    theta = work[4 * n_z :]
+    z = theta[1 : 1 + n_z]
+    h = (t[s] - t[s - 1]) / substeps
+    for b in range(n_b):
+        theta[0, b] = 1.0
+    for j in range(substeps):
+        for i in range(n):
+            for b in range(n_b):
+                x_old[i, b] = x[i, b]
+                z[i, b] = x[i, b]
+                acc[i, b] = 0.0
+        for stage in range(4):
+            if n_z > n:
+                frac = (j + (0.0 if stage == 0 else (1.0 if stage == 3 else 0.5))) / substeps
+                for q in range(n_z - n):
+                    for b in range(n_b):
+                        z[n + q, b] = u[s - 1, q] + frac * (u[s, q] - u[s - 1, q])
+            for q in range(1 + n_z, n_mono):
+                for b in range(n_b):
+                    theta[q, b] = theta[parent[q], b] * z[var[q], b]
+            for f in range(fcode.shape[0]):
+                for b in range(n_b):
+                    theta[n_mono + f, b] = theta[fslot[f], b] * _factor(fcode[f], z[finput[f], b], fparam[f])
+            for i in range(n):
+                for b in range(n_b):
+                    dx[i, b] = 0.0
+                for p in range(eq_ptr[i], eq_ptr[i + 1]):
+                    for b in range(n_b):
+                        dx[i, b] += vals[b, p] * theta[slot[p], b]
+            step = h if stage == 2 else 0.5 * h
+            weight = 1.0 if (stage == 0 or stage == 3) else 2.0
+            for i in range(n):
+                for b in range(n_b):
+                    acc[i, b] += weight * dx[i, b]
+                    z[i, b] = x_old[i, b] + step * dx[i, b]
+        for i in range(n):
+            for b in range(n_b):
+                x[i, b] = x_old[i, b] + h / 6.0 * acc[i, b]
 
 
 @jit
