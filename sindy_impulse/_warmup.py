@@ -13,8 +13,8 @@ twice. Later processes find the cache and start at once.
 - One build at a time (a lock file); a kernel's first call waits for a build under way at most
   :data:`WAIT_SECONDS`, then compiles what it needs itself.
 
-``python -m sindy_impulse._warmup`` builds the cache in the foreground (e.g. when building a container
-image).
+``python -c "from sindy_impulse._warmup import main; main()"`` builds the cache in the foreground (e.g.
+when building a container image).
 """
 
 from __future__ import annotations
@@ -104,7 +104,7 @@ def _spawn(lock: Path) -> bool:
     env = dict(os.environ, **{_ENV_CHILD: "1"})
     try:
         subprocess.Popen(
-            [sys.executable, "-m", "sindy_impulse._warmup", "--background"],
+            [sys.executable, "-c", "from sindy_impulse._warmup import main; main(['--background'])"],
             env=env,
             stdin=subprocess.DEVNULL,
             stdout=subprocess.DEVNULL,
@@ -180,5 +180,3 @@ def main(argv=None) -> int:
     return 0
 
 
-if __name__ == "__main__":
-    sys.exit(main())
