@@ -10,8 +10,9 @@ twice. Later processes find the cache and start at once.
 - Nothing starts when the kernels were built for this package, numba and Python (a marker file in the
   user's cache directory, ``NUMBA_CACHE_DIR`` if set), when no cache directory can be written, or when the
   environment variable ``SINDY_IMPULSE_PRECOMPILE`` is ``0``.
-- One build at a time (a lock file); a kernel's first call waits for a build under way at most
-  :data:`WAIT_SECONDS`, then compiles what it needs itself.
+- Two builds, one per group of kernels (:data:`GROUPS`: TVRegDiff's, the simulation's), so that two cores
+  compile at once; one build per group at a time (a lock file); a kernel's first call waits for its build
+  under way at most :data:`WAIT_SECONDS`, then compiles what it needs itself.
 
 ``python -c "from sindy_impulse._warmup import main; main()"`` builds the cache in the foreground (e.g.
 when building a container image).
@@ -25,7 +26,7 @@ import sys
 import time
 from pathlib import Path
 
-__all__ = ["start", "wait", "build", "KERNEL_FILES", "WAIT_SECONDS"]
+__all__ = ["start", "wait", "build", "main", "GROUPS", "KERNEL_FILES", "WAIT_SECONDS"]
 
 #: Sources of the compiled kernels (relative to the package): a change in any of them means a new build.
 KERNEL_FILES = (
@@ -70,10 +71,18 @@ def _key() -> str:
     return hashlib.sha1("|".join(parts).encode()).hexdigest()[:16]
 
 
-def _paths() -> tuple[Path, Path]:
-    """The marker of a finished build and the lock of a build under way."""
-    base = _cache_dir() / f"kernels-{_key()}"
-    return base.with_suffix(".done"), base.with_suffix(".lock")
+#: The kernels in two groups, each built by its own background process (two cores compile at once).
+GROUPS = ("differentiation", "simulation")
+
+
+def _base() -> Path:
+    return _cache_dir() / f"kernels-{_key()}"
+
+
+def _paths(group: str) -> tuple[Path, Path]:
+    """The marker of a group's finished build and the lock of its build under way."""
+    base = _base()
+    return base.with_name(f"{base.name}.{group}.done"), base.with_name(f"{base.name}.{group}.lock")
 
 
 def _disabled() -> bool:
@@ -81,30 +90,34 @@ def _disabled() -> bool:
 
 
 def start() -> bool:
-    """Start the background build if the kernels were not built here yet; True if one was started."""
-    try:
-        if _disabled():
-            return False
-        done, lock = _paths()
-        if done.exists():
-            return False
-        lock.parent.mkdir(parents=True, exist_ok=True)
-        if lock.exists() and time.time() - lock.stat().st_mtime > STALE_SECONDS:
-            lock.unlink(missing_ok=True)  # a build that died
-        fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY)  # fails if a build is under way
-        os.close(fd)
-        return _spawn(lock)
-    except OSError:  # no writable cache directory, a build under way, or no way to start a process
+    """Start the background builds of the groups not built here yet; True if one was started."""
+    if _disabled():
         return False
+    started = False
+    for group in GROUPS:
+        try:
+            done, lock = _paths(group)
+            if done.exists():
+                continue
+            lock.parent.mkdir(parents=True, exist_ok=True)
+            if lock.exists() and time.time() - lock.stat().st_mtime > STALE_SECONDS:
+                lock.unlink(missing_ok=True)  # a build that died
+            fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY)  # fails if a build is under way
+            os.close(fd)
+            started = _spawn(lock, group) or started
+        except OSError:  # no writable cache directory, a build under way, or no way to start a process
+            continue
+    return started
 
 
-def _spawn(lock: Path) -> bool:
+def _spawn(lock: Path, group: str) -> bool:
     import subprocess
 
     env = dict(os.environ, **{_ENV_CHILD: "1"})
+    code = f"from sindy_impulse._warmup import main; main(['--background', {group!r}])"
     try:
         subprocess.Popen(
-            [sys.executable, "-c", "from sindy_impulse._warmup import main; main(['--background'])"],
+            [sys.executable, "-c", code],
             env=env,
             stdin=subprocess.DEVNULL,
             stdout=subprocess.DEVNULL,
@@ -120,12 +133,14 @@ def _spawn(lock: Path) -> bool:
 
 
 def wait(name: str) -> None:
-    """Before kernel ``name`` is first called: wait for a build under way (at most ``WAIT_SECONDS``)."""
+    """Before kernel ``name`` is first called: wait for its build under way (at most ``WAIT_SECONDS``)."""
     if os.environ.get(_ENV_CHILD):
         return
     try:
-        done, lock = _paths()
-        mine = done.with_name(done.stem + "." + name + ".done")
+        group = "simulation" if ".simulation." in name else "differentiation"
+        done, lock = _paths(group)
+        base = _base()
+        mine = base.with_name(f"{base.name}.{name}.done")
         deadline = time.monotonic() + WAIT_SECONDS
         while lock.exists() and not (done.exists() or mine.exists()) and time.monotonic() < deadline:
             time.sleep(0.01)
@@ -133,50 +148,54 @@ def wait(name: str) -> None:
         return
 
 
-def build(marker: Path | None = None) -> None:
-    """Compile every kernel (in the order a fit needs them), marking each as it is cached."""
+def build(group: str, mark=lambda entry: None) -> None:
+    """Compile the kernels of ``group`` in the order a fit needs them; ``mark(entry)`` after each."""
     import numpy as np
 
-    from .differentiation import _banded, _smoother, _spline
+    if group == "differentiation":
+        from .differentiation import _banded, _smoother, _spline
+
+        coef, h = _banded.difference_stencil(None, 12, 4)
+        _banded.tv_smooth(np.linspace(0.0, 1.0, 12) ** 2, coef, h, 1.0, np.ones(12), max_iter=2)
+        mark(_smoother.lagged_diffusivity)
+        band = np.zeros((5, 12))
+        band[0], band[1] = 4.0, 1.0
+        _banded.trace_inverse(band)
+        mark(_banded._trace_inverse_kernel)
+        basis = _spline.SplineBasis(np.arange(40.0), 8)
+        basis.fit_scores(np.ones(basis.n_coef), np.ones(40), 2)
+        mark(_spline._scores)
+        basis.evaluate(np.ones(basis.n_coef))
+        mark(_spline._evaluate)
+        return
     from .simulation import CompiledModel, TermTable, integrators
 
-    def mark(entry) -> None:
-        if marker is not None:
-            name = f"{entry.__module__}.{entry.__qualname__}"
-            marker.with_name(marker.stem + "." + name + ".done").touch()
-
-    band = np.zeros((5, 12))
-    band[0], band[1] = 4.0, 1.0
-    _banded.trace_inverse(band)
-    mark(_banded._trace_inverse_kernel)
-    coef, h = _banded.difference_stencil(None, 12, 4)
-    _banded.tv_smooth(np.linspace(0.0, 1.0, 12) ** 2, coef, h, 1.0, np.ones(12), max_iter=2)
-    mark(_smoother.lagged_diffusivity)
     model = CompiledModel([[0.0, 1.0], [-1.0, -0.1]], TermTable.polynomial([[1, 0], [0, 1]]), [[1.0, 1.0]])
     model.simulate([1.0, 0.0], np.linspace(0.0, 1.0, 5))
     mark(integrators.integrate)
-    terms = TermTable.polynomial([[1, 0], [2, 1]])
-    nonlinear = CompiledModel([[0.0, 1.0], [-1.0, -0.1]], terms, [[1.0, 1.0]])
-    nonlinear.weighted_l1(np.ones((5, 2)), np.linspace(0.0, 1.0, 5), [0], np.ones((1, 2)), np.ones((3, 2, 2)))
+    cubic = TermTable.polynomial([[1, 0], [2, 1]])
+    nonlinear = CompiledModel([[0.0, 1.0], [-1.0, -0.1]], cubic, [[1.0, 1.0]])
+    grid = np.linspace(0.0, 1.0, 5)
+    nonlinear.weighted_l1(np.ones((5, 2)), grid, [0], np.ones((1, 2)), np.ones((3, 2, 2)))
     mark(integrators.integrate_batch)
-    basis = _spline.SplineBasis(np.arange(40.0), 8)
-    basis.fit_scores(np.ones(basis.n_coef), np.ones(40), 2)
-    mark(_spline._scores)
-    basis.evaluate(np.ones(basis.n_coef))
-    mark(_spline._evaluate)
 
 
 def main(argv=None) -> int:
-    """Build the cache now (``--background``: as the process :func:`start` launches)."""
-    argv = sys.argv[1:] if argv is None else argv
-    done, lock = _paths()
-    try:
-        done.parent.mkdir(parents=True, exist_ok=True)
-        build(done)
-        done.touch()
-    finally:
-        if "--background" in argv:
-            lock.unlink(missing_ok=True)
+    """Build the cache now: every group, or (``--background GROUP``) as a process :func:`start` launched."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    groups = [g for g in argv if g in GROUPS] or list(GROUPS)
+    base = _base()
+    base.parent.mkdir(parents=True, exist_ok=True)
+
+    def mark(entry) -> None:
+        base.with_name(f"{base.name}.{entry.__module__}.{entry.__qualname__}.done").touch()
+
+    for group in groups:
+        done, lock = _paths(group)
+        try:
+            build(group, mark)
+            done.touch()
+        finally:
+            if "--background" in argv:
+                lock.unlink(missing_ok=True)
     return 0
-
-

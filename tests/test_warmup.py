@@ -11,22 +11,23 @@ def cache(tmp_path, monkeypatch):
     monkeypatch.delenv("SINDY_IMPULSE_PRECOMPILE", raising=False)
     monkeypatch.delenv("SINDY_IMPULSE_WARMUP_CHILD", raising=False)
     started = []
-    monkeypatch.setattr(_warmup, "_spawn", lambda lock: started.append(lock) or True)
+    monkeypatch.setattr(_warmup, "_spawn", lambda lock, group: started.append(lock) or True)
     return started
 
 
-def test_first_import_starts_one_build(cache):
+def test_first_import_starts_one_build_per_group(cache):
     assert _warmup.start() is True
-    assert _warmup.start() is False  # the lock of the build under way
-    assert len(cache) == 1 and cache[0].exists()
+    assert _warmup.start() is False  # the locks of the builds under way
+    assert len(cache) == len(_warmup.GROUPS) and all(lock.exists() for lock in cache)
 
 
 def test_no_build_once_the_kernels_were_built(cache):
-    done, lock = _warmup._paths()
-    done.parent.mkdir(parents=True)
-    done.touch()
+    for group in _warmup.GROUPS:
+        done, lock = _warmup._paths(group)
+        done.parent.mkdir(parents=True, exist_ok=True)
+        done.touch()
     assert _warmup.start() is False
-    assert not cache and not lock.exists()
+    assert not cache
 
 
 def test_no_build_when_turned_off(cache, monkeypatch):
@@ -38,24 +39,27 @@ def test_no_build_when_turned_off(cache, monkeypatch):
 def test_a_stale_lock_is_replaced(cache):
     import os
 
-    done, lock = _warmup._paths()
+    done, lock = _warmup._paths("simulation")
     lock.parent.mkdir(parents=True)
     lock.touch()
     old = lock.stat().st_mtime - 2 * _warmup.STALE_SECONDS
     os.utime(lock, (old, old))
     assert _warmup.start() is True
+    assert lock in cache
 
 
 def test_a_kernel_waits_for_its_own_mark_only(cache, monkeypatch):
     import time
 
     monkeypatch.setattr(_warmup, "WAIT_SECONDS", 0.3)
-    done, lock = _warmup._paths()
+    done, lock = _warmup._paths("simulation")
     lock.parent.mkdir(parents=True)
-    lock.touch()  # a build under way
-    done.with_name(done.stem + ".mine.done").touch()  # ... that has cached kernel "mine"
+    lock.touch()  # the simulation's build under way ...
+    base = _warmup._base()
+    base.with_name(f"{base.name}.sindy_impulse.simulation.mine.done").touch()  # ... has cached "mine"
     start = time.monotonic()
-    _warmup.wait("mine")
+    _warmup.wait("sindy_impulse.simulation.mine")
+    _warmup.wait("sindy_impulse.differentiation.other")  # its group's build is not under way
     assert time.monotonic() - start < 0.2
-    _warmup.wait("other")  # not built yet: waits, at most WAIT_SECONDS
+    _warmup.wait("sindy_impulse.simulation.other")  # not built yet: waits, at most WAIT_SECONDS
     assert time.monotonic() - start >= 0.3
