@@ -22,36 +22,28 @@ MAX_PENALTY_WEIGHT = 1e12
 
 
 @jit(_nrt=False)
-def _weights(coef, h, lam, c, eps_rel, w):
-    """``w = min(lam h / sqrt(d^2 + eps^2), MAX)`` with ``d = D c``, ``eps = eps_rel rms(d)`` (floored)."""
+def _system(coef, h, lam, c, eps_rel, gram, w, band):
+    """``band = G + D^T diag(w) D`` in lower banded storage (``band[s, j]`` is entry ``(j + s, j)``) with
+    the weights ``w = min(lam h / sqrt(d^2 + eps^2), MAX)`` of the iterate ``c`` (``d = D c``,
+    ``eps = eps_rel rms(d)``, floored)."""
     m = coef.shape[1] - 1
     rows = w.shape[0]
-    total = 0.0
+    total, largest = 0.0, 0.0
     for r in range(rows):
-        cr = r if coef.shape[0] > 1 else 0
         d = 0.0
         for p in range(m + 1):
-            d += coef[cr, p] * c[r + p]
+            d += coef[r if coef.shape[0] > 1 else 0, p] * c[r + p]
         w[r] = d
         total += d * d
-    largest = 0.0
     for i in range(c.shape[0]):
         largest = max(largest, abs(c[i]))
     eps = max(eps_rel * math.sqrt(total / rows), 1e-14 * max(largest, 1e-300))
-    for r in range(rows):
-        hr = h[r] if h.shape[0] > 1 else h[0]
-        w[r] = min(lam * hr / math.sqrt(w[r] * w[r] + eps * eps), MAX_PENALTY_WEIGHT)
-
-
-@jit(_nrt=False)
-def _assemble(coef, w, gram, band):
-    """``band = G + D^T diag(w) D`` in lower banded storage (``band[s, j]`` is entry ``(j + s, j)``)."""
-    m = coef.shape[1] - 1
-    n = band.shape[1]
     for s in range(band.shape[0]):
-        for j in range(n):
+        for j in range(band.shape[1]):
             band[s, j] = gram[s, j] if s < gram.shape[0] else 0.0
-    for r in range(w.shape[0]):
+    for r in range(rows):
+        hr = h[r if h.shape[0] > 1 else 0]
+        w[r] = min(lam * hr / math.sqrt(w[r] * w[r] + eps * eps), MAX_PENALTY_WEIGHT)
         cr = r if coef.shape[0] > 1 else 0
         for p in range(m + 1):
             for s in range(m + 1 - p):
@@ -100,8 +92,7 @@ def lagged_diffusivity(rhs, coef, h, lam, c, gram, max_iter, tol, eps_rel, w, ba
         scale += c[i] * c[i]
     scale = max(math.sqrt(scale / n), 1e-300)
     for it in range(1, max_iter + 1):
-        _weights(coef, h, lam, c, eps_rel, w)
-        _assemble(coef, w, gram, band)
+        _system(coef, h, lam, c, eps_rel, gram, w, band)
         if not _cholesky_solve(band, rhs, low, c_new):
             return -1
         change = 0.0
