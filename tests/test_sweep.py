@@ -87,10 +87,10 @@ def test_path_of_a_long_record_runs_on_a_reduced_problem_with_the_same_result():
     from sindy_impulse.optimizers.sweep import _path, reduced
 
     rng = np.random.default_rng(5)
-    X = rng.normal(size=(20_000, 8)) * np.logspace(-3, 3, 8)  # columns of very different units
-    Y = X[:, :2] @ [[1.0, 0.0], [0.0, -2.0]] + X[:, 5:6] * 1e-4 + 0.01 * rng.normal(size=(20_000, 2))
+    X = rng.normal(size=(20_001, 8)) * np.logspace(-3, 3, 8)  # columns of very different units
+    Y = X[:, :2] @ [[1.0, 0.0], [0.0, -2.0]] + X[:, 5:6] * 1e-4 + 0.01 * rng.normal(size=(20_001, 2))
     Xr, Yr, rcond = reduced(X, Y)
-    assert Xr.shape == (10, 8)
+    assert Xr.shape == (10, 8)  # more than REDUCE_ABOVE samples: reduced
     thresholds, coefs, _ = _path(Xr, Yr, 20, rcond)
     thresholds_full, coefs_full, _ = _path(X, Y, 20)
     assert [np.count_nonzero(c) for c in coefs] == [np.count_nonzero(c) for c in coefs_full]

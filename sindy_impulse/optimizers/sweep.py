@@ -63,6 +63,10 @@ def threshold_path(X: np.ndarray, Y: np.ndarray, max_iter: int = 20):
 
 #: Rows per block of the QR reduction (bounds its memory on long records).
 _BLOCK = 1 << 16
+#: Records of more samples than this run the path on the QR-reduced problem. Shorter ones keep the full
+#: library matrix, where a support's least squares do not depend on the other columns of the library
+#: (the same candidate from any library that contains its terms).
+REDUCE_ABOVE = 20_000
 
 
 def reduced(X: np.ndarray, Y: np.ndarray):
@@ -70,11 +74,11 @@ def reduced(X: np.ndarray, Y: np.ndarray):
 
     ``[X Y] = Q R``: ``||X_S c - y||`` equals ``||R_x,S c - R_y||`` for every column subset ``S``, and
     column norms are kept. Returns ``(R_x, R_y, rcond)``, ``rcond`` the cut-off ``numpy.linalg.lstsq``
-    would have used on ``X`` (None when ``X`` is returned unchanged: it has few rows). The cost of the
-    path then does not depend on the record length.
+    would have used on ``X`` (None when ``X`` is returned unchanged: at most :data:`REDUCE_ABOVE` rows).
+    The cost of the path then does not depend on the record length.
     """
     n, p = X.shape
-    if n <= 4 * (p + Y.shape[1]):
+    if n <= REDUCE_ABOVE:
         return X, Y, None
     R = _triangular_factor(X, Y)
     return R[:, :p], R[:, p:], np.finfo(float).eps * n
