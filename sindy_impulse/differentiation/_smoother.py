@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from .._jit import jit, kernel
+from .._jit import kernel
 
 __all__ = ["lagged_diffusivity"]
 
@@ -21,80 +21,63 @@ __all__ = ["lagged_diffusivity"]
 MAX_PENALTY_WEIGHT = 1e12
 
 
-@jit(_nrt=False)
-def _system(coef, h, lam, c, eps_rel, gram, w, band):
-    """``band = G + D^T diag(w) D`` in lower banded storage (``band[s, j]`` is entry ``(j + s, j)``) with
-    the weights ``w = min(lam h / sqrt(d^2 + eps^2), MAX)`` of the iterate ``c`` (``d = D c``,
-    ``eps = eps_rel rms(d)``, floored)."""
-    m = coef.shape[1] - 1
-    rows = w.shape[0]
-    total, largest = 0.0, 0.0
-    for r in range(rows):
-        d = 0.0
-        for p in range(m + 1):
-            d += coef[r if coef.shape[0] > 1 else 0, p] * c[r + p]
-        w[r] = d
-        total += d * d
-    for i in range(c.shape[0]):
-        largest = max(largest, abs(c[i]))
-    eps = max(eps_rel * math.sqrt(total / rows), 1e-14 * max(largest, 1e-300))
-    for s in range(band.shape[0]):
-        for j in range(band.shape[1]):
-            band[s, j] = gram[s, j] if s < gram.shape[0] else 0.0
-    for r in range(rows):
-        hr = h[r if h.shape[0] > 1 else 0]
-        w[r] = min(lam * hr / math.sqrt(w[r] * w[r] + eps * eps), MAX_PENALTY_WEIGHT)
-        cr = r if coef.shape[0] > 1 else 0
-        for p in range(m + 1):
-            for s in range(m + 1 - p):
-                band[s, r + p] += w[r] * coef[cr, p] * coef[cr, p + s]
-
-
-@jit(_nrt=False)
-def _cholesky_solve(band, rhs, low, out) -> bool:
-    """Solve ``A out = rhs`` for SPD banded ``A``; False if a pivot is not positive."""
-    width = band.shape[0] - 1
-    n = band.shape[1]
-    for j in range(n):  # low[s, k] = L[k + s, k]
-        d = band[0, j]
-        for k in range(max(0, j - width), j):
-            d -= low[j - k, k] * low[j - k, k]
-        if not d > 0.0:
-            return False
-        low[0, j] = math.sqrt(d)
-        for s in range(1, width + 1):
-            i = j + s
-            if i >= n:
-                break
-            v = band[s, j]
-            for k in range(max(0, i - width), j):
-                v -= low[i - k, k] * low[j - k, k]
-            low[s, j] = v / low[0, j]
-    for j in range(n):
-        v = rhs[j]
-        for k in range(max(0, j - width), j):
-            v -= low[j - k, k] * out[k]
-        out[j] = v / low[0, j]
-    for j in range(n - 1, -1, -1):
-        v = out[j]
-        for s in range(1, min(width, n - 1 - j) + 1):
-            v -= low[s, j] * out[j + s]
-        out[j] = v / low[0, j]
-    return True
-
-
 @kernel
 def lagged_diffusivity(rhs, coef, h, lam, c, gram, max_iter, tol, eps_rel, w, band, low, c_new):
-    """Iterate from ``c`` (updated in place); returns the iterations used, or -1 if a solve failed."""
-    n = rhs.shape[0]
+    """Iterate from ``c`` (updated in place); returns the iterations used, or -1 if a solve failed.
+
+    Each iteration: the weights ``w = min(lam h / sqrt(d^2 + eps^2), MAX)`` of ``d = D c`` (``eps = eps_rel
+    rms(d)``, floored), ``band = G + D^T diag(w) D`` (lower banded storage, ``band[s, j]`` is entry
+    ``(j + s, j)``), its Cholesky factor ``low[s, k] = L[k + s, k]``, the two triangular solves. One
+    function: each compiled function costs a fixed share of the first start on a new machine.
+    """
+    n, m, rows, width = rhs.shape[0], coef.shape[1] - 1, w.shape[0], band.shape[0] - 1
     scale = 0.0
     for i in range(n):
         scale += c[i] * c[i]
     scale = max(math.sqrt(scale / n), 1e-300)
     for it in range(1, max_iter + 1):
-        _system(coef, h, lam, c, eps_rel, gram, w, band)
-        if not _cholesky_solve(band, rhs, low, c_new):
-            return -1
+        total, largest = 0.0, 0.0  # (loops, not numpy calls: they would compile much more code)
+        for r in range(rows):  # d = D c
+            d = 0.0
+            for p in range(m + 1):
+                d += coef[r if coef.shape[0] > 1 else 0, p] * c[r + p]
+            w[r] = d
+            total += d * d
+        for i in range(n):
+            largest = max(largest, abs(c[i]))
+        eps = max(eps_rel * math.sqrt(total / rows), 1e-14 * max(largest, 1e-300))
+        for s in range(width + 1):
+            for j in range(n):
+                band[s, j] = gram[s, j] if s < gram.shape[0] else 0.0
+        for r in range(rows):
+            hr = h[r if h.shape[0] > 1 else 0]
+            w[r] = min(lam * hr / math.sqrt(w[r] * w[r] + eps * eps), MAX_PENALTY_WEIGHT)
+            cr = r if coef.shape[0] > 1 else 0
+            for p in range(m + 1):
+                for s in range(m + 1 - p):
+                    band[s, r + p] += w[r] * coef[cr, p] * coef[cr, p + s]
+        for j in range(n):  # banded Cholesky, left-looking
+            d = band[0, j]
+            for k in range(max(0, j - width), j):
+                d -= low[j - k, k] * low[j - k, k]
+            if not d > 0.0:
+                return -1
+            low[0, j] = math.sqrt(d)
+            for s in range(1, min(width, n - 1 - j) + 1):
+                v = band[s, j]
+                for k in range(max(0, j + s - width), j):
+                    v -= low[j + s - k, k] * low[j - k, k]
+                low[s, j] = v / low[0, j]
+        for j in range(n):  # L y = rhs
+            v = rhs[j]
+            for k in range(max(0, j - width), j):
+                v -= low[j - k, k] * c_new[k]
+            c_new[j] = v / low[0, j]
+        for j in range(n - 1, -1, -1):  # L^T c_new = y
+            v = c_new[j]
+            for s in range(1, min(width, n - 1 - j) + 1):
+                v -= low[s, j] * c_new[j + s]
+            c_new[j] = v / low[0, j]
         change = 0.0
         for i in range(n):
             change += (c_new[i] - c[i]) ** 2

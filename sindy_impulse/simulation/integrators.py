@@ -106,8 +106,9 @@ def integrate(ref, t, starts, weights, substeps, prog, vals, props, bound, u, wo
                 for i in range(n):
                     if not (abs(x[i]) <= bound[i]):  # diverged (also true for NaN)
                         total = np.inf
-                        if store:
-                            out[s:, :] = np.nan
+                        for r in range(s, out.shape[0]):  # (loops, not slicing: less code to compile)
+                            for q in range(n):
+                                out[r, q] = np.nan
                         break
                     if store:
                         out[s, i] = x[i]
