@@ -67,9 +67,9 @@ def _sections(quick: bool):
 def _format(value: float) -> str:
     if value != value:  # NaN
         return "-"
-    if value >= 1.0:
+    if abs(value) >= 1.0:
         return f"{value:.2f} s"
-    if value >= 1e-3:
+    if abs(value) >= 1e-3:
         return f"{value * 1e3:.1f} ms"
     return f"{value * 1e6:.1f} us"
 
