@@ -15,6 +15,7 @@ from numbers import Integral, Real
 import numpy as np
 import pysindy as ps
 from pysindy.utils import AxesArray
+from threadpoolctl import threadpool_limits
 
 from ._components import ComponentsMixin
 from ._fitted import FittedModelMixin, SweepPath, fresh_measure
@@ -26,7 +27,7 @@ from .feature_library.terms import library_terms
 from .optimizers import candidate_path
 from .refinement import refine
 from .selection import SELECTION_RULES, select_candidate
-from .simulation import ERROR_MEASURES, ErrorMeasure, WorkBudget, compile_model
+from .simulation import ERROR_MEASURES, ErrorMeasure, Reference, WorkBudget, compile_model
 from .simulation import simulation_gamma as _gamma
 
 __all__ = ["ImpulseSINDy", "SweepPath"]
@@ -203,6 +204,10 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         (x)' =  1.00 v
         (v)' = -64.02 x + -0.80 v +  1.00 f
         """
+        with threadpool_limits(limits=1):  # small matrices: one BLAS thread is faster, and reproducible
+            return self._fit(x, t, x_dot, u, feature_names)
+
+    def _fit(self, x, t, x_dot, u, feature_names):
         validate_params(self)
         refuse_unsupported(x, self.feature_library)
         data = as_trajectories(x, t, u, default_dt=1.0 if self.dt is None else self.dt, min_samples=3)
@@ -217,6 +222,7 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         terms = library_terms(self.feature_library_, data.n_states + data.n_inputs)
         reference = filtered[0] if len(filtered) == 1 else np.vstack(filtered)
         reference_u = None if data.u is None else np.vstack(data.u)
+        reference = Reference(np.vstack(filtered), reference_u, data.n_inputs)  # once for every model
 
         def compile_(coef):
             return compile_model(coef, terms, reference, self.divergence_factor, reference_u, data.n_inputs)
@@ -246,7 +252,7 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
                 "candidates were not simulated or the refinement stopped early; the model may be less "
                 "accurate (see sindy_impulse.simulation.WORK_BUDGET)",
                 WorkBudgetWarning,
-                stacklevel=2,
+                stacklevel=3,
             )
         return self._keep(candidates, thresholds, index, coef, compile_, measure, history, scores, score)
 
@@ -269,7 +275,7 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
             warnings.warn(  # plain PySINDy solves it (minimum norm): warn, do not refuse
                 message + " for a determined regression; use a longer record or a smaller library",
                 DataWarning,
-                stacklevel=3,
+                stacklevel=4,
             )
         return theta, y
 
@@ -341,7 +347,7 @@ def _usable(scores, n_terms) -> np.ndarray:
         "every non-trivial candidate model diverged when simulated; the fitted model is x' = 0 (no "
         "deterministic dynamics found in the data)",
         NoDynamicsWarning,
-        stacklevel=3,
+        stacklevel=4,
     )
     return np.isfinite(scores)
 

@@ -1,5 +1,6 @@
 """The house rules of the package's code: no module over 400 lines, no function body over 60 lines
-(docstrings excluded), and `simulation/` imports nothing from the rest of the package."""
+(docstrings excluded), and `simulation/` imports nothing from the rest of the package but the numba
+decorator."""
 
 import ast
 from pathlib import Path
@@ -10,7 +11,9 @@ PACKAGE = Path(__file__).resolve().parent.parent / "sindy_impulse"
 MODULES = sorted(PACKAGE.rglob("*.py"))
 MAX_MODULE_LINES, MAX_FUNCTION_LINES = 400, 60
 #: Known violations being split on a branch; strict: the entry must go once the module complies.
-PENDING = {"differentiation/tvregdiff.py": "TVRegDiff._run (67 lines)", "features.py": "483 lines"}
+PENDING = {"features.py": "483 lines"}
+#: Infrastructure below every layer (the numba decorator): all simulation/ may import from the package.
+BELOW_SIMULATION = {"_jit"}
 
 
 def _function_lengths(tree: ast.AST):
@@ -43,7 +46,7 @@ def test_module_and_function_sizes(path):
 def test_simulation_imports_nothing_from_above():
     for path in sorted((PACKAGE / "simulation").rglob("*.py")):
         for node in ast.walk(ast.parse(path.read_text())):
-            if isinstance(node, ast.ImportFrom) and node.level >= 2:
+            if isinstance(node, ast.ImportFrom) and node.level >= 2 and node.module not in BELOW_SIMULATION:
                 raise AssertionError(f"{path.name} imports {'.' * node.level}{node.module} from above")
             if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("sindy_impulse"):
                 assert (node.module or "").startswith("sindy_impulse.simulation"), path.name

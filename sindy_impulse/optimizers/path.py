@@ -35,7 +35,7 @@ def fresh_copy(obj):
         return copy.deepcopy(obj)
 
 
-def least_squares(theta: np.ndarray, y: np.ndarray, support: np.ndarray) -> np.ndarray:
+def least_squares(theta: np.ndarray, y: np.ndarray, support: np.ndarray, rcond=None) -> np.ndarray:
     """Least-squares coefficients of each equation on its support (rows with NaN dropped).
 
     Parameters
@@ -43,6 +43,8 @@ def least_squares(theta: np.ndarray, y: np.ndarray, support: np.ndarray) -> np.n
     theta : ndarray (n_samples, n_features)
     y : ndarray (n_samples, n_targets)
     support : ndarray of bool (n_targets, n_features)
+    rcond : float, optional
+        Relative cut-off of small singular values (``numpy.linalg.lstsq``'s; default: its own).
 
     Examples
     --------
@@ -57,7 +59,7 @@ def least_squares(theta: np.ndarray, y: np.ndarray, support: np.ndarray) -> np.n
     for i in range(support.shape[0]):
         cols = np.flatnonzero(support[i])
         if cols.size:
-            coef[i, cols] = np.linalg.lstsq(theta[rows][:, cols], y[rows, i], rcond=None)[0]
+            coef[i, cols] = np.linalg.lstsq(theta[rows][:, cols], y[rows, i], rcond=rcond)[0]
     return coef
 
 
