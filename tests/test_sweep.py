@@ -95,3 +95,17 @@ def test_path_of_a_long_record_runs_on_a_reduced_problem_with_the_same_result():
     thresholds_full, coefs_full, _ = _path(X, Y, 20)
     assert [np.count_nonzero(c) for c in coefs] == [np.count_nonzero(c) for c in coefs_full]
     np.testing.assert_allclose(coefs, coefs_full, rtol=1e-9, atol=1e-12)
+
+
+def test_protected_terms_are_never_thresholded():
+    rng = np.random.default_rng(0)
+    X = rng.normal(size=(200, 4))
+    Y = X @ np.array([[2.0, 0.5], [0.0, 1e-3], [0.3, 0.0], [0.0, 0.0]]) + 1e-3 * rng.normal(size=(200, 2))
+    protected = np.array([[False, True, False, False], [False, True, True, False]])
+    thresholds, coefs = threshold_path(X, Y, protected=protected)
+    assert all(np.all(c[protected] != 0) for c in coefs)  # every candidate keeps them
+    assert np.count_nonzero(coefs[-1]) == protected.sum()  # the path ends with them alone
+    sweep = ThresholdSweep(protected=protected).fit(X, Y)
+    assert np.all(sweep.candidates_[:, protected] != 0)
+    with pytest.raises(ValueError, match="protected must have shape"):
+        ThresholdSweep(protected=[True, False]).fit(X, Y)

@@ -22,10 +22,20 @@ _SENSOR_POWER = {"displacement": 0, "velocity": 1, "acceleration": 2}
 
 
 def default_estimator():
-    """The identification of one mode: ImpulseSINDy with a cubic polynomial library on ``[y, dy]``."""
-    from ..estimator import ImpulseSINDy
+    """The identification of one mode: ImpulseSINDy with a cubic polynomial library on ``[y, dy]``.
 
-    return ImpulseSINDy(feature_library=ps.PolynomialLibrary(degree=3, include_bias=False))
+    The linear oscillator's terms (``dy`` in ``y'``; ``y`` and ``dy`` in ``dy'``) are protected from the
+    threshold sweep: a mode always keeps a stiffness and a damping (a very lightly damped mode's damping
+    term explains a tiny share of ``dy'``, which the sweep would otherwise remove first), and the sweep
+    searches only the nonlinear terms.
+    """
+    from ..estimator import ImpulseSINDy
+    from ..optimizers import ThresholdSweep
+
+    library = ps.PolynomialLibrary(degree=3, include_bias=False)  # y, dy, y^2, y dy, dy^2, y^3, ...
+    protected = np.zeros((2, 9), dtype=bool)
+    protected[0, 1] = protected[1, 0] = protected[1, 1] = True
+    return ImpulseSINDy(optimizer=ThresholdSweep(protected=protected), feature_library=library)
 
 
 def _linear_mode(model, band_hz):

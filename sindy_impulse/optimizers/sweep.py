@@ -24,8 +24,8 @@ from .path import least_squares
 __all__ = ["ThresholdSweep", "threshold_path"]
 
 
-def threshold_path(X: np.ndarray, Y: np.ndarray, max_iter: int = 20):
-    """All distinct STLSQ supports from the full model down to the empty one.
+def threshold_path(X: np.ndarray, Y: np.ndarray, max_iter: int = 20, protected=None):
+    """All distinct STLSQ supports from the full model down to the empty one (or the protected terms).
 
     Parameters
     ----------
@@ -35,6 +35,8 @@ def threshold_path(X: np.ndarray, Y: np.ndarray, max_iter: int = 20):
         Derivatives.
     max_iter : int
         Thresholding iterations per breakpoint.
+    protected : ndarray of bool (n_features,) or (n_targets, n_features), optional
+        Terms never thresholded (e.g. a mode's linear stiffness and damping): the path ends with them.
 
     Returns
     -------
@@ -57,7 +59,7 @@ def threshold_path(X: np.ndarray, Y: np.ndarray, max_iter: int = 20):
     if not complete.all():
         X, Y = X[complete], Y[complete]
     X, Y, rcond = reduced(X, Y)
-    thresholds, coefficients, _ = _path(X, Y, max_iter, rcond)
+    thresholds, coefficients, _ = _path(X, Y, max_iter, rcond, protected)
     return thresholds, coefficients
 
 
@@ -111,7 +113,21 @@ def _triangular_factor(X, Y) -> np.ndarray:
     return R
 
 
-def _path(X, Y, max_iter: int, rcond=None):
+def _protection(protected, n_targets: int, n_features: int) -> np.ndarray:
+    """The protected terms as a boolean (n_targets, n_features) mask."""
+    if protected is None:
+        return np.zeros((n_targets, n_features), dtype=bool)
+    mask = np.asarray(protected, dtype=bool)
+    if mask.shape == (n_features,):
+        mask = np.broadcast_to(mask, (n_targets, n_features))
+    if mask.shape != (n_targets, n_features):
+        raise ValueError(
+            f"protected must have shape ({n_features},) or ({n_targets}, {n_features}), got {mask.shape}"
+        )
+    return mask
+
+
+def _path(X, Y, max_iter: int, rcond=None, protected=None):
     """:func:`threshold_path` plus the number of thresholding iterations it ran (rows without NaN)."""
     X = np.asarray(X, dtype=float)
     Y = np.asarray(Y, dtype=float).reshape(X.shape[0], -1)
@@ -131,16 +147,17 @@ def _path(X, Y, max_iter: int, rcond=None):
         return coef
 
     n_iter = 0
+    keep = _protection(protected, n_targets, n_features)
     support = np.ones((n_targets, n_features), dtype=bool)
     support[:, np.all(X == 0, axis=0)] = False  # an all-zero column carries no information
     coef = solve(support)
     thresholds, coefs, seen = [0.0], [coef.copy()], {support.tobytes()}
-    while support.any():
-        lam = np.min(np.abs(coef[support]))
+    while (support & ~keep).any():
+        lam = np.min(np.abs(coef[support & ~keep]))
         lam = lam * (1 + 1e-9) + 1e-300
         for _ in range(max_iter):
             n_iter += 1
-            new_support = support & (np.abs(coef) > lam)
+            new_support = support & ((np.abs(coef) > lam) | keep)
             changed = np.any(new_support != support, axis=1)
             if not changed.any():
                 break
@@ -167,6 +184,9 @@ class ThresholdSweep(BaseOptimizer):
     ----------
     max_iter : int, default=20
         Thresholding iterations per breakpoint.
+    protected : array-like of bool (n_features,) or (n_targets, n_features), optional
+        Terms the sweep never removes (e.g. the linear stiffness and damping of a mode's oscillator, so
+        that no candidate lacks them); the path then ends with the protected terms instead of no term.
 
     Attributes
     ----------
@@ -201,7 +221,10 @@ class ThresholdSweep(BaseOptimizer):
     3
     """
 
-    _parameter_constraints = {"max_iter": [Interval(Integral, 1, None, "left")]}
+    _parameter_constraints = {
+        "max_iter": [Interval(Integral, 1, None, "left")],
+        "protected": [None, "array-like"],
+    }
 
     # BaseOptimizer's settings, fixed for the sweep (class attributes: not parameters, not set in __init__)
     normalize_columns = False
@@ -211,8 +234,9 @@ class ThresholdSweep(BaseOptimizer):
     fit_intercept = False
     positive = False  # LinearRegression reads it (tags)
 
-    def __init__(self, max_iter: int = 20):
+    def __init__(self, max_iter: int = 20, protected=None):
         self.max_iter = max_iter
+        self.protected = protected
 
     @property
     def candidates_(self) -> np.ndarray:
@@ -273,7 +297,7 @@ class ThresholdSweep(BaseOptimizer):
 
     def _reduce(self, x, y):
         x, y, rcond = reduced(x, y)  # the same least squares and residuals, whatever the record length
-        thresholds, coefs, n_iter = _path(x, y, self.max_iter, rcond)
+        thresholds, coefs, n_iter = _path(x, y, self.max_iter, rcond, self.protected)
         n = self._n_weighted * y.shape[1]
         # residuals below rounding (exact derivatives) carry no information: floor them there
         floor = max(float((x.shape[1] * np.finfo(float).eps) ** 2 * np.sum(y**2)), 1e-300 * n)
