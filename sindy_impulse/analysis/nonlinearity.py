@@ -18,7 +18,7 @@ with the estimator's own steps (see :mod:`._nonlinear_fit`):
    smallest and the largest amplitude; ``amplitude_dependence`` is the larger of
    ``|frequency shift| / frequency_resolution`` and ``|damping-ratio change| / damping_resolution``. The
    data's own backbone (:func:`~sindy_impulse.analysis.hilbert_backbone`) checks the direction: a change
-   the data show clearly the other way (by more than half the resolution) does not count.
+   the data show the other way by more than the resolution does not count.
 
 ``statistic = min(significance, amplitude_dependence)`` and the system is nonlinear when it exceeds
 ``threshold = 1``: the nonlinear terms must both be needed and change the frequency or the damping with
@@ -61,8 +61,8 @@ MAX_REL_TOL = 0.5
 NOISE_TOL = 0.05
 #: Default smallest relative frequency shift over the decay called nonlinear (0.1 %).
 FREQUENCY_RESOLUTION = 1e-3
-#: Default smallest relative change of the damping ratio over the decay called nonlinear (10 %).
-DAMPING_RESOLUTION = 0.1
+#: Default smallest relative change of the damping ratio over the decay called nonlinear (5 %).
+DAMPING_RESOLUTION = 0.05
 #: Nonlinear library terms (ranked by derivative residual) refined in the search.
 N_SEARCH = 3
 
@@ -257,7 +257,7 @@ def _amplitude_ratio(model_curve, data_curve, frequency_resolution, damping_reso
     for name, resolution in pairs:
         shift = getattr(model_curve, name)
         seen = np.nan if data_curve is None else getattr(data_curve, name)
-        contradicted = np.isfinite(seen) and seen * shift < 0 and abs(seen) >= resolution / 2
+        contradicted = np.isfinite(seen) and seen * shift < 0 and abs(seen) >= resolution
         if np.isfinite(shift) and not contradicted:
             ratios.append(abs(shift) / resolution)
     return float(max(ratios))
@@ -302,7 +302,7 @@ def nonlinearity_test(
         ``min(0.5, 2 / cycles)``, ``cycles`` the oscillation cycles in ``x``.
     noise_tol : float, default=0.05
         Weight of the noise level (measured vs filtered states) in the tolerance.
-    frequency_resolution, damping_resolution : float, default=0.001, 0.1
+    frequency_resolution, damping_resolution : float, default=0.001, 0.05
         Smallest relative frequency shift and damping-ratio change over the decay called nonlinear.
     search : bool, default=True
         Also try the linear model plus each of the three nonlinear library terms that explain most of its
