@@ -13,9 +13,11 @@ Everything here is done with the estimator's own steps, on the test data made un
    (:func:`~sindy_impulse.refinement.refine`) on the model's error measure;
 3. :meth:`Comparison.search`: the nonlinear library terms that best explain the linear model's derivative
    residual (one term added to one equation);
-4. :meth:`Comparison.backbones`: the backbones of the data (:func:`hilbert_backbone`) and of a refined model
-   (:func:`backbone`);
-5. :func:`to_data_units`: coefficients for the normalised states back in the units of the data.
+4. :func:`alternatives`: the refined linear model and the best refined nonlinear alternative;
+5. :meth:`Comparison.backbones` and :func:`amplitude_ratio`: the backbones of the data
+   (:func:`hilbert_backbone`) and of a refined model (:func:`backbone`), and the amplitude dependence they
+   show;
+6. :func:`to_data_units`, :func:`in_data_units`: coefficients and backbones back in the data's units.
 """
 
 from __future__ import annotations
@@ -34,7 +36,7 @@ from ..simulation.terms import ABS, PLAIN, SIGNED_SQUARE, SMOOTH_SIGN
 from ._decay import carrier_hz, offset
 from .backbone import Backbone, backbone, hilbert_backbone
 
-__all__ = ["normalise", "Comparison", "to_data_units"]
+__all__ = ["normalise", "Comparison", "alternatives", "amplitude_ratio", "in_data_units", "to_data_units"]
 
 #: The data backbone ends where its envelope falls below this many times its noise estimate. A band-passed
 #: record's noise is narrow-band, which the Hilbert residual underestimates several times over, so the
@@ -156,6 +158,46 @@ class Comparison:
                     curve = None
                 curves.append(curve if curve is not None and len(curve) >= 2 else None)
         return tuple(curves)
+
+
+def alternatives(test: Comparison, coef, terms, search: bool, n_search: int):
+    """The linear fit and the best nonlinear alternative: ``(lin_coef, g_lin), (source, coef, g)``."""
+    degree = terms.powers.sum(axis=1)
+    linear_cols = (terms.func == PLAIN) & (degree <= 1)
+    lin_support = (coef != 0) & linear_cols[None, :]
+    if not lin_support.any():  # a model without linear part: all linear terms of the library
+        lin_support = np.broadcast_to(linear_cols & (degree == 1), coef.shape).copy()
+    nl_support_model = (coef != 0) & ~linear_cols[None, :]
+    lin_coef, g_lin = test.fit(lin_support)
+    candidates = [("model", lin_support | nl_support_model)] if nl_support_model.any() else []
+    if search and (~linear_cols).any():
+        for support in test.search(lin_support, np.flatnonzero(~linear_cols), n_search):
+            if not any(np.array_equal(support, other) for _, other in candidates):
+                candidates.append(("search", support))
+    best = ("none", lin_coef, g_lin)
+    for name, support in candidates:
+        c, g = test.fit(support)
+        if np.any(c[:, ~linear_cols]) and (g < best[2] or best[0] == "none"):
+            best = (name, c, g)
+    if best[0] != "none" and not (np.isfinite(best[2]) and best[2] < g_lin):
+        best = ("none", lin_coef, g_lin)  # every alternative diverged, did worse or lost its terms
+    return (lin_coef, g_lin), best, linear_cols
+
+
+def amplitude_ratio(model_curve, data_curve, frequency_resolution, damping_resolution) -> float:
+    """``max(|shift| / resolution)`` over frequency and damping, unless the data show it the other way."""
+    if model_curve is None:
+        return np.inf
+    ratios = [0.0]
+    pairs = (("frequency_shift", frequency_resolution), ("damping_ratio_shift", damping_resolution))
+    for name, resolution in pairs:
+        shift = getattr(model_curve, name)
+        seen = np.nan if data_curve is None else getattr(data_curve, name)
+        contradicted = np.isfinite(seen) and seen * shift < 0 and abs(seen) >= resolution
+        if np.isfinite(shift) and not contradicted:
+            ratios.append(abs(shift) / resolution)
+    return float(max(ratios))
+
 
 
 class _RefinedModel:

@@ -47,9 +47,8 @@ from .._trajectories import as_trajectories
 from ..feature_library.terms import term_table
 from ..selection import tolerance
 from ..simulation import ERROR_MEASURES
-from ..simulation.terms import PLAIN
 from ._model_decay import resolve_coordinate
-from ._nonlinear_fit import Comparison, in_data_units, normalise, to_data_units
+from ._nonlinear_fit import Comparison, alternatives, amplitude_ratio, in_data_units, normalise, to_data_units
 
 __all__ = ["nonlinearity_test", "NonlinearityResult", "NonlinearTerm"]
 
@@ -224,45 +223,6 @@ def _check_options(rel_tol, noise_tol, frequency_resolution, damping_resolution,
     check_param("max_iter", max_iter, [Interval(Integral, 1, None, "left")], owner)
 
 
-def _alternatives(test: Comparison, coef, terms, search: bool):
-    """The linear fit and the best nonlinear alternative: ``(lin_coef, g_lin), (source, coef, g)``."""
-    degree = terms.powers.sum(axis=1)
-    linear_cols = (terms.func == PLAIN) & (degree <= 1)
-    lin_support = (coef != 0) & linear_cols[None, :]
-    if not lin_support.any():  # a model without linear part: all linear terms of the library
-        lin_support = np.broadcast_to(linear_cols & (degree == 1), coef.shape).copy()
-    nl_support_model = (coef != 0) & ~linear_cols[None, :]
-    lin_coef, g_lin = test.fit(lin_support)
-    alternatives = [("model", lin_support | nl_support_model)] if nl_support_model.any() else []
-    if search and (~linear_cols).any():
-        for support in test.search(lin_support, np.flatnonzero(~linear_cols), N_SEARCH):
-            if not any(np.array_equal(support, other) for _, other in alternatives):
-                alternatives.append(("search", support))
-    best = ("none", lin_coef, g_lin)
-    for name, support in alternatives:
-        c, g = test.fit(support)
-        if np.any(c[:, ~linear_cols]) and (g < best[2] or best[0] == "none"):
-            best = (name, c, g)
-    if best[0] != "none" and not (np.isfinite(best[2]) and best[2] < g_lin):
-        best = ("none", lin_coef, g_lin)  # every alternative diverged, did worse or lost its terms
-    return (lin_coef, g_lin), best, linear_cols
-
-
-def _amplitude_ratio(model_curve, data_curve, frequency_resolution, damping_resolution) -> float:
-    """``max(|shift| / resolution)`` over frequency and damping, unless the data show it the other way."""
-    if model_curve is None:
-        return np.inf
-    ratios = [0.0]
-    pairs = (("frequency_shift", frequency_resolution), ("damping_ratio_shift", damping_resolution))
-    for name, resolution in pairs:
-        shift = getattr(model_curve, name)
-        seen = np.nan if data_curve is None else getattr(data_curve, name)
-        contradicted = np.isfinite(seen) and seen * shift < 0 and abs(seen) >= resolution
-        if np.isfinite(shift) and not contradicted:
-            ratios.append(abs(shift) / resolution)
-    return float(max(ratios))
-
-
 def _shift(curve, name: str) -> float:
     return float(getattr(curve, name)) if curve is not None else np.nan
 
@@ -340,7 +300,8 @@ def nonlinearity_test(
     c = resolve_coordinate(model, coordinate, n_states)
     xs, scales, equilibria = normalise(data.x, data.t)
     test = Comparison(library, diff, xs, data.t, _measure_of(model), bound_factor, max_iter)
-    (lin_coef, g_lin), (source, nl_coef, g_nl), linear_cols = _alternatives(test, coef, terms, search)
+    (lin_coef, g_lin), best, linear_cols = alternatives(test, coef, terms, search, N_SEARCH)
+    source, nl_coef, g_nl = best
     rel = min(MAX_REL_TOL, CYCLES_TOL / max(test.n_cycles, 1.0)) if rel_tol is None else rel_tol
     tol = tolerance(g_nl, test.noise, test.n_values, test.measure.floor, rel, noise_tol)
     data_curve = model_curve = None
@@ -349,7 +310,7 @@ def nonlinearity_test(
     else:
         significance = (g_lin - g_nl) / tol if tol > 0 else np.inf
         data_curve, model_curve = test.backbones(nl_coef, c)
-        amplitude = _amplitude_ratio(model_curve, data_curve, frequency_resolution, damping_resolution)
+        amplitude = amplitude_ratio(model_curve, data_curve, frequency_resolution, damping_resolution)
     statistic = float(min(significance, amplitude))
     return _result(
         statistic, significance, amplitude, (g_lin, g_nl, tol), test, (lin_coef, nl_coef), linear_cols,
