@@ -10,9 +10,7 @@ from sindy_impulse import ImpulseSINDy, MechanicalLibrary
 from sindy_impulse.feature_library import term_table
 from sindy_impulse.simulation import CompiledModel, FallbackModel, compile_model
 
-DEFAULT_NAMES = [
-    "x", "v", "x^3", "x^2 v", "x v^2", "v^3", "x|x|", "v|v|", "|x| v", "|v| x", "sgn(x)", "sgn(v)"
-]
+DEFAULT_NAMES = ["x", "v", "x^3", "x^2 v", "x v^2", "v^3", "x|x|", "v|v|", "|x| v", "sgn(v)"]
 
 
 def _ring(rhs, x0=(1.0, 0.0), n=401, dt=0.01):
@@ -32,8 +30,7 @@ def test_default_terms_for_a_single_mode():
         "x^2 v": xx**2 * vv,
         "v|v|": vv * np.abs(vv),
         "|x| v": np.abs(xx) * vv,
-        "|v| x": np.abs(vv) * xx,
-        "sgn(x)": np.tanh(xx / (0.01 * 2.0)),
+        "sgn(v)": np.tanh(vv / (0.01 * 1.0)),
     }
     for name, values in expected.items():
         np.testing.assert_allclose(theta[:, names.index(name)], values)
@@ -53,8 +50,22 @@ def test_options():
     assert MechanicalLibrary(degree=3, odd=False, **off).fit(x).n_output_features_ == 9
     assert MechanicalLibrary(degree=1, include_bias=True).fit(x).get_feature_names()[0] == "1"
     three = MechanicalLibrary(degree=1, quadratic_damping=False, friction=False).fit(np.ones((4, 3)))
-    assert three.n_output_features_ == 3 + 6  # |x_j| x_k for the 6 ordered pairs
+    assert three.n_output_features_ == 3 + 6  # |x_j| x_k for the 6 ordered pairs: every state a velocity
     assert MechanicalLibrary(degree=1).fit(np.ones((4, 1))).get_feature_names() == ["x0", "x0|x0|", "sgn(x0)"]
+
+
+def test_velocities():
+    x = np.ones((4, 2))
+    every = MechanicalLibrary(degree=1, quadratic_damping=False, velocities=None).fit(x)
+    assert every.get_feature_names(["x", "v"]) == ["x", "v", "|v| x", "|x| v", "sgn(x)", "sgn(v)"]
+    first = MechanicalLibrary(degree=1, quadratic_damping=False, velocities=[0]).fit(x)
+    assert first.get_feature_names(["v", "x"]) == ["v", "x", "|x| v", "sgn(v)"]
+    assert first.velocities_.tolist() == [0]
+    four = MechanicalLibrary(degree=1, quadratic_damping=False, velocities=[2, 3]).fit(np.ones((4, 4)))
+    assert four.n_output_features_ == 4 + 6 + 2
+    for bad in ([2], [], [0.5], "x"):
+        with pytest.raises(ValueError, match="velocities"):
+            MechanicalLibrary(velocities=bad).fit(x)
 
 
 def test_errors_and_cloning():

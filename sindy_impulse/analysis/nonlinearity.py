@@ -22,8 +22,9 @@ with the estimator's own steps (see :mod:`._nonlinear_fit`):
 
 ``statistic = min(significance, amplitude_dependence)`` and the system is nonlinear when it exceeds
 ``threshold = 1``: the nonlinear terms must both be needed and change the frequency or the damping with
-amplitude. When no backbone can be computed (a record of fewer than about 20 cycles, a strongly damped or
-non-oscillating system, several modes in the coordinate) the decision rests on the significance alone.
+amplitude. When the model's backbone cannot be computed (a strongly damped or non-oscillating system, such
+as the paper's oscillator with its damping ratio of 0.2) the decision rests on the significance alone; the
+data's backbone needs about 20 cycles (without it the direction is not checked).
 
 The test works on unit-free data: each state's equilibrium (the mean of the end of the decay) is removed
 and the state divided by its largest magnitude, so scaling the record (1e-6 ... 1e6) or adding an offset

@@ -10,7 +10,7 @@ from pysindy.utils import AxesArray
 from sklearn.preprocessing import PolynomialFeatures
 from sklearn.utils.validation import check_is_fitted
 
-from .._params import Interval, validate_params
+from .._params import Interval, Options, validate_params
 from .._trajectories import check_trajectories
 from ..simulation.terms import ABS, SIGNED_SQUARE, SMOOTH_SIGN, TermTable
 
@@ -29,18 +29,21 @@ class MechanicalLibrary(BaseFeatureLibrary):
                                                 ~ ``a^2``), ``x^2 v`` and ``v^3`` damping ~ ``a^2``
     quadratic_damping   ``x_j|x_j|``            ``v|v|`` drag (damping ~ ``a``), ``x|x|`` a spring
                                                 stiffening ~ ``a``
-    amplitude_damping   ``|x_j| x_k``, j != k   ``|x| v`` damping ~ ``a`` (joints, microslip),
-                                                ``|v| x``
-    friction            ``tanh(x_j / w_j)``     ``sgn(v)`` Coulomb friction (damping ~ ``1/a``)
+    amplitude_damping   ``|x_j| v_k``, j != k   ``|x| v`` damping ~ ``a`` (joints, microslip)
+    friction            ``tanh(v_k / w_k)``     ``sgn(v)`` Coulomb friction (damping ~ ``1/a``)
     ==================  ======================  ===================================================
 
     (``a`` is the vibration amplitude; "damping ~ a^2" means the damping ratio grows with ``a^2``.) With
     ``odd=True`` (the default) only the polynomial terms of odd total degree are kept: they, like every
     other family, change sign with the state, the symmetry of a structure vibrating about its equilibrium,
     and they are the ones that change a mode's frequency and damping with amplitude (even terms such as
-    ``x^2`` or ``x v`` shift the mean and add harmonics; set ``odd=False`` for a gap or a preload). The
-    defaults give 12 terms for ``(x, v)``:
-    ``x, v, x^3, x^2 v, x v^2, v^3, x|x|, v|v|, |x| v, |v| x, sgn(x), sgn(v)``.
+    ``x^2`` or ``x v`` shift the mean and add harmonics; set ``odd=False`` for a gap or a preload).
+
+    ``v_k`` are the states named by ``velocities``: friction is a force against the velocity, and an
+    amplitude-dependent damper a velocity times a magnitude. By default (``"auto"``) two states are taken
+    as ``(x, v)`` and every state counts as a velocity otherwise. The defaults give 10 terms for ``(x, v)``:
+    ``x, v, x^3, x^2 v, x v^2, v^3, x|x|, v|v|, |x| v, sgn(v)`` (``x v^2`` describes a Duffing spring
+    measured by an accelerometer).
 
     The smooth sign's width ``w_j`` is ``friction_width`` times the state's largest absolute value in the
     fitted data, so the library does not depend on units. Every term is a monomial times one scalar
@@ -58,9 +61,12 @@ class MechanicalLibrary(BaseFeatureLibrary):
     quadratic_damping : bool, default=True
         Include ``x_j|x_j|`` for each state.
     amplitude_damping : bool, default=True
-        Include ``|x_j| x_k`` for each pair of distinct states.
+        Include ``|x_j| v_k`` for each velocity ``v_k`` and each other state ``x_j``.
     friction : bool, default=True
-        Include ``tanh(x_j / w_j)`` for each state.
+        Include ``tanh(v_k / w_k)`` for each velocity.
+    velocities : "auto", None or list of int, default="auto"
+        The states that are velocities: ``"auto"`` is the second of two states, every state otherwise;
+        None is every state.
     friction_width : float, default=0.01
         Width of the smooth sign relative to the state's amplitude.
 
@@ -70,13 +76,17 @@ class MechanicalLibrary(BaseFeatureLibrary):
         The terms as arrays, read by the compiled simulator.
     friction_scale_ : ndarray of shape (n_states,)
         Absolute width ``w_j`` of the smooth sign per state.
+    velocities_ : ndarray of int
+        The velocity states.
 
     Examples
     --------
     >>> import numpy as np
     >>> lib = MechanicalLibrary().fit(np.random.default_rng(0).normal(size=(50, 2)))
     >>> lib.get_feature_names(["x", "v"])
-    ['x', 'v', 'x^3', 'x^2 v', 'x v^2', 'v^3', 'x|x|', 'v|v|', '|x| v', '|v| x', 'sgn(x)', 'sgn(v)']
+    ['x', 'v', 'x^3', 'x^2 v', 'x v^2', 'v^3', 'x|x|', 'v|v|', '|x| v', 'sgn(v)']
+    >>> MechanicalLibrary(degree=1, velocities=None).fit(np.ones((3, 2))).get_feature_names(["x", "v"])
+    ['x', 'v', 'x|x|', 'v|v|', '|v| x', '|x| v', 'sgn(x)', 'sgn(v)']
     >>> MechanicalLibrary(degree=2, odd=False, amplitude_damping=False, friction=False).fit(
     ...     np.ones((3, 2))).get_feature_names(["x", "v"])
     ['x', 'v', 'x^2', 'x v', 'v^2', 'x|x|', 'v|v|']
@@ -90,6 +100,7 @@ class MechanicalLibrary(BaseFeatureLibrary):
         "amplitude_damping": ["boolean"],
         "friction": ["boolean"],
         "friction_width": [Interval(Real, 0, None, "neither")],
+        "velocities": [Options({"auto"}), None, "array-like"],
     }
 
     def __init__(
@@ -101,6 +112,7 @@ class MechanicalLibrary(BaseFeatureLibrary):
         amplitude_damping: bool = True,
         friction: bool = True,
         friction_width: float = 0.01,
+        velocities="auto",
     ):
         self.degree = degree
         self.include_bias = include_bias
@@ -109,6 +121,7 @@ class MechanicalLibrary(BaseFeatureLibrary):
         self.amplitude_damping = amplitude_damping
         self.friction = friction
         self.friction_width = friction_width
+        self.velocities = velocities
 
     def fit(self, x, y=None):
         """Build the term table for data of shape (n_samples, n_states) (or a list of such).
@@ -120,16 +133,18 @@ class MechanicalLibrary(BaseFeatureLibrary):
         n = x_full[0].shape[-1]
         amplitude = np.max([np.max(np.abs(np.asarray(xi)), axis=0) for xi in x_full], axis=0)
         self.friction_scale_ = self.friction_width * np.where(amplitude > 0, amplitude, 1.0)
+        self.velocities_ = velocity = _velocities(self.velocities, n)
         tables = [self._polynomials(n)]
         eye = np.eye(n, dtype=np.int64)
         if self.quadratic_damping:
             tables.append(_table(np.zeros((n, n), np.int64), SIGNED_SQUARE, np.arange(n), np.ones(n)))
-        pairs = [(j, k) for j in range(n) for k in range(n) if j != k]
+        pairs = [(j, k) for k in velocity for j in range(n) if j != k]
         if self.amplitude_damping and pairs:
             j, k = np.array(pairs).T
             tables.append(_table(eye[k], ABS, j, np.ones(len(pairs))))
         if self.friction:
-            tables.append(_table(np.zeros((n, n), np.int64), SMOOTH_SIGN, np.arange(n), self.friction_scale_))
+            zeros = np.zeros((velocity.size, n), np.int64)
+            tables.append(_table(zeros, SMOOTH_SIGN, velocity, self.friction_scale_[velocity]))
         self.term_table_ = TermTable.concatenate(tables)
         if self.term_table_.n_features == 0:
             raise ValueError(
@@ -183,6 +198,19 @@ class MechanicalLibrary(BaseFeatureLibrary):
                 parts.insert(0, f"|{input_features[v]}|")
             names.append(" ".join(parts) if parts else "1")
         return names
+
+
+def _velocities(spec, n: int) -> np.ndarray:
+    """The velocity states: ``"auto"`` (the second of two, else all), None (all) or the given indices."""
+    if isinstance(spec, str):
+        return np.array([1]) if n == 2 else np.arange(n)
+    if spec is None:
+        return np.arange(n)
+    idx = np.asarray(spec)
+    integers = idx.ndim == 1 and idx.size > 0 and np.issubdtype(idx.dtype, np.integer)
+    if not integers or np.any(idx < 0) or np.any(idx >= n):
+        raise ValueError(f"velocities must be state indices in [0, {n - 1}], got {spec!r}")
+    return np.unique(idx.astype(np.int64))
 
 
 def _table(powers, code: int, state, param) -> TermTable:
