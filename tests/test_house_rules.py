@@ -11,7 +11,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "sindy_impulse"
 MODULES = sorted(PACKAGE.rglob("*.py"))
 MAX_MODULE_LINES, MAX_FUNCTION_LINES = 400, 60
 #: Known violations being split on a branch; strict: the entry must go once the module complies.
-PENDING = {"features.py": "483 lines"}
+PENDING: dict[str, str] = {}  # module: why it is still over the limit (none left)
 #: Infrastructure below every layer (the numba decorator): all simulation/ may import from the package.
 BELOW_SIMULATION = {"_jit"}
 
