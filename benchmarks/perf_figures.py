@@ -15,7 +15,8 @@ import pysindy as ps
 from perf_cases import PeakMemory, best_of, feature_study, long_record, two_dof
 from perf_reference import minimal_rk4, python_rk4
 
-from sindy_impulse import ImpulseSINDy, SINDyFeatures, damped_oscillator
+from sindy_impulse import ImpulseSINDy, SINDyFeatures, damped_oscillator, identify_modes, impact_record
+from sindy_impulse.analysis import esprit
 from sindy_impulse.simulation import integrators
 from sindy_impulse.simulation.compile import _FIRST, _NO_WEIGHTS
 from sindy_impulse.simulation.program import pack, propagators
@@ -163,3 +164,47 @@ def feature_study_rows(quick: bool) -> list:
             timings[n_jobs] = time.perf_counter() - start
     name = f"feature study, {len(series)} ring-downs, n_jobs=2 (fresh workers) vs n_jobs=1"
     return [(name, timings[2], timings[1], timings[1] / timings[2], "<= 5 s (80 series)")]
+
+
+def _survey_record():
+    """A 3 s hammer test at 5 kHz with two modes (120 and 240 Hz; 0.05 % and 0.2 % damping), 45 dB."""
+    return impact_record([120.0, 240.0], [5e-4, 2e-3], amplitudes=[1.0, 0.5], fs=5000.0, duration=3.0,
+                         sensor="velocity", offset=2.0, pre_trigger=0.05, snr_db=45, random_state=0)
+
+
+def _cold_survey() -> float:
+    """``identify_modes`` on the survey record in a fresh process (import excluded; kernels cached)."""
+    import subprocess
+    import sys
+
+    code = (
+        "import time, warnings; warnings.simplefilter('ignore'); import perf_figures as p; "
+        "rec = p._survey_record(); s = time.perf_counter(); "
+        "p.identify_modes(rec.y, fs=rec.fs); print(time.perf_counter() - s)"
+    )
+    here = __file__.rsplit("/", 1)[0]
+    out = subprocess.run([sys.executable, "-c", code], cwd=here, capture_output=True, text=True, check=True)
+    return float(out.stdout.strip().splitlines()[-1])
+
+
+def modal_survey(quick: bool) -> list:
+    """The two-mode survey, warm (median) and in a fresh process, against ESPRIT on the same record."""
+    rec = _survey_record()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        survey = identify_modes(rec.y, fs=rec.fs)  # (also loads the kernels)
+        times = []
+        for _ in range(3 if quick else 7):
+            start = time.perf_counter()
+            identify_modes(rec.y, fs=rec.fs)
+            times.append(time.perf_counter() - start)
+    onset = rec.free_decay_index + int(0.002 * rec.fs)  # skip the hammer's contact, as bench_modes does
+    base = best_of(lambda: esprit(rec.y[onset:], fs=rec.fs), 3)
+    median = float(np.median(times))
+    found = ", ".join(f"{m.frequency_hz:.2f} Hz" for m in survey.modes)
+    name = f"identify_modes, 3 s at 5 kHz, two modes ({found}), median warm vs ESPRIT on the record"
+    rows = [(name, median, base, base / median, "<= 2 s")]
+    cold = _cold_survey()
+    rows.append(("identify_modes in a fresh process (kernels cached) vs warm", cold, median, median / cold,
+                 "(info)"))
+    return rows

@@ -59,6 +59,7 @@ def _sections(quick: bool):
         ("paper's oscillator", perf_figures.paper_fit),
         ("many states", perf_figures.many_states),
         ("long records", perf_figures.long_records),
+        ("modal survey", perf_figures.modal_survey),
         ("feature study", perf_figures.feature_study_rows),
         ("dask", perf_dask.dask_rows),
     ]
