@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import replace
 
 import numpy as np
@@ -50,7 +49,6 @@ def _combined(group: list):
     return replace(
         best,
         frequency_hz=frequency,
-        damped_frequency_hz=frequency * math.sqrt(max(1 - zeta**2, 0.0)),
         damping_ratio=zeta,
         hits=sorted(group, key=lambda m: m.record),
         frequency_spread_hz=_iqr([m.frequency_hz for m in group]),

@@ -55,7 +55,6 @@ class Mode:
     """
 
     frequency_hz: float
-    damped_frequency_hz: float
     damping_ratio: float
     band_hz: tuple
     amplitude: float
@@ -71,6 +70,11 @@ class Mode:
     frequency_spread_hz: float = 0.0
     damping_ratio_spread: float = 0.0
     coordinate_: int = 0
+
+    @property
+    def damped_frequency_hz(self) -> float:
+        """``frequency_hz * sqrt(1 - damping_ratio**2)``."""
+        return self.frequency_hz * math.sqrt(max(1.0 - self.damping_ratio**2, 0.0))
 
     @cached_property
     def backbone(self):
