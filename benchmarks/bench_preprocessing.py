@@ -141,8 +141,8 @@ def detection(seeds=(0, 1, 2), count=100):
                       f"z={np.round(case['damping_ratios'], 4).tolist()}: missed {np.round(m, 1).tolist()}, "
                       f"spurious {np.round(s, 1).tolist()}")
     n = len(seeds) * count
-    print(f"   records with a missed mode: {missed} of {n}; with a spurious peak: {spurious}; time per record "
-          f"median {np.median(times):.2f} s, max {np.max(times):.1f} s")
+    print(f"   records with a missed mode: {missed} of {n}; with a spurious peak: {spurious}; "
+          f"time per record median {np.median(times):.2f} s, max {np.max(times):.1f} s")
     if 0 in seeds:
         rng = np.random.default_rng(0)
         case = [random_case(rng) for _ in range(5)][4]

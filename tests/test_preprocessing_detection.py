@@ -94,8 +94,8 @@ def test_short_record_with_strongly_damped_modes():
 def test_hammer_contact_lobes_are_no_modes():
     # a 0.5 ms contact at 25.6 kHz: its spectrum's lobes near 3.5, 5.7, 7.9 kHz are no modes
     f = [783.2, 2678.3, 2943.8]
-    rec = _record(f, [0.0127, 0.0013, 0.0043], [-7.9, -4.0, -18.8], fs=25600.0, n=30789, sensor="acceleration",
-                  snr_db=60, pre_trigger=0.001)
+    rec = _record(f, [0.0127, 0.0013, 0.0043], [-7.9, -4.0, -18.8], fs=25600.0, n=30789,
+                  sensor="acceleration", snr_db=60, pre_trigger=0.001)
     peaks = spectral_peaks(_ring(rec), rec.fs)
     assert _found(peaks, f) and not _spurious(peaks, f)
 
@@ -112,7 +112,8 @@ def test_close_strongly_damped_mode_gets_a_joint_band():
     peaks = spectral_peaks(_ring(rec), rec.fs)
     assert _found(peaks, f) and peaks.groups == [(1, 2)]
     (lo, hi), = peaks.group_band_hz
-    assert lo < 205.9 / (1 + 0.9 * 5 * 2 * 0.02) and hi > 216.6 * 1.09  # 5 half-power widths below, 10 % above
+    # 5 half-power widths below, 10 % above
+    assert lo < 205.9 / (1 + 0.9 * 5 * 2 * 0.02) and hi > 216.6 * 1.09
     for i, (b_lo, b_hi) in enumerate(peaks.band_hz):  # the own bands hold no neighbour's centre
         others = np.delete(peaks.frequency_hz, i)
         assert not np.any((others > b_lo) & (others < b_hi))

@@ -4,13 +4,13 @@ While the hammer touches the structure the response is forced: for a few samples
 pulse (an accelerometer at the driving point even carries the force itself), and the spectrum of the
 record from the onset shows the pulse's lobes (at 2, 3, 4, ... over the contact time) as broad "peaks"
 that are no modes. After the contact the response is a free decay: a sum of damped sinusoids, which obeys
-a linear recurrence read backwards, ``y[n] = c + sum_j b_j y[n + j]`` (``c`` for an offset). :func:`contact_end` fits that
-recurrence (order 48) to the first 4,096 samples from the onset by least squares with Huber's weights
-(the forced samples are outliers) and returns the first sample after the first cluster of samples it
-fails to predict (prediction error over 6 robust standard deviations; mostly the last ones of the
-contact, where the force stops abruptly), gaps of up to 16 samples within the cluster; if more than
-0.2 % of the first quarter fails after that cluster (a nonlinear free decay the recurrence cannot
-describe, e.g. with dry friction), it returns 0.
+a linear recurrence read backwards, ``y[n] = c + sum_j b_j y[n + j]`` (``c`` for an offset).
+:func:`contact_end` fits that recurrence (order 48) to the first 4,096 samples from the onset by least
+squares with Huber's weights (the forced samples are outliers) and returns the first sample after the
+first cluster of samples it fails to predict (prediction error over 6 robust standard deviations; mostly
+the last ones of the contact, where the force stops abruptly), gaps of up to 16 samples within the
+cluster; if more than 0.2 % of the first quarter fails after that cluster (a nonlinear free decay the
+recurrence cannot describe, e.g. with dry friction), it returns 0.
 
 Measured on 300 records of ``benchmarks/bench_modes.py``'s ``random_case`` (seeds 0-2; contact 1-29
 samples): the end found is within 2 samples of the true one in all, never after it (1-2 samples early

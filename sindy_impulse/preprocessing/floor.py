@@ -81,7 +81,8 @@ def noise_floor(psd, *, pad_factor: int = 1, exclude=None) -> np.ndarray:
     (the gating's bias, measured on white noise). Windows are symmetric in log frequency, hold at least
     128 resolution bins and weigh each bin by ``1 / f``, so a power-law floor (pink, brown noise) is
     followed without bias; near 0 Hz, where a window cannot be symmetric, the log PSD's trend in log
-    frequency is removed first. A window with too few rough bins is widened up to two octaves each side. Under the skirts of strong, lightly damped modes no noise shows: there
+    frequency is removed first. A window with too few rough bins is widened up to two octaves each side.
+    Under the skirts of strong, lightly damped modes no noise shows: there
     the floor is interpolated (in log frequency) between the nearest windows where it does, or held at
     their level beyond them. A spectrum without any rough stretch gets its lower quartile (the valleys).
 

@@ -24,8 +24,14 @@ from ..exceptions import DataWarning
 from ._record import check_fs, check_signal_1d
 from .detection import fit_peaks
 from .partition import band_groups, peak_bands
-from .spectrum import Spectrum, detection_threshold_db, half_power_width, refined_frequency, ringdown_spectrum
-from .spectrum import search_range
+from .spectrum import (
+    Spectrum,
+    detection_threshold_db,
+    half_power_width,
+    refined_frequency,
+    ringdown_spectrum,
+    search_range,
+)
 
 __all__ = ["SpectralPeaks", "spectral_peaks"]
 

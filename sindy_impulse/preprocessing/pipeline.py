@@ -14,8 +14,8 @@ from ._record import as_record
 from .band import band_noise_rms, extract_band
 from .offset import OffsetEstimate, estimate_offset, remove_offset
 from .onset import Impact, find_impact
-from .quality import QualityReport, check_quality
 from .peaks import SpectralPeaks, spectral_peaks
+from .quality import QualityReport, check_quality
 from .spectrum import ringdown_spectrum
 
 __all__ = ["Preprocessed", "preprocess"]

@@ -7,9 +7,10 @@ The model of a free decay from its first sample (``t = 0``) is
 with decay rates ``sigma_k >= 0`` and damped angular frequencies ``omega_k``. Started from estimates of
 the frequencies and decay rates (spectral peaks and their half-power widths), all parameters are refined
 together by Levenberg-Marquardt steps on the normal equations (analytic Jacobian; a step leaving the
-bounds is clipped to them), each frequency kept within a given distance of its start. Fitting all components at once accounts for the
-leak of every mode into its neighbours' peaks, which shifts the peaks of strongly damped modes; the
-residual is the noise (and whatever the model misses), free of the skirts of lightly damped modes.
+bounds is clipped to them), each frequency kept within a given distance of its start. Fitting all
+components at once accounts for the leak of every mode into its neighbours' peaks, which shifts the peaks
+of strongly damped modes; the residual is the noise (and whatever the model misses), free of the skirts
+of lightly damped modes.
 """
 
 from __future__ import annotations
