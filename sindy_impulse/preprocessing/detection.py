@@ -7,7 +7,9 @@ a strongly damped mode is pulled off its frequency (by 1-2 %) by its neighbours'
 are taken as starting points of a model of the record, and decided on what the model leaves:
 
 1. candidates: the spectrum's peaks above its floor (:func:`~.spectrum.candidate_peaks`), or its
-   highest prominent peak when none is;
+   highest prominent peak when none is (a fallback: it must then pass the threshold of step 3 by 3 dB
+   more, as the fit's freedom in frequency and decay lifts a noise peak over the residual's floor by up
+   to 3 dB, measured on pink noise, while a mode whose skirts hid the floor stands tens of dB over it);
 2. all candidates are fitted together as damped sinusoids (:func:`~.sinusoids.fit_damped_sinusoids`);
    the residual is the noise, free of the skirts: its spectrum gives the noise floor (the bins within 3
    resolution bins of a fitted component left out: the fit took the noise there);
@@ -49,6 +51,8 @@ _ROUNDS, _NEW_PER_ROUND = 8, 4
 _MODE_DAMPING = 0.2
 #: Resolution bins around a fitted component left out of the residual's floor.
 _FIT_BINS = 3.0
+#: Extra height (dB) a fallback candidate (the highest peak when none passes the threshold) needs.
+_FALLBACK_DB = 3.0
 #: Half-power width (resolution bins) of an undamped tone under the window: removed from the measured
 #: width to start the decay rate.
 _TONE_WIDTH = 1.28
@@ -90,8 +94,11 @@ def _first_candidates(spectrum: Spectrum, lo: float, hi: float, threshold_db: fl
         f = spectrum.frequency_hz[idx]
         idx = idx[(f >= lo) & (f <= hi)]
         idx = idx[np.argsort(spectrum.floor[idx] / spectrum.psd[idx])[:1]]
+        extra = np.full(idx.size, _FALLBACK_DB)
+    else:
+        extra = np.zeros(idx.size)
     width = np.array([half_power_width(spectrum, i) for i in idx])
-    return refined_frequency(spectrum, idx), _start_decay(width, spectrum.resolution_hz)
+    return refined_frequency(spectrum, idx), _start_decay(width, spectrum.resolution_hz), extra
 
 
 def _tolerances(f: np.ndarray, decay: np.ndarray, resolution_hz: float) -> np.ndarray:
@@ -176,7 +183,7 @@ def fit_peaks(y, fs: float, spectrum: Spectrum, lo: float, hi: float, threshold_
     -------
     ModeCandidates
     """
-    f, decay = _first_candidates(spectrum, lo, hi, threshold_db, prominence_db)
+    f, decay, extra = _first_candidates(spectrum, lo, hi, threshold_db, prominence_db)
     tried = f.copy()
     for _ in range(_ROUNDS):
         if f.size == 0:
@@ -185,12 +192,13 @@ def fit_peaks(y, fs: float, spectrum: Spectrum, lo: float, hi: float, threshold_
         fit = fit_damped_sinusoids(y, fs, f, decay, frequency_tol_hz=tol)
         residual_spectrum = _residual_spectrum(fit.residual, fs, fit.frequency_hz)
         heights = _heights(fit, fs, residual_spectrum)
-        keep = _kept(fit, heights, peak_threshold_db(fit.frequency_hz, spectrum, threshold_db))
+        keep = _kept(fit, heights, peak_threshold_db(fit.frequency_hz, spectrum, threshold_db) + extra)
         new_f, new_decay = _new_candidates(residual_spectrum, lo, hi, threshold_db, prominence_db,
                                            np.concatenate([fit.frequency_hz, tried]))
         if keep.all() and new_f.size == 0:
             break
         f = np.concatenate([fit.frequency_hz[keep], new_f])
         decay = np.concatenate([fit.decay_rate[keep], new_decay])
+        extra = np.concatenate([extra[keep], np.zeros(new_f.size)])
         tried = np.concatenate([tried, new_f])
     return _result(spectrum, fit, heights, keep, residual_spectrum)
