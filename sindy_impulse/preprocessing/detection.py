@@ -182,6 +182,23 @@ def fit_peaks(y, fs: float, spectrum: Spectrum, lo: float, hi: float, threshold_
     Returns
     -------
     ModeCandidates
+
+    Examples
+    --------
+    A weak mode 50 dB under a lightly damped one: the spectrum's floor (raised by the strong mode's skirt)
+    hides it, the fit's residual does not.
+
+    >>> t = np.arange(8000) / 2000
+    >>> from sindy_impulse.preprocessing.spectrum import search_range
+    >>> y = np.exp(-0.6 * t) * np.cos(2 * np.pi * 100 * t)
+    >>> y += 3e-3 * np.exp(-3 * t) * np.sin(2 * np.pi * 163 * t)
+    >>> y += 1e-5 * np.random.default_rng(0).standard_normal(t.size)
+    >>> s = ringdown_spectrum(y, 2000.0)
+    >>> len(candidate_peaks(s, *search_range(s), 14.0, 3.0)[0])
+    1
+    >>> modes = fit_peaks(y, 2000.0, s, *search_range(s), 14.0)
+    >>> modes.frequency_hz.round(3).tolist(), modes.decay_rate.round(2).tolist()
+    ([100.0, 163.0], [0.6, 3.0])
     """
     f, decay, extra = _first_candidates(spectrum, lo, hi, threshold_db, prominence_db)
     tried = f.copy()

@@ -20,6 +20,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from .._validation import check_array
+from ._record import check_fs, check_signal_1d
+
 __all__ = ["DampedSinusoids", "fit_damped_sinusoids"]
 
 #: Levenberg-Marquardt iterations at most, and the relative decrease of the cost that ends them.
@@ -131,6 +134,20 @@ def _levenberg_marquardt(p, y, tau, k, bounds) -> tuple[np.ndarray, np.ndarray]:
     return p, res
 
 
+def _check_starts(frequency_hz, decay_rate, frequency_tol_hz):
+    """Start frequencies (positive), decay rates (clipped at 0) and tolerances (positive), one each."""
+    f0 = check_array(frequency_hz, "frequency_hz", ndim=(1,))
+    sigma0 = np.maximum(check_array(decay_rate, "decay_rate", ndim=(1,)), 0.0)
+    if sigma0.shape != f0.shape:
+        raise ValueError(f"decay_rate has {sigma0.size} value(s), frequency_hz {f0.size}: one per component")
+    if np.any(f0 <= 0):
+        raise ValueError("frequency_hz must be positive")
+    tol = check_array(frequency_tol_hz, "frequency_tol_hz", ndim=(0, 1))
+    if (tol.ndim and tol.shape != f0.shape) or np.any(tol <= 0):
+        raise ValueError("frequency_tol_hz must be positive: one value, or one per component")
+    return f0, sigma0, np.broadcast_to(tol, f0.shape)
+
+
 def fit_damped_sinusoids(y, fs: float, frequency_hz, decay_rate, *, frequency_tol_hz) -> DampedSinusoids:
     """Refine damped sinusoids started at ``frequency_hz`` and ``decay_rate`` (see the module).
 
@@ -157,13 +174,14 @@ def fit_damped_sinusoids(y, fs: float, frequency_hz, decay_rate, *, frequency_to
     >>> fit.frequency_hz.round(4).tolist(), fit.decay_rate.round(4).tolist(), round(fit.constant, 4)
     ([50.2, 80.0], [1.5, 0.0], 0.3)
     """
-    arr = np.asarray(y, dtype=float)
+    arr, fs = check_signal_1d(y, "y"), check_fs(fs)
+    f0, sigma0, tol = _check_starts(frequency_hz, decay_rate, frequency_tol_hz)
     duration = arr.size / fs
     tau = np.arange(arr.size) / arr.size  # time over the record's duration: a well-scaled problem
-    omega0 = 2.0 * np.pi * np.asarray(frequency_hz, dtype=float) * duration
-    sigma0 = np.maximum(np.asarray(decay_rate, dtype=float), 0.0) * duration
+    omega0 = 2.0 * np.pi * f0 * duration
+    sigma0 = sigma0 * duration
     k = omega0.size
-    tol = np.broadcast_to(2.0 * np.pi * np.asarray(frequency_tol_hz, dtype=float) * duration, (k,))
+    tol = 2.0 * np.pi * tol * duration
     p0 = _linear_amplitudes(arr, tau, sigma0, omega0)
     lower = np.concatenate([np.zeros(k), omega0 - tol, np.full(2 * k + 1, -np.inf)])
     sigma_max = _MAX_DAMPING / np.sqrt(1.0 - _MAX_DAMPING**2) * (omega0 + tol)

@@ -159,10 +159,17 @@ def half_power_width(spectrum: Spectrum, index: int) -> float:
 
 
 def search_range(spectrum: Spectrum, f_range=None) -> tuple[float, float]:
-    """Frequencies searched for peaks: ``f_range`` checked, or from 3 periods over the record to 0.45 fs."""
+    """Frequencies searched for peaks: ``f_range`` checked, or from 3 periods over the record to 0.45 fs.
+
+    Examples
+    --------
+    >>> s = ringdown_spectrum(np.random.default_rng(0).standard_normal(4000), 2000.0)
+    >>> search_range(s), search_range(s, (10, 500))
+    ((1.5, 900.0), (10.0, 500.0))
+    """
     nyquist = spectrum.frequency_hz[-1]
     if f_range is None:
-        return _MIN_PERIODS * spectrum.resolution_hz, _MAX_FRACTION * 2 * nyquist
+        return float(_MIN_PERIODS * spectrum.resolution_hz), float(_MAX_FRACTION * 2 * nyquist)
     lo, hi = (float(v) for v in f_range)
     if not 0 <= lo < hi <= nyquist:
         raise ValueError(f"f_range must be (low, high), 0 <= low < high <= fs/2 = {nyquist:g}; got {f_range}")
@@ -178,7 +185,14 @@ def _noise_prominence_db(height_db: np.ndarray) -> np.ndarray:
 
 
 def peak_threshold_db(frequency_hz, spectrum: Spectrum, threshold_db: float) -> np.ndarray:
-    """The height over the floor a peak needs at each frequency: 6 dB more below 8 periods."""
+    """The height over the floor a peak needs at each frequency: 6 dB more below 8 periods.
+
+    Examples
+    --------
+    >>> s = ringdown_spectrum(np.random.default_rng(0).standard_normal(4000), 2000.0)  # 2 s
+    >>> peak_threshold_db([2.0, 100.0], s, 13.0).tolist()
+    [19.0, 13.0]
+    """
     low = np.asarray(frequency_hz) < _LOW_PERIODS * spectrum.resolution_hz
     return threshold_db + np.where(low, _LOW_EXTRA_DB, 0.0)
 
@@ -186,7 +200,19 @@ def peak_threshold_db(frequency_hz, spectrum: Spectrum, threshold_db: float) -> 
 def candidate_peaks(spectrum: Spectrum, lo: float, hi: float, threshold_db: float, prominence_db: float):
     """Bins of the local maxima in ``[lo, hi]`` above the floor by ``threshold_db`` (see
     :func:`peak_threshold_db`) that stand out of their surroundings by ``prominence_db`` and by more than
-    noise could make them (merges noise ripples on a peak), and their heights (dB) over the floor."""
+    noise could make them (merges noise ripples on a peak), and their heights (dB) over the floor.
+
+    Examples
+    --------
+    >>> t = np.arange(4000) / 2000
+    >>> y = np.exp(-2.0 * t) * np.cos(2 * np.pi * 100.3 * t)
+    >>> s = ringdown_spectrum(y + 1e-4 * np.random.default_rng(0).standard_normal(t.size), 2000.0)
+    >>> idx, height = candidate_peaks(s, *search_range(s), 13.0, 3.0)
+    >>> s.frequency_hz[idx].round(1).tolist(), bool(height[0] > 13)
+    ([100.3], True)
+    >>> refined_frequency(s, idx).round(2).tolist()  # between the bins
+    [100.3]
+    """
     level_db = 10.0 * np.log10(np.maximum(spectrum.psd, np.finfo(float).tiny))
     height_db = level_db - 10.0 * np.log10(spectrum.floor)
     idx, props = find_peaks(level_db, prominence=prominence_db)
@@ -198,7 +224,8 @@ def candidate_peaks(spectrum: Spectrum, lo: float, hi: float, threshold_db: floa
 
 
 def refined_frequency(spectrum: Spectrum, idx: np.ndarray) -> np.ndarray:
-    """Peak frequencies refined between bins by a parabola through the log PSD at the top three bins."""
+    """Peak frequencies refined between bins by a parabola through the log PSD at the top three bins
+    (example: :func:`candidate_peaks`)."""
     i = np.clip(idx, 1, spectrum.psd.size - 2)
     a, b, c = (np.log(np.maximum(spectrum.psd[i + k], np.finfo(float).tiny)) for k in (-1, 0, 1))
     curvature = a - 2 * b + c
