@@ -5,6 +5,9 @@ the impact, removes the offset, picks the spectral peaks and extracts one band-p
 peak; each band becomes one mode by the paper's machinery (:func:`._fit.fit_band`: derivative coordinates,
 TVRegDiff, the threshold sweep scored on the simulation error -- segment-wise for long records -- and the
 bounded refinement); the mode's frequency and damping ratio come from the identified model's linear part.
+Peaks too close for their damping (``Preprocessed.groups``) are also fitted jointly in their group's band
+(:func:`._fit.fit_group`), which replaces a peak's own-band result when that gave no mode or one farther
+from the peak's fitted damped sinusoid.
 Repeated hits of one structure are matched by frequency and combined by the paper's consensus (section
 3.3.2).
 """
