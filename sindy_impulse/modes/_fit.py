@@ -211,8 +211,6 @@ def fit_group(band, peak_bands, template, *, onset_time: float, index: int = 0) 
     states, states_dot, t = group_states(band.y, band.t, n_states, tau)
     model = _without_protection(fresh_copy(template))
     model.set_params(feature_library=ps.PolynomialLibrary(degree=1, include_bias=False), sweep=False)
-    if getattr(model.optimizer, "protected", None) is not None:  # a mask for the one-mode library: not here
-        model.set_params(optimizer=fresh_copy(model.optimizer).set_params(protected=None))
     names = [f"y(t-{k}tau)" if k else "y" for k in range(n_states - 1, -1, -1)]
     x_dot = states_dot if getattr(model, "differentiation_method", None) is None else None
     model.fit(states, t=t, x_dot=x_dot, feature_names=names)
