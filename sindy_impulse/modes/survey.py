@@ -6,8 +6,8 @@ peak; each band becomes one mode by the paper's machinery (:func:`._fit.fit_band
 TVRegDiff, the threshold sweep scored on the simulation error -- segment-wise for long records -- and the
 bounded refinement); the mode's frequency and damping ratio come from the identified model's linear part.
 Peaks too close for their damping (``Preprocessed.groups``) are also fitted jointly in their group's band
-(:func:`._fit.fit_group`), which replaces a peak's own-band result when that gave no mode or one farther
-from the peak's fitted damped sinusoid.
+(:func:`._fit.fit_group`); a joint mode that agrees with its peak's fitted damped sinusoid replaces the
+peak's own-band result when that gave no mode or one that agrees less.
 Repeated hits of one structure are matched by frequency and combined by the paper's consensus (section
 3.3.2).
 """
@@ -131,6 +131,10 @@ def _survey_record(index, record, t, fs, force, options, template, sensor, chann
     return modes, rejected, pre, notes
 
 
+#: Largest disagreement (:func:`_disagreement`) of a jointly fitted mode with its peak's damped sinusoid.
+_AGREEMENT = 0.5
+
+
 def _disagreement(mode, frequency_hz: float, damping_ratio: float) -> float:
     """How far a mode is from a peak's fitted damped sinusoid: frequency offset in half-power
     half-widths plus the log ratio of the damping ratios."""
@@ -140,18 +144,18 @@ def _disagreement(mode, frequency_hz: float, damping_ratio: float) -> float:
 
 def _grouped(pre, own: dict, template, index: int) -> dict:
     """Peaks of each group too close for their damping (``pre.groups``) fitted jointly in the group's band
-    (:func:`._fit.fit_group`): {own band: Mode} where the joint mode is closer to the peak's fitted damped
-    sinusoid (``pre.peaks``) than the mode of its own band (``own``: {own band: Mode}), or the own band
-    gave none."""
+    (:func:`._fit.fit_group`): {own band: Mode} where the joint mode agrees with the peak's fitted damped
+    sinusoid (``pre.peaks``; :func:`_disagreement` at most ``_AGREEMENT``) and better than the mode of its
+    own band (``own``: {own band: Mode}), or the own band gave none."""
     found = {}
     for group, band in pre.groups:
         members = [tuple(pre.peaks.band_hz[i]) for i in group]
         joint = fit_group(band, members, template, onset_time=pre.impact.onset_time, index=index)
         for i, b, out in zip(group, members, joint):
             f, zeta = pre.peaks.frequency_hz[i], pre.peaks.damping_ratio[i]
-            if isinstance(out, Mode) and (
-                b not in own or _disagreement(out, f, zeta) < _disagreement(own[b], f, zeta)
-            ):
+            if not isinstance(out, Mode) or not _disagreement(out, f, zeta) <= _AGREEMENT:
+                continue
+            if b not in own or _disagreement(out, f, zeta) < _disagreement(own[b], f, zeta):
                 found[b] = out
     return found
 
