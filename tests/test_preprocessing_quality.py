@@ -11,6 +11,7 @@ from sindy_impulse.preprocessing import (
     decay_db,
     quantisation_step,
     ringdown_snr_db,
+    spectral_peaks,
 )
 
 MODES = [(120.0, 0.005, 1.0), (410.0, 0.003, 0.5)]
@@ -102,3 +103,21 @@ def test_large_offset_is_flagged():
     report = check_quality(y, FS, onset_index=1000)
     expected = 3.0 / np.max(np.abs(y[1000:] - 3.0))
     assert report.offset_ratio == pytest.approx(expected, rel=1e-3) and "offset" in report.problems
+
+
+def test_pure_noise_has_no_signal_above_the_noise():
+    rng = np.random.default_rng(8)
+    x = 3.0 + rng.standard_normal(10000)
+    x[:2000] = 3.0 + rng.standard_normal(2000)  # a "pre-trigger" of the same noise
+    report = check_quality(x, FS, onset_index=2000)
+    assert report.snr_db == -np.inf or report.snr_db < -10
+    assert "-3" not in report.problems["snr"] and "dB" not in report.problems["snr"].split("(")[0]
+
+
+def test_snr_without_pre_trigger_uses_the_peaks_floor():
+    # a lightly damped mode ringing through the record hides the noise from the spectrum's own floor
+    t = np.arange(20000) / FS
+    x = np.exp(-2 * np.pi * 0.0005 * 120 * t) * np.sin(2 * np.pi * 120 * t)
+    y = add_noise(x, 40, random_state=2)
+    report = check_quality(y, FS, peaks=spectral_peaks(y, FS))
+    assert report.snr_db == pytest.approx(40, abs=1.5)

@@ -5,6 +5,9 @@ the impact, removes the offset, picks the spectral peaks and extracts one band-p
 peak; each band becomes one mode by the paper's machinery (:func:`._fit.fit_band`: derivative coordinates,
 TVRegDiff, the threshold sweep scored on the simulation error -- segment-wise for long records -- and the
 bounded refinement); the mode's frequency and damping ratio come from the identified model's linear part.
+Peaks too close for their damping (``Preprocessed.groups``) are also fitted jointly in their group's band
+(:func:`._fit.fit_group`); a joint mode that agrees with its peak's fitted damped sinusoid replaces the
+peak's own-band result when that gave no mode or one that agrees less.
 Repeated hits of one structure are matched by frequency and combined by the paper's consensus (section
 3.3.2).
 """
@@ -114,13 +117,47 @@ def _survey_record(index, record, t, fs, force, options, template, sensor, chann
             index=index,
         )
         (modes if not isinstance(out, Rejected) else rejected).append(out)
+    grouped = _grouped(pre, {m.band_hz: m for m in modes}, template, index)
+    modes = [m for m in modes if m.band_hz not in grouped] + list(grouped.values())
+    rejected = [r for r in rejected if r.band_hz not in grouped]
     for skipped, why in pre.skipped:
+        if tuple(skipped) in grouped:
+            continue
         out = _joint(pre, tuple(skipped), template, index) if "periods remain" in why else None
         if isinstance(out, Mode):
             modes.append(out)
         else:
             rejected.append(out if isinstance(out, Rejected) else Rejected(tuple(skipped), why, index))
     return modes, rejected, pre, notes
+
+
+#: Largest disagreement (:func:`_disagreement`) of a jointly fitted mode with its peak's damped sinusoid.
+_AGREEMENT = 0.5
+
+
+def _disagreement(mode, frequency_hz: float, damping_ratio: float) -> float:
+    """How far a mode is from a peak's fitted damped sinusoid: frequency offset in half-power
+    half-widths plus the log ratio of the damping ratios."""
+    offset = abs(mode.damped_frequency_hz - frequency_hz) / (damping_ratio * frequency_hz)
+    return float(offset + abs(np.log(mode.damping_ratio / damping_ratio)))
+
+
+def _grouped(pre, own: dict, template, index: int) -> dict:
+    """Peaks of each group too close for their damping (``pre.groups``) fitted jointly in the group's band
+    (:func:`._fit.fit_group`): {own band: Mode} where the joint mode agrees with the peak's fitted damped
+    sinusoid (``pre.peaks``; :func:`_disagreement` at most ``_AGREEMENT``) and better than the mode of its
+    own band (``own``: {own band: Mode}), or the own band gave none."""
+    found = {}
+    for group, band in pre.groups:
+        members = [tuple(pre.peaks.band_hz[i]) for i in group]
+        joint = fit_group(band, members, template, onset_time=pre.impact.onset_time, index=index)
+        for i, b, out in zip(group, members, joint):
+            f, zeta = pre.peaks.frequency_hz[i], pre.peaks.damping_ratio[i]
+            if not isinstance(out, Mode) or not _disagreement(out, f, zeta) <= _AGREEMENT:
+                continue
+            if b not in own or _disagreement(out, f, zeta) < _disagreement(own[b], f, zeta):
+                found[b] = out
+    return found
 
 
 def _joint(pre, skipped: tuple, template, index: int):

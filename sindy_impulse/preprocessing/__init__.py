@@ -8,7 +8,11 @@ module                        job
 ============================  =========================================================================
 ``onset``                     onset of the hit, end of the hammer contact, double hits
 ``offset``                    offset and drift: estimate (saying how) and remove
-``spectrum``, ``floor``       ring-down spectrum, noise floor, significant peaks, one band per peak
+``contact``                   end of the hammer contact from the response (start of the free decay)
+``spectrum``, ``floor``       ring-down spectrum, noise floor, detection threshold, candidate peaks
+``sinusoids``                 damped sinusoids fitted to a ring-down
+``detection``, ``peaks``      which peaks are modes (fitted, tested against the residual's floor)
+``partition``                 one band per peak; joint bands for peaks too close for their damping
 ``filters``                   zero-phase band-pass, its transient, decimation factor
 ``band``                      one band: band-pass, trim, stop at the noise floor, decimate
 ``quality``                   offset, clipping, quantisation, SNR, no ring-down
@@ -20,10 +24,13 @@ Imported eagerly: ``from .band import extract_band`` binds the function, whateve
 """
 
 from .band import BandSignal, band_noise_rms, extract_band, record_end
+from .contact import contact_end
 from .filters import bandpass, check_band, decimation_factor, filter_gain, transient_samples
 from .floor import noise_floor
 from .offset import OffsetEstimate, estimate_offset, remove_offset
 from .onset import ForcePulse, Impact, find_impact, force_pulses, response_onset
+from .partition import band_groups, peak_bands
+from .peaks import SpectralPeaks, spectral_peaks
 from .pipeline import Preprocessed, preprocess
 from .quality import (
     LIMITS,
@@ -34,21 +41,15 @@ from .quality import (
     quantisation_step,
     ringdown_snr_db,
 )
-from .spectrum import (
-    SpectralPeaks,
-    Spectrum,
-    detection_threshold_db,
-    half_power_width,
-    peak_bands,
-    ringdown_spectrum,
-    spectral_peaks,
-)
+from .sinusoids import DampedSinusoids, fit_damped_sinusoids
+from .spectrum import Spectrum, detection_threshold_db, half_power_width, ringdown_spectrum
 from .transformers import BandExtractor, ImpactTrimmer, OffsetRemover
 
 __all__ = [
     "LIMITS",
     "BandExtractor",
     "BandSignal",
+    "DampedSinusoids",
     "ForcePulse",
     "Impact",
     "ImpactTrimmer",
@@ -58,17 +59,20 @@ __all__ = [
     "QualityReport",
     "SpectralPeaks",
     "Spectrum",
+    "band_groups",
     "band_noise_rms",
     "bandpass",
     "check_band",
     "check_quality",
     "clipping_mask",
+    "contact_end",
     "decay_db",
     "decimation_factor",
     "detection_threshold_db",
     "estimate_offset",
     "extract_band",
     "filter_gain",
+    "fit_damped_sinusoids",
     "find_impact",
     "force_pulses",
     "half_power_width",

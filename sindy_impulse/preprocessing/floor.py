@@ -16,6 +16,8 @@ _FLOOR_GRID = 240
 #: median of the gated floor over the true mean on white noise (measured, 4x zero padding).
 _ROUGH = 0.5
 _GATE_BIAS = 0.96
+#: Resolution bins next to 0 Hz left out of every window (a removed offset depletes them).
+_DC_BINS = 2
 
 
 def _weighted_quantile(values: np.ndarray, weights: np.ndarray, q: float) -> float:
@@ -24,10 +26,27 @@ def _weighted_quantile(values: np.ndarray, weights: np.ndarray, q: float) -> flo
     return float(values[order][min(np.searchsorted(cum, q * cum[-1]), values.size - 1)])
 
 
+def _detrended_quantile(log_p: np.ndarray, bins: np.ndarray, k: int, q: float) -> float:
+    """``q``-quantile at bin ``k`` of ``log_p`` over ``bins`` (1/f weights) after removing its weighted
+    least-squares trend in log frequency (a power law of exponent -3 to 1): a power-law floor is
+    followed where the window cannot be symmetric about ``k`` (near 0 Hz)."""
+    x, w = np.log(bins / k), 1.0 / bins
+    dx = x - np.average(x, weights=w)
+    spread = float(np.sum(w * dx**2))
+    slope = float(np.sum(w * dx * log_p)) / spread if spread > 0 else 0.0
+    return _weighted_quantile(log_p - np.clip(slope, -3.0, 1.0) * x, w, q)
+
+
+def _window_ratio(k: int, half: float) -> float:
+    """Half-width (a frequency ratio) of the log-symmetric window around bin ``k``: one octave, at least
+    ``2 half`` bins."""
+    return max(2.0 ** (_FLOOR_OCTAVES / 2), (half + np.hypot(half, k)) / k)
+
+
 def _window_bins(k: int, n: int, half: float, step: int, keep: np.ndarray) -> np.ndarray:
-    """Kept bins of the log-symmetric window around bin ``k`` (one octave, at least ``2 half`` bins),
-    widened up to two octaves each side until it holds half its minimum count."""
-    ratio = max(2.0 ** (_FLOOR_OCTAVES / 2), (half + np.hypot(half, k)) / k)
+    """Kept bins of the window around bin ``k`` (:func:`_window_ratio`), widened up to two octaves each
+    side until it holds half its minimum count."""
+    ratio = _window_ratio(k, half)
     while True:
         bins = np.arange(int(np.ceil(k / ratio)), int(min(n, k * ratio + 1)), step)
         bins = bins[keep[bins]]
@@ -37,27 +56,33 @@ def _window_bins(k: int, n: int, half: float, step: int, keep: np.ndarray) -> np
 
 
 def _running_level(log_p: np.ndarray, grid: np.ndarray, pad_factor: int, keep: np.ndarray, q: float):
-    """``q``-quantile of ``log_p`` over the kept bins of the window around each grid bin (1/f weights);
-    NaN where fewer than half the minimum count are kept."""
+    """``q``-quantile of ``log_p`` over the kept bins of the window around each grid bin (1/f weights;
+    detrended where 0 Hz cuts the window); NaN where fewer than half the minimum count are kept."""
     level = np.full(grid.size, np.nan)
+    half = _FLOOR_MIN_BINS * pad_factor / 2
     for i, k in enumerate(grid):
-        bins = _window_bins(k, log_p.size, _FLOOR_MIN_BINS * pad_factor / 2, pad_factor, keep)
-        if bins.size >= _FLOOR_MIN_BINS // 2:
+        bins = _window_bins(k, log_p.size, half, pad_factor, keep)
+        if bins.size < _FLOOR_MIN_BINS // 2:
+            continue
+        if k / _window_ratio(k, half) < _DC_BINS * pad_factor:
+            level[i] = _detrended_quantile(log_p[bins], bins, k, q)
+        else:
             level[i] = _weighted_quantile(log_p[bins], 1.0 / bins, q)
     return level
 
 
-def noise_floor(psd, *, pad_factor: int = 1) -> np.ndarray:
+def noise_floor(psd, *, pad_factor: int = 1, exclude=None) -> np.ndarray:
     """Mean noise level under ``psd``, ignoring peaks and their skirts.
 
     Noise makes a periodogram rough: the log ratio of two independent bins has a median magnitude of
     ln 3 (1.1), where peaks and skirts change smoothly. The floor is the median of the log PSD over the
     rough bins (local median roughness over 9 independent bins above half that value) in a window one
     octave wide, divided by ln 2 (the median of a chi-square-2 periodogram over its mean) and by 0.96
-    (the gating's bias, measured on white noise). Windows are
-    symmetric in log frequency, hold at least 128 resolution bins and weigh each bin by ``1 / f``, so a
-    power-law floor (pink, brown noise) is followed without bias; one with too few rough bins is widened
-    up to two octaves each side. Under the skirts of strong, lightly damped modes no noise shows: there
+    (the gating's bias, measured on white noise). Windows are symmetric in log frequency, hold at least
+    128 resolution bins and weigh each bin by ``1 / f``, so a power-law floor (pink, brown noise) is
+    followed without bias; near 0 Hz, where a window cannot be symmetric, the log PSD's trend in log
+    frequency is removed first. A window with too few rough bins is widened up to two octaves each side.
+    Under the skirts of strong, lightly damped modes no noise shows: there
     the floor is interpolated (in log frequency) between the nearest windows where it does, or held at
     their level beyond them. A spectrum without any rough stretch gets its lower quartile (the valleys).
 
@@ -67,6 +92,9 @@ def noise_floor(psd, *, pad_factor: int = 1) -> np.ndarray:
         A periodogram on uniformly spaced frequencies from 0.
     pad_factor : int
         Zero-padding factor of the periodogram: independent bins are this many bins apart.
+    exclude : array-like of bool (n_bins,), optional
+        Bins to leave out (e.g. where fitted modes were subtracted from the signal); the lowest two
+        resolution bins are always left out.
 
     Examples
     --------
@@ -81,6 +109,9 @@ def noise_floor(psd, *, pad_factor: int = 1) -> np.ndarray:
     jumps = np.abs(log_p[step:] - log_p[:-step])
     jumps = np.concatenate([jumps, jumps[-step:]])
     rough = median_filter(jumps, size=8 * step + 1, mode="nearest") > _ROUGH * np.log(3.0)
+    rough[: _DC_BINS * step] = False
+    if exclude is not None:
+        rough &= ~np.asarray(exclude, dtype=bool)
     grid = np.unique(np.geomspace(1, n - 1, _FLOOR_GRID).astype(int))
     level = _running_level(log_p, grid, pad_factor, rough, 0.5) - np.log(np.log(2.0) * _GATE_BIAS)
     seen = np.isfinite(level)

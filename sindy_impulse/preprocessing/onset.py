@@ -8,7 +8,8 @@ loud as the hit has no pre-trigger: its onset is 0.
 
 Force pulses are the stretches where the force (sign taken from its largest excursion) exceeds
 ``max(n_sigma * sigma, level * peak)``; their edges are walked out to ``max(2 sigma, 1e-3 * peak)``.
-Every pulse after the first is a double hit; the free ring-down starts after the last contact.
+Every pulse after the first is a double hit; the free ring-down starts after the last contact. Without a
+force channel the end of the contact is found in the response (:func:`~.contact.contact_end`).
 """
 
 from __future__ import annotations
@@ -21,7 +22,8 @@ import numpy as np
 
 from .._params import Interval, check_param
 from ..exceptions import DataWarning
-from ._record import check_fs, check_signal_1d
+from ._record import MIN_SAMPLES, check_fs, check_signal_1d
+from .contact import contact_end
 
 __all__ = ["ForcePulse", "Impact", "response_onset", "force_pulses", "find_impact"]
 
@@ -185,7 +187,8 @@ class Impact:
     onset_index, onset_time : int, float
         First sample of the hit (of the first contact when there is a force channel).
     ringdown_index, ringdown_time : int, float
-        First sample of the free decay: after the last contact with a force channel, else the onset.
+        First sample of the free decay: after the last contact (from the force channel, else from the
+        response by :func:`~sindy_impulse.preprocessing.contact.contact_end`).
     source : str
         ``"force"``, ``"response"``, ``"no pre-trigger"`` or ``"given"``.
     pulses : tuple of ForcePulse
@@ -257,7 +260,8 @@ def find_impact(y, fs: float, *, force=None, t0: float = 0.0, n_sigma: float = 6
     if force is None:
         onset = response_onset(arr, n_sigma=n_sigma)
         source = "response" if onset > 0 else "no pre-trigger"
-        return Impact(onset, t0 + onset / rate, onset, t0 + onset / rate, source, (), rate)
+        free = onset + (contact_end(arr[onset:]) if arr.size - onset >= MIN_SAMPLES else 0)
+        return Impact(onset, t0 + onset / rate, free, t0 + free / rate, source, (), rate)
     if np.shape(force)[:1] != arr.shape:
         raise ValueError(f"force has shape {np.shape(force)}, y has {arr.size} samples; record them together")
     pulses = force_pulses(force, level=level, n_sigma=n_sigma)

@@ -14,8 +14,9 @@ from ._record import as_record
 from .band import band_noise_rms, extract_band
 from .offset import OffsetEstimate, estimate_offset, remove_offset
 from .onset import Impact, find_impact
+from .peaks import SpectralPeaks, spectral_peaks
 from .quality import QualityReport, check_quality
-from .spectrum import SpectralPeaks, ringdown_spectrum, spectral_peaks
+from .spectrum import ringdown_spectrum
 
 __all__ = ["Preprocessed", "preprocess"]
 
@@ -45,6 +46,11 @@ class Preprocessed:
         Bands that could not be extracted and why.
     quality : QualityReport
         The data-quality checks of the raw record.
+    groups : list of (tuple of int, BandSignal)
+        For each group of peaks too close for their damping (``peaks.groups``) that could be extracted:
+        the peaks' indices and the signal of their joint band (``peaks.group_band_hz``), which holds
+        all of them: identify them together there (their own bands are in ``bands`` too; a joint band
+        that cannot be extracted is left out).
     """
 
     y: np.ndarray = field(repr=False)
@@ -56,6 +62,7 @@ class Preprocessed:
     bands: list
     skipped: list
     quality: QualityReport
+    groups: list = field(default_factory=list)
 
     def __repr__(self) -> str:
         lines = [
@@ -68,6 +75,7 @@ class Preprocessed:
             done = [b for b in self.bands if b.band_hz == tuple(band)]
             what = repr(done[0]) if done else "skipped: " + dict(self.skipped).get(tuple(band), "")
             lines.append(f"  {f:.5g} Hz (+{h:.0f} dB): {what}")
+        lines += [f"  peaks {', '.join(map(str, g))} together: {b!r}" for g, b in self.groups]
         lines += [f"  problem: {p}" for p in self.quality.problems.values()]
         return "\n".join(lines)
 
@@ -80,26 +88,37 @@ def _impact(y, fs, t0, force, onset) -> Impact:
     return Impact(int(onset), t0 + onset / fs, int(onset), t0 + onset / fs, "given", (), fs)
 
 
-def _noise_spectrum(y: np.ndarray, impact: Impact, fs: float):
-    """Spectrum of the pre-trigger (pure noise), when long enough to give the noise in each band."""
+def _noise_spectrum(y: np.ndarray, impact: Impact, fs: float, peaks: SpectralPeaks):
+    """The spectrum whose floor gives the noise in each band: the pre-trigger's (pure noise) when long
+    enough, else the peaks' (the floor of the residual of the modes' fit)."""
     if impact.onset_index < _MIN_NOISE_SAMPLES:
-        return None
+        return peaks.spectrum
     return ringdown_spectrum(y[: impact.onset_index], fs)
 
 
-def _extract_all(y, fs, t0, impact, peaks, noise_spectrum, options) -> tuple[list, list]:
+def _extract(y, fs, t0, impact, band, noise_spectrum, options):
+    """The BandSignal of one band, or why it cannot be extracted."""
+    noise = band_noise_rms(noise_spectrum, band, method=options["method"])
+    try:
+        return extract_band(y, fs, band, start=impact.ringdown_index, t0=t0, noise_rms=noise, **options)
+    except ValueError as err:
+        return str(err)
+
+
+def _extract_all(y, fs, t0, impact, peaks, noise_spectrum, options) -> tuple[list, list, list]:
+    """The band signals, the skipped bands with the reason, and the groups' joint band signals (those
+    that cannot be extracted are left out: the group's own bands stay)."""
     bands, skipped = [], []
     for band in peaks.band_hz:
-        noise = None
-        if noise_spectrum is not None:
-            noise = band_noise_rms(noise_spectrum, band, method=options["method"])
-        try:
-            bands.append(extract_band(y, fs, band, start=impact.ringdown_index, t0=t0, noise_rms=noise,
-                                      **options))
-        except ValueError as err:
-            skipped.append((tuple(band), str(err)))
-            warnings.warn(f"band skipped: {err}", DataWarning, stacklevel=3)
-    return bands, skipped
+        out = _extract(y, fs, t0, impact, band, noise_spectrum, options)
+        if isinstance(out, str):
+            skipped.append((tuple(band), out))
+            warnings.warn(f"band skipped: {out}", DataWarning, stacklevel=3)
+        else:
+            bands.append(out)
+    joint = [(g, _extract(y, fs, t0, impact, b, noise_spectrum, options))
+             for g, b in zip(peaks.groups, peaks.group_band_hz)]
+    return bands, skipped, [(g, out) for g, out in joint if not isinstance(out, str)]
 
 
 def preprocess(y, t=None, *, fs: float | None = None, force=None, n_modes: int | None = None, bands=None,
@@ -110,8 +129,9 @@ def preprocess(y, t=None, *, fs: float | None = None, force=None, n_modes: int |
 
     Impact (onset, end of contact, double hits) -> offset removal -> spectral peaks and bands of the free
     ring-down -> per band: zero-phase band-pass, transient trim, end at the noise floor, decimation. The
-    noise in each band comes from the pre-trigger's spectrum when it has at least 256 samples. Every
-    automatic choice can be overridden.
+    noise in each band comes from the pre-trigger's spectrum when it has at least 256 samples, else from
+    the noise floor of the peaks' spectrum. Peaks too close for their damping are also extracted
+    together, in their joint band (``groups``). Every automatic choice can be overridden.
 
     Parameters
     ----------
@@ -134,7 +154,7 @@ def preprocess(y, t=None, *, fs: float | None = None, force=None, n_modes: int |
     samples_per_period, min_samples_per_period, method, end_snr_db
         See :func:`~sindy_impulse.preprocessing.band.extract_band`.
     threshold_db : float, optional
-        Peak detection threshold (see :func:`~sindy_impulse.preprocessing.spectrum.spectral_peaks`).
+        Peak detection threshold (see :func:`~sindy_impulse.preprocessing.peaks.spectral_peaks`).
     quality_warnings : bool
         Warn (:class:`~sindy_impulse.exceptions.DataWarning`) for each quality problem found but the
         offset (which is removed).
@@ -171,6 +191,6 @@ def preprocess(y, t=None, *, fs: float | None = None, force=None, n_modes: int |
                 warnings.warn(problem, DataWarning, stacklevel=2)
     options = dict(samples_per_period=samples_per_period, min_samples_per_period=min_samples_per_period,
                    method=method, end_snr_db=end_snr_db)
-    noise = _noise_spectrum(clean, impact, rate)
-    extracted, skipped = _extract_all(clean, rate, t0, impact, peaks, noise, options)
-    return Preprocessed(clean, rate, t0, impact, estimate, peaks, extracted, skipped, quality)
+    noise = _noise_spectrum(clean, impact, rate, peaks)
+    extracted, skipped, groups = _extract_all(clean, rate, t0, impact, peaks, noise, options)
+    return Preprocessed(clean, rate, t0, impact, estimate, peaks, extracted, skipped, quality, groups)

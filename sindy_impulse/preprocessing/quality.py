@@ -8,7 +8,8 @@ offset                 ``|offset|`` over the ring-down's largest excursion      
 clipping               samples in runs of >= 3 equal to the record's max or min        any
 quantisation           ADC step over the ring-down amplitude                           > 0.005
 signal-to-noise        ``10 log10(P_signal / P_noise)`` over the ring-down              < 20 dB
-                       (noise from the pre-trigger when there is one)
+                       (noise from the pre-trigger, else from the peaks' floor;         or no signal
+                       ``-inf`` when the ring-down is no louder than the noise)         above the noise
 no ring-down           no significant spectral peak and no decay (first over last      both
                        quarter of the ring-down, RMS)
 =====================  ==============================================================  =================
@@ -32,7 +33,8 @@ from .._params import Interval, check_param
 from ._record import check_fs, check_signal_1d
 from .offset import estimate_offset
 from .onset import _runs
-from .spectrum import SpectralPeaks, ringdown_spectrum, spectral_peaks
+from .peaks import SpectralPeaks, spectral_peaks
+from .spectrum import ringdown_spectrum
 
 __all__ = [
     "LIMITS",
@@ -98,7 +100,8 @@ def ringdown_snr_db(y, fs: float, *, noise_rms: float | None = None) -> float:
     ``P_noise`` is ``noise_rms**2`` when given (e.g. from the pre-trigger), else the smaller of the
     spectrum's noise floor integrated over frequency and the mean square of the last tenth of the
     ring-down (both upper bounds of the noise: the first under the skirts of strong modes, the second
-    while the modes still ring at the end). ``P_signal`` is the mean square minus ``P_noise``.
+    while the modes still ring at the end). ``P_signal`` is the mean square minus ``P_noise``; ``-inf``
+    when the mean square does not exceed ``P_noise`` (no signal above the noise).
 
     Examples
     --------
@@ -117,8 +120,10 @@ def ringdown_snr_db(y, fs: float, *, noise_rms: float | None = None) -> float:
         noise = min(floor, float(np.mean(arr[int(0.9 * arr.size) :] ** 2)))
     else:
         noise = float(noise_rms) ** 2
-    signal = max(float(np.mean(arr**2)) - noise, np.finfo(float).tiny)
-    return float(10.0 * np.log10(signal / noise))
+    signal = float(np.mean(arr**2)) - noise
+    if signal <= 0:
+        return float("-inf")
+    return float(10.0 * np.log10(signal / noise)) if noise > 0 else float("inf")
 
 
 def decay_db(y) -> float:
@@ -191,11 +196,25 @@ def _problems(offset, clipped, relative_step, snr, decay, n_peaks) -> dict:
         out["quantisation"] = (
             f"coarse quantisation: step {relative_step:.3g} x the amplitude; use a finer input range"
         )
-    if snr < LIMITS["snr_db"]:
+    if snr == -np.inf:
+        out["snr"] = "no signal above the noise: the ring-down is no louder than the noise; hit harder"
+    elif snr < LIMITS["snr_db"]:
         out["snr"] = f"low signal-to-noise ratio ({snr:.1f} dB): expect scattered models; hit harder"
     if n_peaks == 0 and decay <= LIMITS["decay_db"]:
         out["no_ringdown"] = "no ring-down found: no spectral peak and no decay; the record looks like noise"
     return out
+
+
+def _noise_rms(pre: np.ndarray, peaks: SpectralPeaks | None) -> float | None:
+    """Noise standard deviation: robust, of the pre-trigger (32 samples or more), else from the floor of
+    the peaks' spectrum (the residual of the modes' fit) when there is one; None to estimate it."""
+    if pre.size >= 32:
+        noise = 1.4826 * float(np.median(np.abs(pre - np.median(pre))))
+        return noise or None
+    if peaks is not None and np.isfinite(peaks.threshold_db):
+        spectrum = peaks.spectrum
+        return float(np.sqrt(np.sum(spectrum.floor) * spectrum.frequency_hz[1])) or None
+    return None
 
 
 def check_quality(y, fs: float, *, onset_index: int = 0, peaks: SpectralPeaks | None = None) -> QualityReport:
@@ -235,9 +254,7 @@ def check_quality(y, fs: float, *, onset_index: int = 0, peaks: SpectralPeaks | 
     amplitude = max(float(np.max(np.abs(ring))), np.finfo(float).tiny)
     clipped = clipping_mask(arr)
     step = quantisation_step(arr)
-    pre = arr[:onset_index]
-    noise = 1.4826 * float(np.median(np.abs(pre - np.median(pre)))) if onset_index >= 32 else 0.0
-    snr, decay = ringdown_snr_db(ring, rate, noise_rms=noise or None), decay_db(ring)
+    snr, decay = ringdown_snr_db(ring, rate, noise_rms=_noise_rms(arr[:onset_index], peaks)), decay_db(ring)
     n_peaks = len(spectral_peaks(ring, rate) if peaks is None else peaks)
     problems = _problems(offset.relative, clipped, step / amplitude, snr, decay, n_peaks)
     return QualityReport(offset.relative, clipped, step, step / amplitude, snr, decay, n_peaks, problems)

@@ -30,7 +30,7 @@ from .band import extract_band
 from .filters import check_band
 from .offset import estimate_offset
 from .onset import Impact, find_impact, response_onset
-from .spectrum import spectral_peaks
+from .peaks import spectral_peaks
 
 __all__ = ["OffsetRemover", "ImpactTrimmer", "BandExtractor"]
 

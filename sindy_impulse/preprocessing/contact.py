@@ -1,0 +1,114 @@
+"""End of the hammer contact, from the response alone.
+
+While the hammer touches the structure the response is forced: for a few samples it follows the force
+pulse (an accelerometer at the driving point even carries the force itself), and the spectrum of the
+record from the onset shows the pulse's lobes (at 2, 3, 4, ... over the contact time) as broad "peaks"
+that are no modes. After the contact the response is a free decay: a sum of damped sinusoids, which obeys
+a linear recurrence read backwards, ``y[n] = c + sum_j b_j y[n + j]`` (``c`` for an offset).
+:func:`contact_end` fits that recurrence (order 48) to the first 4,096 samples from the onset by least
+squares with Huber's weights (the forced samples are outliers) and returns the first sample after the
+first cluster of samples it fails to predict (prediction error over 6 robust standard deviations; mostly
+the last ones of the contact, where the force stops abruptly), gaps of up to 16 samples within the
+cluster; if more than 0.2 % of the first quarter fails after that cluster (a nonlinear free decay the
+recurrence cannot describe, e.g. with dry friction), it returns 0.
+
+Measured on 300 records of ``benchmarks/bench_modes.py``'s ``random_case`` (seeds 0-2; contact 1-29
+samples): the end found is within 2 samples of the true one in all, never after it (1-2 samples early
+for displacement sensors, whose response is smooth at the end of the contact).
+"""
+
+from __future__ import annotations
+
+from numbers import Integral
+
+import numpy as np
+from numpy.lib.stride_tricks import sliding_window_view
+from threadpoolctl import threadpool_limits
+
+from .._params import Interval, check_param
+from ._record import check_signal_1d
+
+__all__ = ["contact_end"]
+
+#: Recurrence order (up to 24 modes with noise), samples used, Huber's threshold and reweighting rounds.
+_ORDER, _SAMPLES, _HUBER, _ROUNDS = 48, 4096, 3.0, 4
+#: Prediction error (robust standard deviations) marking a forced sample; the largest gap (samples)
+#: within the forced run; the largest fraction of forced samples after it.
+_FORCED, _GAP, _QUIET = 6.0, 16, 0.002
+
+
+def _robust_scale(x: np.ndarray) -> float:
+    return 1.4826 * float(np.median(np.abs(x - np.median(x))))
+
+
+def _backward_errors(y: np.ndarray, order: int) -> tuple[np.ndarray, float]:
+    """Errors of the robust backward linear prediction of ``y[n]`` from ``y[n + 1 : n + 1 + order]``,
+    and their robust scale."""
+    rows = sliding_window_view(y, order + 1)
+    target = rows[:, 0]
+    design = np.column_stack([rows[:, 1:], np.ones(target.size)])  # the constant: any offset
+    root_w = np.ones(target.size)
+    with threadpool_limits(limits=1, user_api="blas"):  # small products: threads only contend
+        for _ in range(_ROUNDS):
+            weighted = design * root_w[:, None]
+            gram = weighted.T @ weighted
+            gram[np.diag_indices_from(gram)] *= 1.0 + 1e-10
+            try:
+                coef = np.linalg.solve(gram, weighted.T @ (target * root_w))
+            except np.linalg.LinAlgError:
+                coef = np.linalg.lstsq(weighted, target * root_w, rcond=None)[0]
+            error = target - design @ coef
+            scale = _robust_scale(error)
+            if scale <= 0:
+                break
+            root_w = np.sqrt(np.minimum(1.0, _HUBER * scale / np.maximum(np.abs(error), 1e-300)))
+    return error, scale
+
+
+def contact_end(y, *, order: int = _ORDER) -> int:
+    """Samples from the onset to the first sample of the free decay (see the module).
+
+    Parameters
+    ----------
+    y : array-like (n,)
+        The response from the onset of the hit (any offset).
+    order : int
+        Order of the recurrence (twice the number of modes it can describe, noise included).
+
+    Returns
+    -------
+    int
+        0 when the record obeys the recurrence from its first sample (no forced samples found).
+
+    Examples
+    --------
+    A 3-sample force pulse at the start of an accelerometer record, then two damped modes:
+
+    >>> t = np.arange(4000) / 5000
+    >>> y = np.exp(-8 * t) * np.sin(2 * np.pi * 120 * t) + 0.5 * np.exp(-20 * t) * np.cos(2 * np.pi * 410 * t)
+    >>> y += 1e-4 * np.random.default_rng(0).standard_normal(t.size)
+    >>> y = 2.0 + np.concatenate([[0.6, 1.0, 0.6], y])
+    >>> contact_end(y)
+    3
+    """
+    arr = check_signal_1d(y, "y")
+    check_param("order", order, [Interval(Integral, 2, None)], "contact_end")
+    head = arr[:_SAMPLES]
+    order = min(order, head.size // 8)
+    if order < 2:
+        return 0
+    error, scale = _backward_errors(head, order)
+    if scale <= 0:
+        return 0
+    return _forced_run(np.abs(error[: error.size // 4]) > _FORCED * scale)
+
+
+def _forced_run(exceeds: np.ndarray) -> int:
+    """End of the first cluster of exceedances (gaps up to ``_GAP``), if the rest is quiet (at most
+    ``_QUIET`` of it exceeds: a model that fails all along is no evidence of a contact)."""
+    forced = np.flatnonzero(exceeds)
+    if forced.size == 0:
+        return 0
+    breaks = np.flatnonzero(np.diff(forced) > _GAP)
+    end = int(forced[breaks[0]] if breaks.size else forced[-1]) + 1
+    return end if np.mean(exceeds[end:]) <= _QUIET else 0

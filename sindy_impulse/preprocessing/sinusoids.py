@@ -1,0 +1,199 @@
+"""A sum of exponentially damped sinusoids fitted to a ring-down by nonlinear least squares.
+
+The model of a free decay from its first sample (``t = 0``) is
+
+    ``y(t) = c + sum_k exp(-sigma_k t) (a_k cos(omega_k t) + b_k sin(omega_k t))``
+
+with decay rates ``sigma_k >= 0`` and damped angular frequencies ``omega_k``. Started from estimates of
+the frequencies and decay rates (spectral peaks and their half-power widths), all parameters are refined
+together by Levenberg-Marquardt steps on the normal equations (analytic Jacobian; a step leaving the
+bounds is clipped to them), each frequency kept within a given distance of its start. Fitting all
+components at once accounts for the leak of every mode into its neighbours' peaks, which shifts the peaks
+of strongly damped modes; the residual is the noise (and whatever the model misses), free of the skirts
+of lightly damped modes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from threadpoolctl import threadpool_limits
+
+from .._validation import check_array
+from ._record import check_fs, check_signal_1d
+
+__all__ = ["DampedSinusoids", "fit_damped_sinusoids"]
+
+#: Levenberg-Marquardt iterations at most, and the relative decrease of the cost that ends them.
+_MAX_ITERATIONS, _RTOL = 60, 1e-10
+#: Largest damping ratio of a component: a faster decay is a transient, not a vibration.
+_MAX_DAMPING = 0.3
+#: Decay exponent past which a component is zero (no subnormal numbers: they are slow).
+_NEGLIGIBLE = 300.0
+
+
+@dataclass(frozen=True)
+class DampedSinusoids:
+    """Components ``exp(-sigma t) (a cos + b sin)(omega t)`` fitted to a ring-down (see the module).
+
+    Attributes
+    ----------
+    frequency_hz, decay_rate : ndarray (n_components,)
+        Damped frequency ``omega / 2 pi`` (Hz) and decay rate ``sigma`` (1/s) of each component.
+    amplitude, phase : ndarray (n_components,)
+        ``a cos + b sin = amplitude cos(omega t + phase)`` at ``t = 0``.
+    constant : float
+        The constant ``c``.
+    residual : ndarray (n,)
+        The ring-down minus the fitted model.
+    """
+
+    frequency_hz: np.ndarray
+    decay_rate: np.ndarray
+    amplitude: np.ndarray
+    phase: np.ndarray
+    constant: float
+    residual: np.ndarray = field(repr=False)
+
+    @property
+    def damping_ratio(self) -> np.ndarray:
+        """``sigma / sqrt(sigma**2 + omega**2)``."""
+        omega = 2.0 * np.pi * self.frequency_hz
+        return self.decay_rate / np.hypot(self.decay_rate, omega)
+
+    def component(self, k: int, n: int, fs: float) -> np.ndarray:
+        """Samples of component ``k`` over ``n`` samples at ``fs``."""
+        t = np.arange(n) / fs
+        omega = 2.0 * np.pi * self.frequency_hz[k]
+        return self.amplitude[k] * np.exp(-self.decay_rate[k] * t) * np.cos(omega * t + self.phase[k])
+
+
+def _basis(tau: np.ndarray, sigma: np.ndarray, omega: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``exp(-sigma tau) cos(omega tau)`` and ``... sin`` for every component, shape (n, k)."""
+    exponent = np.outer(tau, sigma)
+    envelope = np.where(exponent < _NEGLIGIBLE, np.exp(-np.minimum(exponent, _NEGLIGIBLE)), 0.0)
+    phase = np.outer(tau, omega)
+    return envelope * np.cos(phase), envelope * np.sin(phase)
+
+
+def _split(p: np.ndarray, k: int):
+    return p[:k], p[k : 2 * k], p[2 * k : 3 * k], p[3 * k : 4 * k], p[4 * k]
+
+
+def _linear_amplitudes(y, tau, sigma, omega) -> np.ndarray:
+    """Least-squares ``a``, ``b`` and ``c`` for fixed decay rates and frequencies."""
+    cos, sin = _basis(tau, sigma, omega)
+    design = np.column_stack([cos, sin, np.ones_like(tau)])
+    coef = np.linalg.lstsq(design, y, rcond=None)[0]
+    k = sigma.size
+    return np.concatenate([sigma, omega, coef[:k], coef[k : 2 * k], coef[2 * k :]])
+
+
+def _residual_and_jacobian(p: np.ndarray, y: np.ndarray, tau: np.ndarray, k: int):
+    """Model minus data and its Jacobian with respect to ``p = (sigma, omega, a, b, c)``."""
+    sigma, omega, a, b, c = _split(p, k)
+    cos, sin = _basis(tau, sigma, omega)
+    model = cos * a + sin * b
+    turned = sin * a - cos * b
+    t = tau[:, None]
+    jac = np.column_stack([-t * model, -t * turned, cos, sin, np.ones_like(tau)])
+    return model.sum(axis=1) + c - y, jac
+
+
+def _step(jac: np.ndarray, res: np.ndarray, damping: float) -> np.ndarray:
+    normal = jac.T @ jac
+    scale = np.maximum(np.diag(normal), np.finfo(float).tiny)
+    try:
+        return -np.linalg.solve(normal + damping * np.diag(scale), jac.T @ res)
+    except np.linalg.LinAlgError:
+        return np.zeros(jac.shape[1])
+
+
+def _levenberg_marquardt(p, y, tau, k, bounds) -> tuple[np.ndarray, np.ndarray]:
+    """Bounded Levenberg-Marquardt from ``p``: the parameters and the residual (model minus data)."""
+
+    def evaluate(q):
+        res, jac = _residual_and_jacobian(q, y, tau, k)
+        return res, jac, float(res @ res)
+
+    res, jac, cost = evaluate(p)
+    damping = 1e-3
+    for _ in range(_MAX_ITERATIONS):
+        trial = np.clip(p + _step(jac, res, damping), *bounds)
+        out = evaluate(trial)
+        if out[2] < cost:
+            done = cost - out[2] <= _RTOL * cost
+            p, (res, jac, cost), damping = trial, out, max(damping / 3.0, 1e-9)
+            if done:
+                break
+        else:
+            damping *= 4.0
+            if damping > 1e8:
+                break
+    return p, res
+
+
+def _check_starts(frequency_hz, decay_rate, frequency_tol_hz):
+    """Start frequencies (positive), decay rates (clipped at 0) and tolerances (positive), one each."""
+    f0 = check_array(frequency_hz, "frequency_hz", ndim=(1,))
+    sigma0 = np.maximum(check_array(decay_rate, "decay_rate", ndim=(1,)), 0.0)
+    if sigma0.shape != f0.shape:
+        raise ValueError(f"decay_rate has {sigma0.size} value(s), frequency_hz {f0.size}: one per component")
+    if np.any(f0 <= 0):
+        raise ValueError("frequency_hz must be positive")
+    tol = check_array(frequency_tol_hz, "frequency_tol_hz", ndim=(0, 1))
+    if (tol.ndim and tol.shape != f0.shape) or np.any(tol <= 0):
+        raise ValueError("frequency_tol_hz must be positive: one value, or one per component")
+    return f0, sigma0, np.broadcast_to(tol, f0.shape)
+
+
+def fit_damped_sinusoids(y, fs: float, frequency_hz, decay_rate, *, frequency_tol_hz) -> DampedSinusoids:
+    """Refine damped sinusoids started at ``frequency_hz`` and ``decay_rate`` (see the module).
+
+    Parameters
+    ----------
+    y : ndarray (n,)
+        The ring-down from its first sample.
+    fs : float
+        Sampling rate (Hz).
+    frequency_hz, decay_rate : array-like (k,)
+        Start values: damped frequencies (Hz) and decay rates (1/s, clipped at 0).
+    frequency_tol_hz : float or array-like (k,)
+        Each frequency stays within this distance (Hz) of its start.
+
+    Returns
+    -------
+    DampedSinusoids
+
+    Examples
+    --------
+    >>> t = np.arange(4000) / 2000
+    >>> y = 0.3 + np.exp(-1.5 * t) * np.cos(2 * np.pi * 50.2 * t + 0.4) + 0.1 * np.sin(2 * np.pi * 80 * t)
+    >>> fit = fit_damped_sinusoids(y, 2000.0, [50.0, 80.5], [1.0, 0.5], frequency_tol_hz=1.0)
+    >>> fit.frequency_hz.round(4).tolist(), fit.decay_rate.round(4).tolist(), round(fit.constant, 4)
+    ([50.2, 80.0], [1.5, 0.0], 0.3)
+    """
+    arr, fs = check_signal_1d(y, "y"), check_fs(fs)
+    f0, sigma0, tol = _check_starts(frequency_hz, decay_rate, frequency_tol_hz)
+    duration = arr.size / fs
+    tau = np.arange(arr.size) / arr.size  # time over the record's duration: a well-scaled problem
+    omega0 = 2.0 * np.pi * f0 * duration
+    sigma0 = sigma0 * duration
+    k = omega0.size
+    tol = 2.0 * np.pi * tol * duration
+    p0 = _linear_amplitudes(arr, tau, sigma0, omega0)
+    lower = np.concatenate([np.zeros(k), omega0 - tol, np.full(2 * k + 1, -np.inf)])
+    sigma_max = _MAX_DAMPING / np.sqrt(1.0 - _MAX_DAMPING**2) * (omega0 + tol)
+    upper = np.concatenate([sigma_max, omega0 + tol, np.full(2 * k + 1, np.inf)])
+    with threadpool_limits(limits=1, user_api="blas"):  # small products: threads only contend
+        p, res = _levenberg_marquardt(np.clip(p0, lower, upper), arr, tau, k, (lower, upper))
+    sigma, omega, a, b, c = _split(p, k)
+    return DampedSinusoids(
+        frequency_hz=omega / (2.0 * np.pi * duration),
+        decay_rate=sigma / duration,
+        amplitude=np.hypot(a, b),
+        phase=np.arctan2(-b, a),
+        constant=float(c),
+        residual=-res,
+    )
