@@ -32,6 +32,7 @@ from sklearn.utils.validation import check_is_fitted
 
 from .._params import Interval, Options, Satisfies, validate_params
 from .._validation import check_array, check_signal, check_time
+from ..simulation.scoring import oscillation_count
 from ._banded import IdentityBasis, difference_stencil
 from ._selection import AlphaProblem, empty_curve, select_alpha
 from ._spline import SplineBasis
@@ -353,19 +354,9 @@ KNOTS_PER_PERIOD = 20
 
 
 def _knots_needed(arr: np.ndarray) -> int:
-    """Spline coefficients needed to follow the fastest-oscillating column.
-
-    Periods are counted as half the number of sign changes of the centred signal, with hysteresis at
-    +-0.1 standard deviations so that noise around zero does not count as oscillation.
-    """
-    centred = arr - arr.mean(axis=0)
-    band = 0.1 * centred.std(axis=0)
-    most = 0
-    for j in range(arr.shape[1]):
-        col = centred[:, j]
-        signs = np.sign(col[np.abs(col) > band[j]])
-        most = max(most, int(np.count_nonzero(np.diff(signs))))
-    return KNOTS_PER_PERIOD * (most // 2 + 1)
+    """Spline coefficients needed to follow the fastest-oscillating column (its periods counted by
+    :func:`~sindy_impulse.simulation.scoring.oscillation_count`, with hysteresis against noise)."""
+    return KNOTS_PER_PERIOD * (int(oscillation_count(arr)) + 1)
 
 
 def _time_axis(axis: int, ndim: int) -> int:
