@@ -59,11 +59,15 @@ def clipping_mask(y, *, min_run: int = 3) -> np.ndarray:
     >>> mask = clipping_mask(y)
     >>> int(mask.sum()), bool(clipping_mask(np.sin(np.arange(100) / 5)).any())
     (13, False)
+    >>> bool(clipping_mask(np.ones(50)).any())  # constant: no signal, not saturation
+    False
     """
     arr = check_signal_1d(y, "y", 1)
     check_param("min_run", min_run, [Interval(Integral, 2, None)], "clipping_mask")
-    tol = 1e-12 * max(np.ptp(arr), np.finfo(float).tiny)
     mask = np.zeros(arr.size, bool)
+    if np.ptp(arr) == 0:  # a constant record has no extremes to saturate at (it has no signal at all)
+        return mask
+    tol = 1e-12 * np.ptp(arr)
     for at_extreme in (arr >= arr.max() - tol, arr <= arr.min() + tol):
         for first, last in _runs(at_extreme):
             if last - first + 1 >= min_run:
