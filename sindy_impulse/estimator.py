@@ -20,6 +20,7 @@ from pysindy.utils import AxesArray
 from ._fitted import FittedModelMixin
 from ._params import HasMethods, Interval, Satisfies, validate_params
 from ._trajectories import as_trajectories, check_trajectories, restore
+from .diagnostics import at_rest_level, diagnose_fit, screen_states
 from .differentiation import differentiate
 from .exceptions import DataWarning, NoDynamicsWarning, UnsupportedProblemError, WorkBudgetWarning
 from .feature_library.terms import library_terms
@@ -242,16 +243,18 @@ class ImpulseSINDy(FittedModelMixin, ps.SINDy):
         data = as_trajectories(x, t, u, default_dt=1.0 if self.dt is None else self.dt, min_samples=3)
         self._resolve_components()
         filtered, derivs = self._derivatives(data, x_dot)
-        theta, y = self._regression(filtered, data, derivs)
+        level = screen_states(self, data, filtered)  # data checks; a ring-down's rest level (0: none)
+        theta, y = self._regression([f - level for f in filtered], data, derivs)
         self._record_data(data, filtered, feature_names, theta.shape[1])
         thresholds, candidates = candidate_path(self.optimizer_, theta, y, self.sweep)
         terms = library_terms(self.feature_library_, data.n_states + data.n_inputs)
         reference_u = None if data.u is None else np.vstack(data.u)
 
         def compile_(coef):
-            return compile_model(
-                coef, terms, np.vstack(filtered), self.divergence_factor, reference_u, data.n_inputs
+            model = compile_model(
+                coef, terms, np.vstack(filtered) - level, self.divergence_factor, reference_u, data.n_inputs
             )
+            return at_rest_level(model, level)  # equations in x - level, states as measured
 
         if not (self.sweep or self.refine):  # plain PySINDy: one model, no simulation
             return self._keep(candidates, thresholds, 0, candidates[0], compile_, None, {}, np.nan, np.nan)
@@ -375,6 +378,7 @@ class ImpulseSINDy(FittedModelMixin, ps.SINDy):
         self.threshold_ = float(thresholds[index])
         self.error_measure_ = name
         self.refinement_history_ = history
+        self.diagnostics_ = diagnose_fit(self, stacklevel=3)  # the verdict; warns once if not "ok"
         if measure is None:
             self.gamma_ = self.gamma_sindy_ = self.score_ = self.score_sindy_ = np.nan
             self.noise_level_, self.budget_used_ = np.nan, 0.0

@@ -1,0 +1,192 @@
+"""Checks of a fitted model against its data: simulation error, frequencies against the data's spectral
+peaks, conditioning of the selected terms (the terms themselves: :mod:`.terms`).
+
+Each function returns numbers; :mod:`.verdict` words them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from pysindy.utils import AxesArray
+
+from ..analysis.modal import MIN_LINEAR_SHARE, model_modes
+from ..preprocessing.spectrum import spectral_peaks
+from ..simulation.scoring import AUTO_PERIODS, Segmented, oscillation_count
+
+__all__ = [
+    "Fitted",
+    "segments",
+    "simulate_residuals",
+    "simulation_residuals",
+    "fit_error",
+    "regression",
+    "frequency_agreement",
+    "support_condition",
+]
+
+#: Segment length (periods) of the restarted simulations of long records.
+SEGMENT_PERIODS = 8.0
+
+
+class Fitted:
+    """What the checks read from a fitted estimator, as lists over trajectories (measured coordinates)."""
+
+    def __init__(self, estimator):
+        def as_list(v):
+            return v if isinstance(v, list) else [v]
+
+        self.model = estimator.model_
+        self.filtered = [np.asarray(f, dtype=float) for f in as_list(estimator.x_filtered_)]
+        self.times = [np.asarray(t, dtype=float) for t in as_list(estimator.t_)]
+        u = getattr(estimator, "u_", None)
+        self.inputs = [None] * len(self.filtered) if u is None else [np.asarray(v, float) for v in as_list(u)]
+        self.coef = np.asarray(estimator.coef_, dtype=float)
+        self.estimator = estimator
+
+
+def _starts(reference: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """First sample of each simulated segment: one simulation for short records, restarts for long ones."""
+    if oscillation_count(reference) <= AUTO_PERIODS:
+        return np.zeros(1, dtype=np.int64)
+    return Segmented(segment_periods=SEGMENT_PERIODS).prepare(reference, t)[0]
+
+
+def segments(fitted: Fitted) -> list[np.ndarray]:
+    """Per trajectory, the first sample of each simulated segment (see :func:`simulate_residuals`)."""
+    return [_starts(ref, t) for ref, t in zip(fitted.filtered, fitted.times)]
+
+
+def simulate_residuals(model, fitted: Fitted, coef=None, start_offset=None) -> list[np.ndarray]:
+    """Per trajectory, ``model``'s simulation minus the filtered states (NaN where it diverged).
+
+    Records of more than ``AUTO_PERIODS`` periods are simulated in segments of ``SEGMENT_PERIODS``
+    periods, each from the filtered state at its start (phase drift over hundreds of periods is not an
+    error of the model's structure). ``coef`` replaces the model's active coefficients; ``start_offset``
+    (n_states,) is added to every segment's initial state.
+    """
+    extra = {} if coef is None else {"coef": coef}
+    out = []
+    for ref, t, u, starts in zip(fitted.filtered, fitted.times, fitted.inputs, segments(fitted)):
+        ends = np.append(starts[1:], ref.shape[0] - 1)
+        sim = np.full_like(ref, np.nan)
+        for a, b in zip(starts, ends):
+            inputs = None if u is None else u[a : b + 1]
+            x0 = ref[a] if start_offset is None else ref[a] + start_offset
+            sim[a : b + 1] = model.simulate(x0, t[a : b + 1], u=inputs, **extra)
+        out.append(sim - ref)
+    return out
+
+
+def simulation_residuals(fitted: Fitted) -> list[np.ndarray]:
+    """The fitted model's :func:`simulate_residuals`."""
+    return simulate_residuals(fitted.model, fitted)
+
+
+def fit_error(residuals, fitted: Fitted, level: np.ndarray) -> np.ndarray:
+    """Per state: RMS of the simulation's deviation over the RMS of the filtered state about its level
+    (inf where the simulation diverged)."""
+    r = np.vstack(residuals)
+    x = np.vstack(fitted.filtered) - level
+    den = np.sqrt(np.mean(x**2, axis=0))
+    err = np.sqrt(np.mean(r**2, axis=0))
+    err = np.where(np.all(np.isfinite(r), axis=0), err, np.inf)
+    return np.where(den > 0, err / np.where(den > 0, den, 1.0), np.where(err > 0, np.inf, 0.0))
+
+
+def _derivative(x: np.ndarray, t: np.ndarray, order: int) -> np.ndarray:
+    """Central differences of second or fourth order (uniform ``t``; second order otherwise), NaN ends."""
+    steps = np.diff(t)
+    if order == 2 or x.shape[0] < 5 or np.ptp(steps) > 1e-6 * np.mean(steps):
+        return np.gradient(x, t, axis=0)
+    out = np.full_like(x, np.nan)
+    out[2:-2] = (x[:-4] - 8 * x[1:-3] + 8 * x[3:-1] - x[4:]) / (12 * np.mean(steps))
+    return out
+
+
+def regression(fitted: Fitted, shift: np.ndarray, order: int = 2):
+    """Library matrix on the (shifted) filtered states and their derivatives by central differences."""
+    library = fitted.estimator.feature_library_
+    joined = [
+        f - shift if u is None else np.hstack([f - shift, u]) for f, u in zip(fitted.filtered, fitted.inputs)
+    ]
+    theta = library.transform([AxesArray(j, {"ax_time": 0, "ax_coord": 1}) for j in joined])
+    theta = np.vstack([np.asarray(th) for th in theta])
+    y = np.vstack([_derivative(f, t, order) for f, t in zip(fitted.filtered, fitted.times)])
+    return theta, y
+
+
+def _explained(model_hz: np.ndarray) -> np.ndarray:
+    """Frequencies a model's response may show: its modes, their harmonics (to the 5th) and the sums and
+    differences of two modes (a nonlinear model's spectrum has them too)."""
+    harmonics = (model_hz[:, None] * np.arange(1, 6)[None, :]).ravel()
+    pairs = [abs(a + s * b) for a in model_hz for b in model_hz for s in (1, -1) if a > b]
+    return np.concatenate([harmonics, np.asarray(pairs, dtype=float)])
+
+
+def _response_peaks(fitted: Fitted, residuals) -> np.ndarray:
+    """Spectral peaks of the model's simulated response (first trajectory, every state)."""
+    sim = residuals[0] + fitted.filtered[0]
+    t = fitted.times[0]
+    if sim.shape[0] < 128 or not np.all(np.isfinite(sim)):
+        return np.empty(0)
+    fs = (t.size - 1) / float(t[-1] - t[0])
+    out = []
+    for j in range(sim.shape[1]):
+        y = sim[:, j] - np.mean(sim[int(0.75 * sim.shape[0]) :, j])
+        if np.ptp(y) > 0:
+            out.extend(spectral_peaks(y, fs, f_range=(2 * fs / y.size, 0.45 * fs)).frequency_hz.tolist())
+    return np.asarray(out)
+
+
+def frequency_agreement(fitted: Fitted, checks, residuals):
+    """The model's damped modal frequencies and how far the data's spectral peaks are from the model's.
+
+    The frequencies a model explains are its damped modal frequencies ``f_n sqrt(1 - zeta^2)``, their
+    harmonics (to the 5th), sums and differences of two, and the spectral peaks of its simulated response
+    (a weakly nonlinear model rings at amplitude-dependent frequencies). Each significant peak of the
+    measured states (:class:`~sindy_impulse.diagnostics.data.DataChecks`) must lie on one within the
+    larger of 5 % and its half-power width, and the highest on a modal frequency or a peak of the
+    response. Skipped (NaN) when the model's linear part does not describe it
+    (:data:`~sindy_impulse.analysis.modal.MIN_LINEAR_SHARE`) or no peak stands out of the noise.
+
+    Returns
+    -------
+    model_hz : ndarray
+    mismatch : float
+        Worst relative distance of a peak to the nearest frequency the model explains (NaN: skipped).
+    disagree : bool
+        A peak lies beyond its tolerance.
+    share : float
+        The model's linear share (:func:`~sindy_impulse.analysis.modal.linear_share`).
+    """
+    modes, share = model_modes(fitted.estimator)
+    model_hz = modes.frequencies_hz * np.sqrt(np.clip(1 - modes.damping_ratios**2, 0, None))
+    peaks = checks.peaks_hz
+    if peaks.size == 0 or not share >= MIN_LINEAR_SHARE:
+        return model_hz, float("nan"), False, share
+    response = _response_peaks(fitted, residuals)
+    own = np.concatenate([model_hz, response])
+    if own.size == 0:
+        return model_hz, float("inf"), True, share
+    explained = np.concatenate([_explained(model_hz), response])
+    tol = np.maximum(0.05, checks.peak_widths_hz / peaks)
+    miss = np.array([np.min(np.abs(explained / f - 1)) for f in peaks])
+    top = int(np.argmax(checks.peak_heights_db))
+    fundamental = float(np.min(np.abs(own / peaks[top] - 1)))
+    disagree = bool(np.any(miss > tol) or fundamental > tol[top])
+    return model_hz, float(max(np.max(miss), fundamental)), disagree, share
+
+
+def support_condition(fitted: Fitted, shift: np.ndarray) -> float:
+    """Condition number of the library columns of the model's terms (each scaled to unit norm)."""
+    active = np.flatnonzero(np.any(fitted.coef != 0, axis=0))
+    if active.size < 2:
+        return 1.0
+    theta, _ = regression(fitted, shift)
+    cols = theta[:, active]
+    cols = cols[np.all(np.isfinite(cols), axis=1)]
+    norms = np.linalg.norm(cols, axis=0)
+    if cols.shape[0] < active.size or not np.all(norms > 0):
+        return np.inf
+    singular = np.linalg.svd(cols / norms, compute_uv=False)
+    return float(singular[0] / singular[-1]) if singular[-1] > 0 else np.inf

@@ -1,0 +1,154 @@
+"""The verdict rules: from the numbers of the checks to ``"ok"``, ``"doubtful"``, ``"unreliable"`` or
+``"no dynamics"``, each problem worded with what to do.
+
+Thresholds (fit error and noise are RMS values relative to each state's RMS about its rest level):
+
+====================  =======================================================================  ============
+verdict               when                                                                      class
+====================  =======================================================================  ============
+no dynamics           every coefficient is zero, or the simulation misses the data (fit error   NoDynamics-
+                      >= ``NO_DYNAMICS_ERROR``) and no state rings down (no spectral peak, no   Warning
+                      decay: the record looks like noise)
+unreliable            the simulation diverges or misses the data (fit error >=                  FitWarning
+                      ``UNRELIABLE_ERROR``); a spectral peak of the data without a model mode
+                      near it; the model's terms are collinear over the data (condition number
+                      >= ``CONDITION_LIMIT``); two channels are nearly copies
+                      (``STATE_CONDITION_LIMIT``)
+doubtful              the simulation departs from the data by more than the noise explains      FitWarning,
+                      (fit error > ``ADEQUACY`` x noise and > ``ERROR_FLOOR``); a term the      or Data-
+                      data do not support; the work budget ran out; clipping, coarse            Warning for
+                      quantisation or an offset left in place                                   data only
+ok                    none of the above
+====================  =======================================================================  ============
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .data import DataChecks, quality_problems
+
+__all__ = [
+    "judge",
+    "NO_DYNAMICS_ERROR",
+    "UNRELIABLE_ERROR",
+    "ADEQUACY",
+    "ERROR_FLOOR",
+    "CONDITION_LIMIT",
+    "STATE_CONDITION_LIMIT",
+]
+
+#: Fit error from which a model that does not ring down is taken for noise (it explains under half the
+#: data's variance: 1 - 0.7**2).
+NO_DYNAMICS_ERROR = 0.7
+#: Fit error from which a model is unreliable whatever the data (it explains under 75 % of the variance).
+UNRELIABLE_ERROR = 0.5
+#: A fit error above this multiple of the noise ratio is more than the noise explains.
+ADEQUACY = 3.0
+#: Fit errors below this are never a problem (the filter's own smoothing error on clean data).
+ERROR_FLOOR = 0.02
+#: Condition number of the model's library columns from which its coefficients are not determined.
+CONDITION_LIMIT = 1e8
+#: Condition number of the standardised states from which two channels are nearly copies.
+STATE_CONDITION_LIMIT = 1e3
+
+
+def _no_dynamics(m: dict, checks: DataChecks) -> dict:
+    if m["zero_model"]:
+        return {"no_dynamics": "every coefficient is zero (x' = 0): the data show no deterministic dynamics"}
+    rings = any(report.ringdown_found for report in checks.quality) or checks.peaks_hz.size > 0
+    if np.max(m["fit_error"]) >= NO_DYNAMICS_ERROR and not rings:
+        return {
+            "no_dynamics": (
+                f"the model's simulation misses the data (fit error {np.max(m['fit_error']):.2g}) and no state "
+                "rings down (no spectral peak, no decay): the record looks like noise; check the sensor "
+                "and the trigger"
+            )
+        }
+    return {}
+
+
+def _unreliable(m: dict, checks: DataChecks, names) -> dict:
+    out = {}
+    worst = float(np.max(m["fit_error"]))
+    if not np.isfinite(worst):
+        out["divergence"] = (
+            "the model's simulation from the data's first state diverges: it does not describe the data; "
+            "use a smaller library or a longer, cleaner record"
+        )
+    elif worst >= UNRELIABLE_ERROR:
+        out["fit_error"] = (
+            f"the model's simulation misses the data (fit error {worst:.2g} of the RMS): the library may lack "
+            "the right terms, or the record is too noisy"
+        )
+    if m["disagree"]:
+        peaks = ", ".join(f"{f:.4g}" for f in checks.peaks_hz)
+        model = ", ".join(f"{f:.4g}" for f in m["model_hz"]) or "none"
+        out["frequency"] = (
+            f"the data's spectral peaks ({peaks} Hz) are not the model's frequencies ({model} Hz): check "
+            "for an offset, a trend or a missing state"
+        )
+    if m["condition"] >= CONDITION_LIMIT:
+        out["conditioning"] = (
+            f"the model's terms are nearly collinear over the data (condition number {m['condition']:.2g}): "
+            "their coefficients are not determined; use a smaller library or remove redundant channels"
+        )
+    if checks.state_condition >= STATE_CONDITION_LIMIT:
+        i, j, r = checks.collinear
+        out["collinear"] = (
+            f"channels {names[i]} and {names[j]} are nearly copies (correlation {r:.6f}): the model cannot "
+            "tell them apart; keep one of them (or delay-embed a single channel)"
+        )
+    return out
+
+
+def _doubtful(m: dict, checks: DataChecks) -> dict:
+    out = {}
+    err, noise = np.asarray(m["fit_error"]), np.asarray(m["noise_ratio"])
+    excess = (err > ADEQUACY * noise) & (err > ERROR_FLOOR)
+    if np.all(np.isfinite(err)) and np.any(excess):
+        j = int(np.argmax(np.where(excess, err / np.maximum(noise, 1e-300), 0)))
+        out["adequacy"] = (
+            f"the model's simulation departs from the data by more than the noise explains (fit error "
+            f"{err[j]:.2g}, noise {noise[j]:.2g} of the RMS): a term may be missing or wrong; compare "
+            "other libraries"
+        )
+    tests = m["terms"]
+    if tests.unsupported:
+        out["support"] = (
+            f"the data hardly determine the term(s) {', '.join(tests.unsupported)}: leaving each out changes "
+            "the simulation by less than the noise, so it may be spurious or too weak to resolve in this "
+            "record (a longer or cleaner record decides)"
+        )
+    if tests.missing:
+        out["missing"] = (
+            f"the data ask for term(s) the model lacks ({', '.join(tests.missing)}): adding one explains "
+            "more than the noise; the selection may have stopped too sparse"
+        )
+    if tests.alternatives:
+        pairs = ", ".join(f"{a} -> {b.split(' : ')[-1]}" for a, b in tests.alternatives[:4])
+        more = f" and {len(tests.alternatives) - 4} more" if len(tests.alternatives) > 4 else ""
+        out["ambiguous"] = (
+            f"other terms explain the data as well ({pairs}{more}): the data cannot tell which is right; "
+            "fit a record with larger amplitude or less noise, or restrict the library to the physics"
+        )
+    out.update(quality_problems(checks))
+    return out
+
+
+def judge(m: dict, checks: DataChecks, names) -> tuple[str, dict]:
+    """The verdict and its reasons from the model checks ``m`` and the data checks.
+
+    ``m`` holds ``fit_error``, ``noise_ratio`` (arrays per state), ``zero_model``, ``disagree``,
+    ``model_hz``, ``condition`` and ``terms`` (:class:`~.terms.TermTests`); ``names`` are the state
+    names.
+    """
+    reasons = _no_dynamics(m, checks)
+    if reasons:
+        return "no dynamics", reasons
+    reasons = _unreliable(m, checks, names)
+    if reasons:
+        reasons.update(_doubtful(m, checks))
+        return "unreliable", reasons
+    reasons = _doubtful(m, checks)
+    return ("doubtful" if reasons else "ok"), reasons
