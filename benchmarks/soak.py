@@ -153,7 +153,9 @@ def simulate_case(case: dict):
     t = np.arange(case["n"]) * case["dt"]
     kws = {"t_eval": t, "method": "LSODA", "rtol": 1e-10, "atol": 1e-12 * np.max(np.abs(x0))}
     if case["system"] == "friction":  # the library's sign is tanh(v / (0.01 max|v|)): use the same
-        first = solve_ivp(lambda tt, y: [y[1], -(2 * np.pi * case["f0"]) ** 2 * y[0]], (0, t[-1]), x0, **kws)
+        first = solve_ivp(
+            lambda tt, y: [y[1], -((2 * np.pi * case["f0"]) ** 2) * y[0]], (0, t[-1]), x0, **kws
+        )
         state["width"] = 0.01 * float(np.max(np.abs(first.y[1])))
         sol = solve_ivp(rhs, (0.0, t[-1]), x0, **kws)
         state["width"] = 0.01 * float(np.max(np.abs(sol.y[1])))
@@ -223,7 +225,9 @@ def run_case(case: dict, tolerance: float = 0.1) -> dict:
     except (ValueError, TypeError) as err:
         out.update(kind="refusal", error=f"{type(err).__name__}: {err}")
     except Exception as err:  # noqa: BLE001 - a soak test records everything
-        out.update(kind="crash", error=f"{type(err).__name__}: {err}", traceback=traceback.format_exc(limit=6))
+        out.update(
+            kind="crash", error=f"{type(err).__name__}: {err}", traceback=traceback.format_exc(limit=6)
+        )
     out["time"] = time.perf_counter() - start
     return out
 
@@ -297,8 +301,9 @@ class Worker:
             self.kill()
 
 
-def run_pool(tasks: list[dict], target: str, timeout: float, jobs: int, key: str = "seed", kwargs=None,
-             on_result=None) -> list[dict]:
+def run_pool(
+    tasks: list[dict], target: str, timeout: float, jobs: int, key: str = "seed", kwargs=None, on_result=None
+) -> list[dict]:
     """Run ``target`` ("module:function", called as ``function(task, **kwargs)``) on every task in ``jobs``
     worker processes, each task under ``timeout`` seconds; outcomes keyed by ``task[key]``, in task order."""
     ctx = mp.get_context("spawn")
@@ -342,12 +347,14 @@ def _line(out: dict) -> str:
     what = f"seed={c['seed']} {c['system']} n={c['n']} zeta={c['zeta']:.3f} snr={c['snr_db']}"
     if out["kind"] != "ok":
         return f"[{out['kind']:7s}] {out['time']:6.2f}s {what}: {out.get('error', '')}"
-    right = "right" if out["right"] else f"WRONG (extra {out['extra']}, missing {out['missing']}, " + (
-        f"coef error {out['coef_error']:.2g})"
+    right = (
+        "right"
+        if out["right"]
+        else f"WRONG (extra {out['extra']}, missing {out['missing']}, "
+        + (f"coef error {out['coef_error']:.2g})")
     )
     return (
-        f"[{out['verdict']:11s}] {out['time']:6.2f}s {what}: {right}; warned={out['warned']} "
-        f"{out['reasons']}"
+        f"[{out['verdict']:11s}] {out['time']:6.2f}s {what}: {right}; warned={out['warned']} {out['reasons']}"
     )
 
 
@@ -368,9 +375,10 @@ def report(outcomes: list[dict], timeout: float) -> dict:
     """Print the tables; return the headline figures."""
     kinds = Counter(o["kind"] for o in outcomes)
     fits = [o for o in outcomes if o["kind"] == "ok"]
-    print(f"\n{len(outcomes)} cases, watchdog {timeout:g} s per fit: " + ", ".join(
-        f"{k} {kinds.get(k, 0)}" for k in ("ok", "refusal", "crash", "hang")
-    ))
+    print(
+        f"\n{len(outcomes)} cases, watchdog {timeout:g} s per fit: "
+        + ", ".join(f"{k} {kinds.get(k, 0)}" for k in ("ok", "refusal", "crash", "hang"))
+    )
     print("\ntrue structure / right answer (structure and coefficients within tolerance) per SNR band:")
     for name, _, _ in SNR_BANDS:
         band = [o for o in fits if _band(o["case"]["snr_db"]) == name]
@@ -392,7 +400,10 @@ def report(outcomes: list[dict], timeout: float) -> dict:
     print(f"\nwrong without a warning: {_rate(len(silent), len(outcomes))}  (target <= 1 % of all cases)")
     for o in silent:
         print("   " + _line(o))
-    print(f"warned although right:  {_rate(len(warned_right), len(right))}  (target <= 5 % of the right answers)")
+    print(
+        f"warned although right:  {_rate(len(warned_right), len(right))}  "
+        "(target <= 5 % of the right answers)"
+    )
     reasons = Counter(r for o in warned_right for r in (o["reasons"] or o["warnings"]))
     for reason, count in reasons.most_common():
         print(f"   {count:4d}  {reason}")
@@ -401,8 +412,10 @@ def report(outcomes: list[dict], timeout: float) -> dict:
         print("  " + _line(o))
     times = np.array([o["time"] for o in outcomes if o["kind"] != "hang"])
     if times.size:
-        print(f"time per fit (s): median {np.median(times):.2f}, p95 {np.percentile(times, 95):.2f}, max "
-              f"{times.max():.2f}")
+        print(
+            f"time per fit (s): median {np.median(times):.2f}, p95 {np.percentile(times, 95):.2f}, max "
+            f"{times.max():.2f}"
+        )
     return {
         "cases": len(outcomes),
         "crashes": kinds.get("crash", 0),
@@ -419,7 +432,9 @@ def main(argv=None) -> int:
     parser.add_argument("--timeout", type=float, default=120.0, help="hard limit per fit (s)")
     parser.add_argument("--jobs", type=int, default=2, help="worker processes")
     parser.add_argument("--seed", type=int, default=0, help="first case seed")
-    parser.add_argument("--tolerance", type=float, default=0.1, help="coefficient tolerance of a right answer")
+    parser.add_argument(
+        "--tolerance", type=float, default=0.1, help="coefficient tolerance of a right answer"
+    )
     parser.add_argument("--json", help="write every outcome to this file")
     parser.add_argument("--verbose", action="store_true", help="print every fit")
     args = parser.parse_args(argv)

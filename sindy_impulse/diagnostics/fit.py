@@ -58,7 +58,9 @@ def _model_checks(fitted: Fitted, checks: DataChecks, notes: dict) -> dict:
     if m["zero_model"] or not np.all(np.isfinite(m["fit_error"])):
         return m
     if np.max(m["fit_error"]) < NO_DYNAMICS_ERROR:  # beyond, the model misses the data: nothing to test
-        m["terms"] = _guarded(lambda: _terms(fitted, checks, notes), notes, "terms", "term tests", TermTests())
+        m["terms"] = _guarded(
+            lambda: _terms(fitted, checks, notes), notes, "terms", "term tests", TermTests()
+        )
     frequency = _guarded(
         lambda: frequency_agreement(fitted, checks, residuals), notes, "frequency", "frequency check", None
     )
@@ -74,7 +76,8 @@ def _notes(estimator, checks: DataChecks, fitted: Fitted) -> dict:
     notes = {}
     if checks.rest.removed.any():
         states = ", ".join(
-            f"{estimator.feature_names_[j]} = {checks.rest.level[j]:.6g}" for j in np.flatnonzero(checks.rest.removed)
+            f"{estimator.feature_names_[j]} = {checks.rest.level[j]:.6g}"
+            for j in np.flatnonzero(checks.rest.removed)
         )
         notes["offset"] = (
             f"rest level removed before the regression ({states}): the equations are written in the "
@@ -129,7 +132,11 @@ def diagnose_fit(estimator, warn: bool = True, stacklevel: int = 2) -> FitDiagno
     notes = _notes(estimator, checks, fitted)
     m = _model_checks(fitted, checks, notes)
     m["noise_ratio"] = checks.noise_ratio
-    m["budget"] = float(getattr(estimator, "budget_used_", 0.0) or 0.0) if (estimator.sweep or estimator.refine) else 0.0
+    m["budget"] = (
+        float(getattr(estimator, "budget_used_", 0.0) or 0.0)
+        if (estimator.sweep or estimator.refine)
+        else 0.0
+    )
     names = estimator.feature_names_
     verdict, reasons = judge(m, checks, names)
     noise = float(np.max(checks.noise_ratio)) if checks.noise_ratio.size else float("nan")

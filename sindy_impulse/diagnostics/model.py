@@ -24,6 +24,8 @@ __all__ = [
     "support_condition",
 ]
 
+#: Peaks this far (dB) below the data's highest are not checked (weak harmonics, noise).
+STRONG_DB = 30.0
 #: Segment length (periods) of the restarted simulations of long records.
 SEGMENT_PERIODS = 8.0
 
@@ -115,12 +117,15 @@ def regression(fitted: Fitted, shift: np.ndarray, order: int = 2):
     return theta, y
 
 
-def _explained(model_hz: np.ndarray) -> np.ndarray:
-    """Frequencies a model's response may show: its modes, their harmonics (to the 5th) and the sums and
-    differences of two modes (a nonlinear model's spectrum has them too)."""
-    harmonics = (model_hz[:, None] * np.arange(1, 6)[None, :]).ravel()
-    pairs = [abs(a + s * b) for a in model_hz for b in model_hz for s in (1, -1) if a > b]
-    return np.concatenate([harmonics, np.asarray(pairs, dtype=float)])
+def _explained(base: np.ndarray, order: int = 3) -> np.ndarray:
+    """Frequencies a model's response may show: sums and differences of up to ``order`` of its own
+    frequencies (harmonics and intermodulation products of a nonlinear model)."""
+    base = np.unique(np.round(base, 9))[:6]
+    grids = np.meshgrid(*[np.arange(-order, order + 1)] * base.size, indexing="ij")
+    n = np.stack([g.ravel() for g in grids], axis=1)
+    n = n[(np.abs(n).sum(axis=1) <= order) & (np.abs(n).sum(axis=1) > 0)]
+    combos = n @ base
+    return np.unique(combos[combos > 0])
 
 
 def _response_peaks(fitted: Fitted, residuals) -> np.ndarray:
@@ -141,13 +146,14 @@ def _response_peaks(fitted: Fitted, residuals) -> np.ndarray:
 def frequency_agreement(fitted: Fitted, checks, residuals):
     """The model's damped modal frequencies and how far the data's spectral peaks are from the model's.
 
-    The frequencies a model explains are its damped modal frequencies ``f_n sqrt(1 - zeta^2)``, their
-    harmonics (to the 5th), sums and differences of two, and the spectral peaks of its simulated response
-    (a weakly nonlinear model rings at amplitude-dependent frequencies). Each significant peak of the
-    measured states (:class:`~sindy_impulse.diagnostics.data.DataChecks`) must lie on one within the
-    larger of 5 % and its half-power width, and the highest on a modal frequency or a peak of the
-    response. Skipped (NaN) when the model's linear part does not describe it
-    (:data:`~sindy_impulse.analysis.modal.MIN_LINEAR_SHARE`) or no peak stands out of the noise.
+    The frequencies a model explains are its damped modal frequencies ``f_n sqrt(1 - zeta^2)``, the
+    spectral peaks of its simulated response (a weakly nonlinear model rings at amplitude-dependent
+    frequencies), and their sums and differences of up to third order (harmonics, intermodulation). Each
+    significant peak of the measured states (:class:`~sindy_impulse.diagnostics.data.DataChecks`) within
+    ``STRONG_DB`` of the highest must lie on one within the larger of 5 % and its half-power width, and
+    the highest on a modal frequency or a peak of the response. Skipped (NaN) when the model's linear
+    part does not describe it (:data:`~sindy_impulse.analysis.modal.MIN_LINEAR_SHARE`) or no peak stands
+    out of the noise.
 
     Returns
     -------
@@ -168,13 +174,14 @@ def frequency_agreement(fitted: Fitted, checks, residuals):
     own = np.concatenate([model_hz, response])
     if own.size == 0:
         return model_hz, float("inf"), True, share
-    explained = np.concatenate([_explained(model_hz), response])
+    explained = _explained(own)
     tol = np.maximum(0.05, checks.peak_widths_hz / peaks)
-    miss = np.array([np.min(np.abs(explained / f - 1)) for f in peaks])
     top = int(np.argmax(checks.peak_heights_db))
+    strong = checks.peak_heights_db >= checks.peak_heights_db[top] - STRONG_DB
+    miss = np.array([np.min(np.abs(explained / f - 1)) for f in peaks])
     fundamental = float(np.min(np.abs(own / peaks[top] - 1)))
-    disagree = bool(np.any(miss > tol) or fundamental > tol[top])
-    return model_hz, float(max(np.max(miss), fundamental)), disagree, share
+    disagree = bool(np.any((miss > tol) & strong) or fundamental > tol[top])
+    return model_hz, float(max(np.max(np.where(strong, miss, 0.0)), fundamental)), disagree, share
 
 
 def support_condition(fitted: Fitted, shift: np.ndarray) -> float:

@@ -17,7 +17,6 @@ VERDICTS = ("ok", "doubtful", "unreliable", "no dynamics")
 DATA_REASONS = frozenset({"clipping", "quantisation", "offset", "collinear"})
 
 
-
 @dataclass(frozen=True)
 class FitDiagnostics:
     """How far a fitted model can be trusted, and why.
@@ -25,7 +24,8 @@ class FitDiagnostics:
     Attributes
     ----------
     verdict : str
-        ``"ok"``, ``"doubtful"``, ``"unreliable"`` or ``"no dynamics"`` (see :mod:`sindy_impulse.diagnostics`).
+        ``"ok"``, ``"doubtful"``, ``"unreliable"`` or ``"no dynamics"`` (rules:
+        :mod:`sindy_impulse.diagnostics.verdict`).
     reasons : dict
         ``{check: sentence}``: each problem behind the verdict and what to do about it.
     notes : dict
@@ -108,7 +108,8 @@ class FitDiagnostics:
     def summary(self) -> str:
         """The verdict and its reasons, one per line."""
         head = (
-            f"verdict: {self.verdict} (fit error {_worst(self.fit_error):.3g}, noise {_worst(self.noise_ratio):.3g}"
+            f"verdict: {self.verdict} (fit error {_worst(self.fit_error):.3g}, "
+            f"noise {_worst(self.noise_ratio):.3g}"
             f" = {self.snr_db:.1f} dB SNR, budget {100 * self.budget_used:.0f} % used)"
         )
         lines = [head]
@@ -149,4 +150,3 @@ class FitDiagnostics:
 def _worst(values) -> float:
     values = np.asarray(values, dtype=float)
     return float(np.max(values)) if values.size else float("nan")
-

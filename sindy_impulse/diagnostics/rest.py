@@ -103,7 +103,7 @@ def rest_level(trajectories, times, allow_removal: bool = True) -> RestLevel:
     >>> t, x, _ = damped_oscillator()
     >>> rest = rest_level([x + [5.0, 30.0]], [t])
     >>> rest.removed.tolist(), rest.level.round(2).tolist()
-    [[True, True], [5.0, 30.0]]
+    ([True, True], [5.0, 30.0])
     >>> rest_level([x], [t]).removed.tolist()
     [False, False]
     """
@@ -113,8 +113,12 @@ def rest_level(trajectories, times, allow_removal: bool = True) -> RestLevel:
         if x.shape[0] < MIN_SAMPLES or not np.all(np.isfinite(x)):
             continue
         fs = (x.shape[0] - 1) / float(t[-1] - t[0])
-        rows.append([_one_state(x[:, j], fs) if np.ptp(x[:, j]) > 0 else (0.0, 0.0, False, False)
-                     for j in range(n_states)])
+        rows.append(
+            [
+                _one_state(x[:, j], fs) if np.ptp(x[:, j]) > 0 else (0.0, 0.0, False, False)
+                for j in range(n_states)
+            ]
+        )
     if not rows:
         zeros, no = np.zeros(n_states), np.zeros(n_states, bool)
         return RestLevel(zeros, zeros.copy(), no, no.copy())

@@ -15,11 +15,14 @@ model's own support refitted the same way:
   another term explains the data as well, so the data cannot tell which is right (e.g. ``v|v|``, ``v^3``
   and ``sgn(v)`` damping on a short or noisy ring-down).
 
-These are the likelihood-ratio tests of nonlinear least squares under white Gaussian measurement noise:
-the comparison is with the measured states, whose noise is white, not with the filtered ones, whose
-smoothing leaves systematic differences a flexible model could follow. The noise level is the model's own
-RMS error (floored by what the filter removed and by ``NOISE_FLOOR``). The relative standard error of each coefficient, ``sqrt((J'J)^-1)`` over its value, comes
-with them. The simulations are counted against a work budget (:data:`WORK_FRACTION` of a fit's).
+These are the likelihood-ratio tests of nonlinear least squares under white Gaussian measurement noise: the
+comparison is with the measured states, whose noise is white, not with the filtered ones, whose smoothing
+leaves systematic differences a flexible model could follow. The noise level is the model's own RMS error
+(floored by what the filter removed and by ``NOISE_FLOOR``). The initial state of every simulated segment is
+refitted with the coefficients (a filtered first sample is off by about the noise, and a term that makes up
+for it would look needed). The relative standard error of each coefficient, ``sqrt((J'J)^-1)`` over its
+value, comes with them. The simulations are counted against a work budget (:data:`WORK_FRACTION` of a
+fit's).
 """
 
 from __future__ import annotations
@@ -47,7 +50,7 @@ STEP = 1e-4
 #: Simulation work of the tests, as a fraction of a fit's work budget.
 WORK_FRACTION = 0.25
 #: Library terms tried per equation by the add and swap tests (the most promising ones).
-MAX_CANDIDATES = 8
+MAX_CANDIDATES = 12
 
 
 @dataclass(frozen=True)

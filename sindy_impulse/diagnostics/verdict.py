@@ -6,9 +6,10 @@ Thresholds (fit error and noise are RMS values relative to each state's RMS abou
 ====================  =======================================================================  ============
 verdict               when                                                                      class
 ====================  =======================================================================  ============
-no dynamics           every coefficient is zero, or the simulation misses the data (fit error   NoDynamics-
-                      >= ``NO_DYNAMICS_ERROR``) and no state rings down (no spectral peak, no   Warning
-                      decay: the record looks like noise)
+no dynamics           every coefficient is zero, or no state rings down (no spectral peak, no    NoDynamics-
+                      decay) and the simulation misses the data (fit error >=                   Warning
+                      ``UNRELIABLE_ERROR``) or the filter removed more than it kept (noise
+                      ratio > 1 in every state): the record looks like noise
 unreliable            the simulation diverges or misses the data (fit error >=                  FitWarning
                       ``UNRELIABLE_ERROR``); a spectral peak of the data without a model mode
                       near it; the model's terms are collinear over the data (condition number
@@ -38,11 +39,11 @@ __all__ = [
     "STATE_CONDITION_LIMIT",
 ]
 
-#: Fit error from which a model that does not ring down is taken for noise (it explains under half the
-#: data's variance: 1 - 0.7**2).
-NO_DYNAMICS_ERROR = 0.7
-#: Fit error from which a model is unreliable whatever the data (it explains under 75 % of the variance).
+#: Fit error from which a model is unreliable (it explains under 75 % of the data's variance: 1 - 0.5**2);
+#: with data that do not ring down, the record is taken for noise.
 UNRELIABLE_ERROR = 0.5
+#: Fit error from which the term tests are not run (the model explains under half the variance).
+NO_DYNAMICS_ERROR = 0.7
 #: A fit error above this multiple of the noise ratio is more than the noise explains.
 ADEQUACY = 3.0
 #: Fit errors below this are never a problem (the filter's own smoothing error on clean data).
@@ -57,12 +58,14 @@ def _no_dynamics(m: dict, checks: DataChecks) -> dict:
     if m["zero_model"]:
         return {"no_dynamics": "every coefficient is zero (x' = 0): the data show no deterministic dynamics"}
     rings = any(report.ringdown_found for report in checks.quality) or checks.peaks_hz.size > 0
-    if np.max(m["fit_error"]) >= NO_DYNAMICS_ERROR and not rings:
+    worst = float(np.max(m["fit_error"]))
+    noisy = bool(np.min(m["noise_ratio"]) > 1.0)  # the filter removed more than it kept, in every state
+    if not rings and (worst >= UNRELIABLE_ERROR or noisy):
         return {
             "no_dynamics": (
-                f"the model's simulation misses the data (fit error {np.max(m['fit_error']):.2g}) and no state "
-                "rings down (no spectral peak, no decay): the record looks like noise; check the sensor "
-                "and the trigger"
+                f"no state rings down (no spectral peak, no decay) and the model's simulation misses the "
+                f"data (fit error {worst:.2g}, noise {np.min(m['noise_ratio']):.2g} of the signal): the "
+                "record looks like noise; check the sensor and the trigger"
             )
         }
     return {}
@@ -78,8 +81,8 @@ def _unreliable(m: dict, checks: DataChecks, names) -> dict:
         )
     elif worst >= UNRELIABLE_ERROR:
         out["fit_error"] = (
-            f"the model's simulation misses the data (fit error {worst:.2g} of the RMS): the library may lack "
-            "the right terms, or the record is too noisy"
+            f"the model's simulation misses the data (fit error {worst:.2g} of the RMS): the library may "
+            "lack the right terms, or the record is too noisy"
         )
     if m["disagree"]:
         peaks = ", ".join(f"{f:.4g}" for f in checks.peaks_hz)
