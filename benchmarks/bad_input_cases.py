@@ -34,7 +34,9 @@ def _system(d: dict, rng):
     if system in ("osc", "duffing"):
         k_nl, a = d.get("k_nl", 0.0), d.get("x0", 1.0)
         ring = damped_oscillator(k_nl=k_nl, x0=(a, 0.0), dt=dt, t_end=t_end)
-        truth = dict(OSC, **({(1, "x0^3"): -k_nl} if k_nl else {}))
+        truth = dict(OSC)
+        if k_nl:
+            truth[(1, "x0^3")] = -k_nl
         return ring.x, ring.t, truth
     t = np.arange(int(round(t_end / dt)) + 1) * dt
     if system == "coulomb":

@@ -27,6 +27,10 @@ MAGNITUDE_RANGE = (1e-150, 1e100)
 MAX_CHECKED = 8
 #: Fewest samples for the spectral quality checks (the noise floor needs 128).
 MIN_QUALITY_SAMPLES = 128
+#: A spike is a sample off the filtered state by more than this many robust standard deviations of
+#: what the filter removed (Gaussian noise exceeds 8 with probability 1e-15) and by more than
+#: ``SPIKE_FLOOR`` of the state's amplitude.
+SPIKE_SIGMA, SPIKE_FLOOR = 8.0, 0.01
 
 
 @dataclass(frozen=True)
@@ -56,6 +60,10 @@ class DataChecks:
         0.45 of the sampling rate.
     raw : list of ndarray
         The measured states (the term tests compare simulations with them).
+    spikes : ndarray of int (n_states,)
+        Isolated samples far off the filtered state (see :func:`_spikes`), clipped samples excepted.
+    constant : ndarray of bool (n_states,)
+        States that never change.
     """
 
     rest: RestLevel
@@ -69,6 +77,8 @@ class DataChecks:
     peak_widths_hz: np.ndarray = field(default_factory=lambda: np.empty(0))
     peak_heights_db: np.ndarray = field(default_factory=lambda: np.empty(0))
     raw: list = field(default_factory=list, repr=False)
+    spikes: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
+    constant: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
 
 
 def check_magnitude(trajectories, name: str = "x") -> None:
@@ -141,6 +151,18 @@ def _collinearity(filtered) -> tuple[float, tuple]:
     return condition, (int(min(i, j)), int(max(i, j)), float(corr[i, j]))
 
 
+def _spikes(raw, filtered) -> np.ndarray:
+    """Per state, the samples far off the filtered state (glitches, dropouts, single-sample outliers)."""
+    removed = np.vstack([r - f for r, f in zip(raw, filtered)])
+    clipped = np.concatenate(clipped_rows(raw, widen=2))
+    amplitude = np.max(np.abs(np.vstack(filtered) - np.median(np.vstack(filtered), axis=0)), axis=0)
+    centre = np.median(removed, axis=0)
+    spread = 1.4826 * np.median(np.abs(removed - centre), axis=0)
+    limit = np.maximum(SPIKE_SIGMA * spread, SPIKE_FLOOR * amplitude)
+    far = (np.abs(removed - centre) > limit) & ~clipped[:, None]
+    return far.sum(axis=0)
+
+
 def _noise_ratio(raw, filtered, level) -> np.ndarray:
     """Per state: RMS of what the filter removed over the RMS of the filtered states about the level."""
     removed = np.vstack([r - f for r, f in zip(raw, filtered)])
@@ -175,8 +197,21 @@ def screen_states(estimator, data, filtered) -> np.ndarray:
     reports, clipped, step, peaks, widths, heights = _quality(data.x, data.t)
     condition, pair = _collinearity(filtered)
     noise = _noise_ratio(data.x, filtered, rest.level)
+    constant = np.array([all(np.ptp(x[:, j]) == 0 for x in data.x) for j in range(data.n_states)])
     estimator._screening = DataChecks(
-        rest, reports, clipped, step, noise, condition, pair, peaks, widths, heights, list(data.x)
+        rest,
+        reports,
+        clipped,
+        step,
+        noise,
+        condition,
+        pair,
+        peaks,
+        widths,
+        heights,
+        list(data.x),
+        _spikes(data.x, filtered),
+        constant,
     )
     return rest.shift
 
@@ -207,7 +242,8 @@ def clipped_rows(trajectories, widen: int = 2) -> list[np.ndarray]:
 
 
 def quality_problems(checks: DataChecks) -> dict:
-    """The data problems worth a reason in the verdict: clipping, quantisation, offset left in place."""
+    """The data problems worth a reason in the verdict: clipping, quantisation, spikes, constant states,
+    an offset left in place."""
     out = {}
     if checks.clipped:
         out["clipping"] = (
@@ -219,12 +255,20 @@ def quality_problems(checks: DataChecks) -> dict:
             f"the record is coarsely quantised (step {checks.relative_step:.2g} of the amplitude): use a "
             "finer input range"
         )
-    kept = checks.rest.sure & ~checks.rest.removed
+    if np.any(checks.spikes):
+        states = ", ".join(f"x{j} ({n})" for j, n in enumerate(checks.spikes) if n)
+        out["spikes"] = (
+            f"isolated samples far off the rest of the record in state(s) {states} (glitches, dropouts): "
+            "remove or interpolate them"
+        )
+    if np.any(checks.constant):
+        states = ", ".join(f"x{j}" for j in np.flatnonzero(checks.constant))
+        out["constant"] = f"state(s) {states} never change: they carry no dynamics; drop them"
+    kept = checks.rest.sure & ~checks.rest.removed & checks.rest.rings_down
     if np.any(kept):
         states = ", ".join(f"x{j} ({checks.rest.relative[j]:.2g} x amplitude)" for j in np.flatnonzero(kept))
         out["offset"] = (
-            f"offset in state(s) {states} left in place (the state does not ring down to a rest level, or "
-            "the fit is plain PySINDy): remove it (sindy_impulse.preprocessing.OffsetRemover) if it is a "
-            "sensor offset"
+            f"offset in state(s) {states} left in place (plain PySINDy mode removes nothing): remove it "
+            "(sindy_impulse.preprocessing.OffsetRemover) or fit with sweep or refine"
         )
     return out

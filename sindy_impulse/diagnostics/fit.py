@@ -128,7 +128,7 @@ def diagnose_fit(estimator, warn: bool = True, stacklevel: int = 2) -> FitDiagno
     ('ok', [])
     """
     checks: DataChecks = estimator._screening
-    fitted = Fitted(estimator)
+    fitted = Fitted(estimator, rings_down=bool(np.any(checks.rest.rings_down)))
     notes = _notes(estimator, checks, fitted)
     m = _model_checks(fitted, checks, notes)
     m["noise_ratio"] = checks.noise_ratio

@@ -28,12 +28,18 @@ __all__ = [
 STRONG_DB = 30.0
 #: Segment length (periods) of the restarted simulations of long records.
 SEGMENT_PERIODS = 8.0
+#: Segment length (periods) for records that do not ring down (sustained or chaotic oscillation: a
+#: simulation's phase, or its trajectory on a chaotic attractor, is lost within a few periods).
+SUSTAINED_PERIODS = 1.0
 
 
 class Fitted:
-    """What the checks read from a fitted estimator, as lists over trajectories (measured coordinates)."""
+    """What the checks read from a fitted estimator, as lists over trajectories (measured coordinates).
 
-    def __init__(self, estimator):
+    ``rings_down``: whether the data decay (then long simulations are informative); sets the segments.
+    """
+
+    def __init__(self, estimator, rings_down: bool = True):
         def as_list(v):
             return v if isinstance(v, list) else [v]
 
@@ -44,26 +50,31 @@ class Fitted:
         self.inputs = [None] * len(self.filtered) if u is None else [np.asarray(v, float) for v in as_list(u)]
         self.coef = np.asarray(estimator.coef_, dtype=float)
         self.estimator = estimator
+        self.segment_periods = SEGMENT_PERIODS if rings_down else SUSTAINED_PERIODS
+        self.starts = [_starts(ref, t, self.segment_periods) for ref, t in zip(self.filtered, self.times)]
 
 
-def _starts(reference: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """First sample of each simulated segment: one simulation for short records, restarts for long ones."""
-    if oscillation_count(reference) <= AUTO_PERIODS:
+def _starts(reference: np.ndarray, t: np.ndarray, periods: float) -> np.ndarray:
+    """First sample of each simulated segment: one simulation for short ring-downs, restarts every
+    ``periods`` periods for long ones and for sustained oscillations."""
+    limit = AUTO_PERIODS if periods == SEGMENT_PERIODS else 2 * periods
+    if oscillation_count(reference) <= limit:
         return np.zeros(1, dtype=np.int64)
-    return Segmented(segment_periods=SEGMENT_PERIODS).prepare(reference, t)[0]
+    return Segmented(segment_periods=periods).prepare(reference, t)[0]
 
 
 def segments(fitted: Fitted) -> list[np.ndarray]:
     """Per trajectory, the first sample of each simulated segment (see :func:`simulate_residuals`)."""
-    return [_starts(ref, t) for ref, t in zip(fitted.filtered, fitted.times)]
+    return fitted.starts
 
 
 def simulate_residuals(model, fitted: Fitted, coef=None, start_offset=None) -> list[np.ndarray]:
     """Per trajectory, ``model``'s simulation minus the filtered states (NaN where it diverged).
 
-    Records of more than ``AUTO_PERIODS`` periods are simulated in segments of ``SEGMENT_PERIODS``
+    Ring-downs of more than ``AUTO_PERIODS`` periods are simulated in segments of ``SEGMENT_PERIODS``
     periods, each from the filtered state at its start (phase drift over hundreds of periods is not an
-    error of the model's structure). ``coef`` replaces the model's active coefficients; ``start_offset``
+    error of the model's structure); data that do not ring down (a limit cycle, a chaotic attractor) in
+    segments of ``SUSTAINED_PERIODS``. ``coef`` replaces the model's active coefficients; ``start_offset``
     (n_states,) is added to every segment's initial state.
     """
     extra = {} if coef is None else {"coef": coef}

@@ -56,12 +56,15 @@ class RestLevel:
     sure : ndarray of bool (n_states,)
         States with a sure offset (larger than 0.1 of the excursion and than 3 times its possible bias),
         removed or not.
+    rings_down : ndarray of bool (n_states,)
+        States that decay by more than ``DECAY_DB`` (in every trajectory).
     """
 
     level: np.ndarray
     relative: np.ndarray
     removed: np.ndarray
     sure: np.ndarray
+    rings_down: np.ndarray
 
     @property
     def shift(self) -> np.ndarray:
@@ -69,16 +72,16 @@ class RestLevel:
         return np.where(self.removed, self.level, 0.0)
 
 
-def _one_state(y: np.ndarray, fs: float) -> tuple[float, float, bool, bool]:
-    """Level, relative size, whether it is sure and whether it may be removed (one state, one
-    trajectory)."""
+def _one_state(y: np.ndarray, fs: float) -> tuple[float, float, bool, bool, bool]:
+    """Level, relative size, whether it is sure, whether it may be removed and whether the state rings
+    down (one state, one trajectory)."""
     estimate = estimate_offset(y, fs, method="tail")
     level = estimate.value
     tail = y[int(0.75 * y.size) :] - level
     bias = float(np.max(np.abs(tail))) / (np.pi * max(oscillation_count(tail), 0.25))
     rings_down = decay_db(y - level) > DECAY_DB
     sure = abs(level) > SURE * bias and estimate.relative > LIMITS["offset"]
-    return level, estimate.relative, bool(sure), bool(rings_down and sure)
+    return level, estimate.relative, bool(sure), bool(rings_down and sure), bool(rings_down)
 
 
 def rest_level(trajectories, times, allow_removal: bool = True) -> RestLevel:
@@ -113,19 +116,17 @@ def rest_level(trajectories, times, allow_removal: bool = True) -> RestLevel:
         if x.shape[0] < MIN_SAMPLES or not np.all(np.isfinite(x)):
             continue
         fs = (x.shape[0] - 1) / float(t[-1] - t[0])
-        rows.append(
-            [
-                _one_state(x[:, j], fs) if np.ptp(x[:, j]) > 0 else (0.0, 0.0, False, False)
-                for j in range(n_states)
-            ]
-        )
+        flat = (0.0, 0.0, False, False, False)
+        rows.append([_one_state(x[:, j], fs) if np.ptp(x[:, j]) > 0 else flat for j in range(n_states)])
     if not rows:
-        zeros, no = np.zeros(n_states), np.zeros(n_states, bool)
-        return RestLevel(zeros, zeros.copy(), no, no.copy())
-    table = np.asarray(rows, dtype=float)  # (trajectories, states, 4)
+        zeros, yes = np.zeros(n_states), np.ones(n_states, bool)
+        return RestLevel(zeros, zeros.copy(), ~yes, ~yes, yes)
+    table = np.asarray(rows, dtype=float)  # (trajectories, states, 5)
     sure = np.all(table[:, :, 2] > 0, axis=0)
     removed = np.all(table[:, :, 3] > 0, axis=0) & bool(allow_removal)
-    return RestLevel(np.median(table[:, :, 0], axis=0), np.median(table[:, :, 1], axis=0), removed, sure)
+    rings = np.all(table[:, :, 4] > 0, axis=0)
+    level, relative = np.median(table[:, :, 0], axis=0), np.median(table[:, :, 1], axis=0)
+    return RestLevel(level, relative, removed, sure, rings)
 
 
 class AtRestLevel:

@@ -185,35 +185,76 @@ class _Sensitivity:
         return out
 
 
-def _ssr(r0: np.ndarray, columns: list, offset=None) -> float:
-    """Least squared residual of ``r0 (+ offset) + J d`` over ``d``."""
-    target = r0 if offset is None else r0 + offset
-    if not columns:
-        return float(target @ target)
-    J = np.column_stack(columns)
-    d = np.linalg.lstsq(J, -target, rcond=None)[0]
-    r = target + J @ d
-    return float(r @ r)
+class _Gram:
+    """Least squares of ``r0 + J d`` on subsets of the columns of ``J``, from its Gram matrix: each test
+    is then algebra on a matrix of the model's size, not on the samples."""
+
+    def __init__(self, r0: np.ndarray, columns: list):
+        self.J = np.column_stack(columns)
+        self.r0 = r0
+        self.G = self.J.T @ self.J
+        self.b = self.J.T @ r0
+        self.rr = float(r0 @ r0)
+
+    def extended(self, column: np.ndarray):
+        """Gram matrix and right-hand side with one more column (it is the last)."""
+        cross = self.J.T @ column
+        G = np.block([[self.G, cross[:, None]], [cross[None, :], np.array([[column @ column]])]])
+        return G, np.append(self.b, column @ self.r0)
+
+    def ssr(self, keep, fix=None, G=None, b=None) -> float:
+        """Least squared residual over the columns ``keep``; ``fix=(j, v)`` holds column ``j``'s
+        coefficient at ``v`` (it then is not in ``keep``)."""
+        G = self.G if G is None else G
+        b = self.b if b is None else b
+        rr = self.rr
+        if fix is not None:
+            j, v = fix
+            rr = rr + 2 * v * b[j] + v * v * G[j, j]
+            b = b + v * G[:, j]
+        keep = np.asarray(keep, dtype=int)
+        if keep.size == 0:
+            return float(rr)
+        x = np.linalg.lstsq(G[np.ix_(keep, keep)], b[keep], rcond=None)[0]
+        return float(rr - b[keep] @ x)
 
 
 def _name(fitted: Fitted, i: int, j: int) -> str:
     return f"{fitted.estimator.feature_names_[i]}' : {fitted.estimator.get_feature_names()[j]}"
 
 
-def _drops(fitted, s, active, cols, base, nuisance):
-    """Drop statistics and relative standard errors of the active coefficients."""
+def _drops(fitted, s, active, gram, base):
+    """Drop statistics and relative standard errors of the active coefficients (columns 0..n-1)."""
     stats, uncertainty = {}, {}
-    J = np.column_stack([cols[a] for a in active] + nuisance)
-    try:
-        cov = np.diag(np.linalg.pinv(J.T @ J))
-    except np.linalg.LinAlgError:
-        cov = np.full(J.shape[1], np.inf)
+    cov = np.diag(np.linalg.pinv(gram.G))
+    everything = np.arange(gram.G.shape[0])
     for n, (i, j) in enumerate(active):
-        others = [cols[a] for a in active if a != (i, j)] + nuisance
-        value = s.coef[i, j] / s.steps[i, j]  # the coefficient in units of its step
-        stats[_name(fitted, i, j)] = _ssr(s.r0, others, -value * cols[(i, j)]) - base
+        value = -s.coef[i, j] / s.steps[i, j]  # the coefficient in units of its step, removed
+        stats[_name(fitted, i, j)] = gram.ssr(everything[everything != n], (n, value)) - base
         uncertainty[_name(fitted, i, j)] = float(np.sqrt(max(cov[n], 0.0)) / abs(value))
     return stats, uncertainty
+
+
+def _candidate_tests(fitted, s, support, active, gram, base):
+    """Add and swap tests of the promising library terms; ``(missing, alternatives, complete)``."""
+    candidates = s.candidates(support)
+    threshold = float(chi2.isf(FALSE_ALARM / max(len(candidates), 1), 1))
+    everything = np.arange(gram.G.shape[0] + 1)
+    missing, alternatives, complete = [], [], True
+    for i, k in candidates:
+        col = s.column(i, k)
+        if col is None:
+            complete = complete and not s.budget.exhausted
+            continue
+        G, b = gram.extended(col)
+        if base - gram.ssr(everything, G=G, b=b) > threshold:
+            missing.append(_name(fitted, i, k))
+        for j in np.flatnonzero(support[i]):
+            n = active.index((i, j))
+            value = -s.coef[i, j] / s.steps[i, j]
+            if gram.ssr(everything[everything != n], (n, value), G, b) - base < SUPPORT_CHI2:
+                alternatives.append((_name(fitted, i, j), _name(fitted, i, k)))
+    return missing, alternatives, complete
 
 
 def term_tests(fitted: Fitted, shift: np.ndarray, noise_ratio: np.ndarray, raw=None) -> TermTests | None:
@@ -237,27 +278,13 @@ def term_tests(fitted: Fitted, shift: np.ndarray, noise_ratio: np.ndarray, raw=N
     if s.r0 is None:
         return None
     active = list(zip(*np.nonzero(support)))
-    cols = {a: s.column(*a) for a in active}
+    cols = [s.column(*a) for a in active]
     nuisance = s.start_columns()
-    if nuisance is None or any(c is None for c in cols.values()):
+    if nuisance is None or any(c is None for c in cols):
         return TermTests(complete=False)
-    fixed = [cols[a] for a in active] + nuisance
-    base = _ssr(s.r0, fixed)
-    stats, uncertainty = _drops(fitted, s, active, cols, base, nuisance)
+    gram = _Gram(s.r0, cols + nuisance)
+    base = gram.ssr(np.arange(gram.G.shape[0]))
+    stats, uncertainty = _drops(fitted, s, active, gram, base)
     unsupported = [t for t, v in stats.items() if v < SUPPORT_CHI2]
-    candidates = s.candidates(support)
-    threshold = float(chi2.isf(FALSE_ALARM / max(len(candidates), 1), 1))
-    missing, alternatives, complete = [], [], True
-    for i, k in candidates:
-        col = s.column(i, k)
-        if col is None:
-            complete = complete and not s.budget.exhausted
-            continue
-        if base - _ssr(s.r0, fixed + [col]) > threshold:
-            missing.append(_name(fitted, i, k))
-        for j in np.flatnonzero(support[i]):
-            others = [cols[a] for a in active if a != (i, j)] + nuisance + [col]
-            value = s.coef[i, j] / s.steps[i, j]
-            if _ssr(s.r0, others, -value * cols[(i, j)]) - base < SUPPORT_CHI2:
-                alternatives.append((_name(fitted, i, j), _name(fitted, i, k)))
+    missing, alternatives, complete = _candidate_tests(fitted, s, support, active, gram, base)
     return TermTests(stats, unsupported, missing, alternatives, uncertainty, complete)

@@ -17,8 +17,9 @@ unreliable            the simulation diverges or misses the data (fit error >=  
                       (``STATE_CONDITION_LIMIT``)
 doubtful              the simulation departs from the data by more than the noise explains      FitWarning,
                       (fit error > ``ADEQUACY`` x noise and > ``ERROR_FLOOR``); a term the      or Data-
-                      data do not support; the work budget ran out; clipping, coarse            Warning for
-                      quantisation or an offset left in place                                   data only
+                      data do not support, lack, or cannot tell from another (:mod:`.terms`);   Warning for
+                      a coefficient uncertain by more than ``UNCERTAINTY_LIMIT`` (relative      data only
+                      standard error); clipping, coarse quantisation, an offset left in place
 ok                    none of the above
 ====================  =======================================================================  ============
 """
@@ -35,6 +36,7 @@ __all__ = [
     "UNRELIABLE_ERROR",
     "ADEQUACY",
     "ERROR_FLOOR",
+    "UNCERTAINTY_LIMIT",
     "CONDITION_LIMIT",
     "STATE_CONDITION_LIMIT",
 ]
@@ -48,6 +50,8 @@ NO_DYNAMICS_ERROR = 0.7
 ADEQUACY = 3.0
 #: Fit errors below this are never a problem (the filter's own smoothing error on clean data).
 ERROR_FLOOR = 0.02
+#: Relative standard error of a coefficient beyond which it is uncertain (+-20 % at two standard errors).
+UNCERTAINTY_LIMIT = 0.1
 #: Condition number of the model's library columns from which its coefficients are not determined.
 CONDITION_LIMIT = 1e8
 #: Condition number of the standardised states from which two channels are nearly copies.
@@ -122,6 +126,15 @@ def _doubtful(m: dict, checks: DataChecks) -> dict:
             f"the data hardly determine the term(s) {', '.join(tests.unsupported)}: leaving each out changes "
             "the simulation by less than the noise, so it may be spurious or too weak to resolve in this "
             "record (a longer or cleaner record decides)"
+        )
+    uncertain = [
+        t for t, u in tests.uncertainty.items() if u > UNCERTAINTY_LIMIT and t not in tests.unsupported
+    ]
+    if uncertain:
+        worst = max(tests.uncertainty[t] for t in uncertain)
+        out["uncertain"] = (
+            f"the coefficient(s) of {', '.join(uncertain)} are uncertain by up to +-{200 * worst:.0f} % (two "
+            "standard errors): the record does not pin them down; fit a longer or cleaner record"
         )
     if tests.missing:
         out["missing"] = (
