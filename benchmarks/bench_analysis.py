@@ -134,8 +134,8 @@ def bench_nonlinearity() -> None:
         )
     rate = right / total
     print(
-        f"(growth = (Gamma_linear - Gamma_nonlinear) / Gamma_nonlinear; decision threshold 0.5 + 0.05 "
-        f"Gamma_noise / Gamma_nonlinear)\n{right}/{total} right ({rate:.1%}) in "
+        f"(growth = (Gamma_linear - Gamma_nonlinear) / Gamma_nonlinear; decision: significance and amplitude "
+        f"dependence, see nonlinearity_test)\n{right}/{total} right ({rate:.1%}) in "
         f"{time.perf_counter() - t0:.1f} s (fit + test)"
     )
     print(f"criterion: right in >= 95 % of cases -> {ok(rate >= 0.95)}")

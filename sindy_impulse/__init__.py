@@ -4,7 +4,8 @@ An extension layer on PySINDy implementing Stender, Oberst & Hoffmann (2019), "R
 Equations from Impulse Response Time Series Data for Model Identification and Feature Extraction",
 Vibration 2(1), 25-46.
 
-Public names are imported lazily, so ``import sindy_impulse`` stays fast.
+Public names are imported lazily, so ``import sindy_impulse`` stays fast; on a machine's first import the
+compiled kernels are built in a background process (:mod:`sindy_impulse._warmup`).
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ _PUBLIC = {
     "load_silverbox": "sindy_impulse.datasets",
     "load_flutter_rig": "sindy_impulse.datasets",
     "impact_record": "sindy_impulse.datasets",
+    "identify_modes": "sindy_impulse.modes",
     "analysis": "sindy_impulse.analysis",
     "preprocessing": "sindy_impulse.preprocessing",
     "preprocess": "sindy_impulse.preprocessing",
@@ -36,6 +38,13 @@ _PUBLIC = {
 }
 
 __all__ = sorted(_PUBLIC)
+
+try:  # a machine's first import: compile the numba kernels in the background (see _warmup)
+    from . import _warmup
+
+    _warmup.start()
+except Exception:  # noqa: BLE001 - never let the warm-up stop an import
+    pass
 
 
 def __getattr__(name: str):

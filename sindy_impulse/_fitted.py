@@ -7,7 +7,9 @@ A mixin of :class:`~sindy_impulse.ImpulseSINDy`; it reads the fitted components 
 
 from __future__ import annotations
 
+import copy
 import warnings
+from dataclasses import dataclass
 
 import numpy as np
 from sklearn.metrics import r2_score
@@ -17,12 +19,53 @@ from ._trajectories import as_times, check_trajectories, restore
 from ._validation import check_signal, check_time
 from .differentiation import differentiate
 from .exceptions import DataWarning, DivergenceWarning
-from .simulation import get_error_measure
+from .simulation import ERROR_MEASURES, ErrorMeasure, get_error_measure
 from .simulation.integrators import solve_ivp_simulate
 
-__all__ = ["FittedModelMixin"]
+__all__ = ["FittedModelMixin", "SweepPath", "fresh_measure"]
 
 _PYSINDY_INTEGRATOR_KWS = {"method": "LSODA", "rtol": 1e-12, "atol": 1e-12}
+
+
+@dataclass
+class SweepPath:
+    """Every candidate of the threshold sweep (the data of the paper's Figure 6a).
+
+    Attributes
+    ----------
+    threshold : ndarray (n_candidates,)
+        Threshold at which each candidate appears (0: all terms; NaN for a single model).
+    score : ndarray (n_candidates,)
+        The error measure of each candidate's simulation (``inf`` if it diverged or was not simulated).
+    n_terms : ndarray (n_candidates,)
+        Number of non-zero coefficients.
+    coefficients : ndarray (n_candidates, n_states, n_features)
+    selected : int
+        Index of the selected candidate.
+    measure : str
+        Name of the error measure (``"gamma"`` is the paper's Gamma).
+    """
+
+    threshold: np.ndarray
+    score: np.ndarray
+    n_terms: np.ndarray
+    coefficients: np.ndarray
+    selected: int
+    measure: str = "gamma"
+
+    @property
+    def gamma(self) -> np.ndarray:
+        """The candidates' scores (the paper's Gamma when ``measure == "gamma"``)."""
+        return self.score
+
+    def __len__(self) -> int:
+        return len(self.score)
+
+
+def fresh_measure(spec, references=None) -> ErrorMeasure:
+    """An unbound error measure for the ``error_measure`` parameter ``spec`` (a given
+    :class:`~sindy_impulse.simulation.ErrorMeasure` is copied: binding it must not change the parameter)."""
+    return get_error_measure(copy.deepcopy(spec) if isinstance(spec, ErrorMeasure) else spec, references)
 
 
 class FittedModelMixin:
@@ -36,6 +79,24 @@ class FittedModelMixin:
     @feature_names.setter
     def feature_names(self, value):  # PySINDy's methods may assign it
         self.feature_names_ = value
+
+    def _record_data(self, data, filtered, feature_names, n_features) -> None:
+        """The fitted data and PySINDy's shape attributes and names (``x0, x1, ..., u0, ...``)."""
+        n_states, n_inputs = data.n_states, data.n_inputs
+        names = [f"x{i}" for i in range(n_states)] + [f"u{i}" for i in range(n_inputs)]
+        if feature_names is not None:
+            given = [str(f) for f in feature_names]
+            if len(given) not in (n_states, n_states + n_inputs):
+                raise ValueError(f"feature_names has {len(given)} names for {n_states} states")
+            names = given + names[len(given) :]
+        self.feature_names_ = names
+        self.n_states_ = n_states
+        self.n_control_features_ = n_inputs
+        self.n_features_in_ = n_states + n_inputs
+        self.n_output_features_ = n_features
+        self.x_filtered_ = restore(filtered, data.multiple)
+        self.t_ = restore(data.t, data.multiple)
+        self.u_ = None if data.u is None else restore(data.u, data.multiple)
 
     def coefficients(self) -> np.ndarray:
         """Coefficient matrix (n_states, n_features): rows are equations, columns library terms."""
@@ -70,7 +131,8 @@ class FittedModelMixin:
     # -- inputs of a fitted model ------------------------------------------------------------------------
     def _check_states(self, x, min_samples: int = 1):
         """Validate states for a fitted model: one column per state."""
-        if np.ndim(x) == 1 and self.n_states_ > 1:
+        items = x if isinstance(x, (list, tuple)) and all(hasattr(xi, "shape") for xi in x) else [x]
+        if self.n_states_ > 1 and any(np.ndim(xi) == 1 for xi in items):
             raise ValueError(
                 f"x is 1-D but the model has {self.n_states_} states: Reshape your data to "
                 f"(n_samples, {self.n_states_})"
@@ -211,23 +273,61 @@ class FittedModelMixin:
         return self.model_.rhs(np.atleast_2d(x), u)[0]
 
     def score(self, x, t=None, x_dot=None, u=None, metric=None, **metric_kws) -> float:
-        """How well the model explains ``x``: higher is better.
+        """How well the model explains ``x`` (and ``u``): higher is better, as scikit-learn expects.
 
-        With ``sweep=False`` PySINDy's score: ``metric`` (default R^2) of the predicted against the
-        differentiated derivatives. Otherwise the negative error measure of the fit (``error_measure_``) of
-        the model simulated from ``x``'s first sample: R^2 on derivatives favours dense models, which the
-        paper's sweep on the simulation error exists to avoid.
+        Two scores, chosen by ``sweep`` (the parameter that decides how the model was selected):
+
+        - ``sweep=False``: PySINDy's score, ``metric`` (default R^2) of the model's right-hand side against
+          the derivatives of ``x`` (``x_dot``, or ``differentiation_method_`` applied to ``x``); 1 is
+          perfect. ``metric`` and ``metric_kws`` are PySINDy's.
+        - ``sweep=True``: minus the fit's error measure (``error_measure_``, the paper's Gamma by default)
+          of the model simulated from the first sample of each trajectory of ``x``, driven by ``u``; 0 is
+          perfect, ``-inf`` a simulation that diverged. R^2 on derivatives rewards dense models, whose
+          spurious terms fit the noise of the derivatives and then make the simulation drift: the very
+          problem the sweep on the simulation error solves (paper section 2.4). A ``GridSearchCV`` over an
+          ImpulseSINDy therefore ranks candidates the way its fit does.
+
+        Parameters
+        ----------
+        x : array-like (n_samples, n_states) or list of them
+            States; a list is several (possibly ragged) trajectories.
+        t : float, array or list of arrays, optional
+            Time step or vector(s), as in :meth:`fit`; defaults to ``dt``.
+        x_dot : array-like or list, optional
+            Known derivatives (``sweep=False`` only).
+        u : array-like or list, optional
+            Inputs; required if the model was fitted with inputs.
+        metric : callable, optional
+            ``metric(x_dot, x_dot_predicted, **metric_kws)`` (``sweep=False`` only).
+
+        Returns
+        -------
+        float
+
+        Examples
+        --------
+        >>> from sindy_impulse import ImpulseSINDy, damped_oscillator
+        >>> t, x, _ = damped_oscillator(snr_db=40, random_state=0)
+        >>> bool(ImpulseSINDy(sweep=False, refine=False).fit(x, t=t).score(x, t=t) > 0.99)  # R^2
+        True
+        >>> bool(-3 < ImpulseSINDy().fit(x, t=t).score(x, t=t) < 0)  # minus Gamma
+        True
         """
         check_is_fitted(self, "coef_")
         trajectories, multiple = self._check_states(x, min_samples=2)
         inputs = self._check_inputs(u, trajectories, multiple)
-        times = as_times(t, trajectories, 1.0 if self.dt is None else self.dt)
+        listed = isinstance(x, (list, tuple)) and not multiple
+        times = as_times(t, trajectories, 1.0 if self.dt is None else self.dt, listed=listed)
         if not self.sweep:
             return self._derivative_score(trajectories, times, x_dot, inputs, metric or r2_score, metric_kws)
-        measure = get_error_measure(self.error_measure_).bind(
-            trajectories, times, None if not self.n_control_features_ else inputs
-        )
+        inputs = inputs if self.n_control_features_ else None
+        measure = self._fitted_measure().bind(trajectories, times, inputs)
         return -float(measure(self.model_)[0])
+
+    def _fitted_measure(self):
+        """A fresh error measure of the kind the fit used (the parameter's, or what ``"auto"`` chose)."""
+        spec = self.error_measure_ if isinstance(self.error_measure, str) else self.error_measure
+        return fresh_measure(spec if not isinstance(spec, str) or spec in ERROR_MEASURES else "gamma")
 
     def _derivative_score(self, trajectories, times, x_dot, inputs, metric, metric_kws) -> float:
         predicted = np.vstack([self.model_.rhs(xi, ui) for xi, ui in zip(trajectories, inputs)])

@@ -14,8 +14,20 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._validation import check_signal, check_time, time_vector
+from .exceptions import InvalidParameterError, UnsupportedProblemError
 
-__all__ = ["Trajectories", "check_trajectories", "as_trajectories", "as_times", "restore"]
+__all__ = [
+    "Trajectories",
+    "check_trajectories",
+    "as_trajectories",
+    "as_times",
+    "check_derivatives",
+    "refuse_unsupported",
+    "restore",
+]
+
+#: PySINDy's libraries of PDE, weak-form and implicit (SINDy-PI) problems.
+UNSUPPORTED_LIBRARIES = ("PDELibrary", "WeakPDELibrary", "SINDyPILibrary")
 
 
 def check_trajectories(x, name: str = "x", *, min_samples: int = 1) -> tuple[list[np.ndarray], bool]:
@@ -46,26 +58,53 @@ def check_trajectories(x, name: str = "x", *, min_samples: int = 1) -> tuple[lis
     return [check_signal(x, name, min_samples=min_samples)], False
 
 
-def as_times(t, trajectories: list[np.ndarray], default: float = 1.0) -> list[np.ndarray]:
+def as_times(
+    t, trajectories: list[np.ndarray], default: float = 1.0, *, listed: bool = False
+) -> list[np.ndarray]:
     """One validated, strictly increasing time vector per trajectory.
+
+    A list (or tuple) ``t`` holds one time vector (or step) per trajectory, as in PySINDy, so next to an
+    array ``x`` a plain list of numbers is refused (pass a numpy array). With ``listed`` (``x`` was one
+    trajectory given as nested lists) a list of numbers is its time vector: plain Python data throughout.
+    Invalid times raise a ``ValueError``; a ``t`` of the wrong type (a string, None in a list) an
+    :class:`~sindy_impulse.exceptions.InvalidParameterError`, which is both a ``TypeError`` and, as PySINDy
+    raises, a ``ValueError``.
 
     Examples
     --------
     >>> [v.tolist() for v in as_times(0.5, [np.zeros((3, 1))])]
     [[0.0, 0.5, 1.0]]
+    >>> as_times([0.0, 0.5, 1.0], [np.zeros((3, 1))])  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: t is a list of 3 items but x is one trajectory: a list holds one time vector per trajectory...
     """
     if t is None:
         t = default
-    per_trajectory = isinstance(t, (list, tuple)) and (
-        len(trajectories) > 1 or (len(t) == 1 and np.ndim(t[0]) == 1)
-    )
-    if per_trajectory:
+    if listed and isinstance(t, (list, tuple)) and all(np.ndim(ti) == 0 for ti in t):
+        t = np.asarray(t, dtype=object)  # one trajectory in list form, its times too
+    if isinstance(t, (list, tuple)):
         if len(t) != len(trajectories):
+            if len(trajectories) == 1:
+                raise ValueError(
+                    f"t is a list of {len(t)} items but x is one trajectory: a list holds one time vector "
+                    "per trajectory (PySINDy's convention); pass one trajectory's times as a numpy array"
+                )
             raise ValueError(f"t has {len(t)} time vectors but x has {len(trajectories)} trajectories")
-        checked = [check_time(ti, len(xi), f"t[{i}]") for i, (ti, xi) in enumerate(zip(t, trajectories))]
+        checked = [_check_time(ti, len(xi), f"t[{i}]") for i, (ti, xi) in enumerate(zip(t, trajectories))]
     else:
-        checked = [check_time(t, len(xi), "t") for xi in trajectories]
+        checked = [_check_time(t, len(xi), "t") for xi in trajectories]
     return [time_vector(ti, len(xi)) for ti, xi in zip(checked, trajectories)]
+
+
+def _check_time(t, n_samples: int, name: str):
+    """:func:`check_time` whose type errors are also ValueErrors (what PySINDy raises for a bad ``t``)."""
+    try:
+        return check_time(t, n_samples, name)
+    except InvalidParameterError:
+        raise
+    except TypeError as err:
+        raise InvalidParameterError(str(err)) from None
 
 
 def _as_inputs(u, trajectories: list[np.ndarray], multiple: bool) -> list[np.ndarray] | None:
@@ -123,10 +162,74 @@ def as_trajectories(x, t=None, u=None, *, default_dt: float = 1.0, min_samples: 
     (True, 2, 1, [4, 6])
     """
     trajectories, multiple = check_trajectories(x, "x", min_samples=min_samples)
-    times = as_times(t, trajectories, default_dt)
+    times = as_times(t, trajectories, default_dt, listed=isinstance(x, (list, tuple)) and not multiple)
     return Trajectories(trajectories, times, _as_inputs(u, trajectories, multiple), multiple)
 
 
 def restore(values: list, multiple: bool):
     """A list of per-trajectory values as the caller gave them: the list, or its only item."""
     return list(values) if multiple else values[0]
+
+
+def check_derivatives(x_dot, data: Trajectories) -> list[np.ndarray]:
+    """Given derivatives, validated against the trajectories ``data`` (one array per trajectory).
+
+    Examples
+    --------
+    >>> data = as_trajectories(np.zeros((5, 2)), t=0.1)
+    >>> [d.shape for d in check_derivatives(np.ones((5, 2)), data)]
+    [(5, 2)]
+    """
+    derivs, multiple = check_trajectories(x_dot, "x_dot")
+    if multiple != data.multiple:
+        raise InvalidParameterError(
+            "x_dot must have the same trajectories as x: both one array, or both lists of arrays"
+        )
+    if len(derivs) != len(data.x):
+        raise ValueError(f"x_dot must have the same trajectories as x: {len(derivs)} against {len(data.x)}")
+    for i, (d, xi) in enumerate(zip(derivs, data.x)):
+        if d.shape != xi.shape:
+            raise ValueError(f"x_dot[{i}] has shape {d.shape} but x[{i}] has shape {xi.shape}")
+    return derivs
+
+
+def refuse_unsupported(x, library) -> None:
+    """PDE, weak-form and implicit (SINDy-PI) problems are PySINDy's: a clear
+    :class:`~sindy_impulse.exceptions.UnsupportedProblemError` (a ``NotImplementedError``).
+
+    Refused: PySINDy's PDE, weak-form and SINDy-PI libraries (also inside a composition such as a
+    ``ParameterizedLibrary``)
+    and states with more than two axes (spatiotemporal fields).
+
+    Examples
+    --------
+    >>> refuse_unsupported(np.zeros((10, 10, 2)), None)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    sindy_impulse.exceptions.UnsupportedProblemError: x must be 1-D or 2-D, got an array of shape...
+    """
+    for lib in _libraries_in(library):
+        kind = type(lib).__name__
+        if kind in UNSUPPORTED_LIBRARIES:
+            raise UnsupportedProblemError(
+                f"{kind} (PDE, weak-form or implicit SINDy) is not supported: the models "
+                "here are ordinary differential equations x' = f(x, u); use pysindy.SINDy"
+            )
+    arrays = x if isinstance(x, (list, tuple)) and x and all(hasattr(a, "shape") for a in x) else [x]
+    for a in arrays:
+        if np.ndim(a) > 2:
+            raise UnsupportedProblemError(
+                f"x must be 1-D or 2-D, got an array of shape {np.shape(a)} (time by states; spatiotemporal "
+                "or PDE data are not supported: use pysindy.SINDy)"
+            )
+
+
+def _libraries_in(library) -> list:
+    """A library and every library it is composed of."""
+    if library is None:
+        return []
+    out = [library]
+    for attr in ("libraries", "libraries_full_"):
+        for sub in getattr(library, attr, None) or []:
+            out += _libraries_in(sub)
+    return out

@@ -44,10 +44,6 @@ __all__ = [
 _POSITIVE = [Interval(Real, 0, None, "neither")]
 
 
-def _is_int(value) -> bool:
-    return isinstance(value, Integral) and not isinstance(value, bool)
-
-
 class DelayEmbedding(TransformerMixin, BaseEstimator):
     """Time-delay embedding of signals, with delay and dimension estimated as in Stender et al. (2019).
 
@@ -137,8 +133,8 @@ class DelayEmbedding(TransformerMixin, BaseEstimator):
 
     Notes
     -----
-    The embedding shortens the series by ``offset_`` samples. In a scikit-learn ``Pipeline`` the next step
-    receives the ``(N - offset_, c * m)`` array; align a time vector with :meth:`transform_time`.
+    The embedding shortens the series by ``offset_`` samples (the next step gets ``(N - offset_, c * m)``):
+    align the time vector with :meth:`transform_time`, measured inputs (forces) with :meth:`transform_input`.
 
     Examples
     --------
@@ -203,7 +199,6 @@ class DelayEmbedding(TransformerMixin, BaseEstimator):
         self.mi_bins = mi_bins
         self.denoise = denoise
 
-    # ------------------------------------------------------------------ validation
     def _check_channels(self, s, fitted: bool) -> np.ndarray:
         """Validate ``s``: 1-D (one signal) or (n_samples, n_channels), finite, numeric; returns it 2-D."""
         arr = check_signal(s, "s", ndim=(1, 2))
@@ -228,7 +223,6 @@ class DelayEmbedding(TransformerMixin, BaseEstimator):
                 f"{needed} ((dimension - 1) * tau + 1)"
             )
 
-    # ------------------------------------------------------------------ sklearn API
     def fit(self, s, y=None):
         """Estimate (or take) the delay ``tau_`` and the dimension ``dimension_`` of ``s``.
 
@@ -313,7 +307,7 @@ class DelayEmbedding(TransformerMixin, BaseEstimator):
         if np.ndim(t) == 0:
             if n_samples is None:
                 raise ValueError("t is a time step; pass n_samples (the length of the signal) as well")
-            if not (_is_int(n_samples) and n_samples >= 1):
+            if isinstance(n_samples, bool) or not (isinstance(n_samples, Integral) and n_samples >= 1):
                 raise ValueError(f"n_samples must be a positive int, got {n_samples!r}")
             times = time_vector(check_time(t, n_samples), n_samples)
         else:
@@ -322,6 +316,31 @@ class DelayEmbedding(TransformerMixin, BaseEstimator):
                 raise ValueError(f"t has {times.size} entries but n_samples={n_samples}")
         self._check_length(times.size, self.tau_, self.dimension_, what="t")
         return times[self.offset_ :].copy()
+
+    def transform_input(self, u, delayed: bool = True) -> np.ndarray:
+        """Inputs measured with the signal (e.g. the hammer force) aligned with the rows of :meth:`transform`.
+
+        Row ``r`` of the embedding is the delay vector ending at sample ``n = offset_ + r``, so the input is
+        cut by the same ``offset_`` leading samples. ``delayed=True`` gives the input at every delay of the
+        row, ``[u_(n-(m-1)tau), ..., u_n]`` per channel (a delayed coordinate is driven by the input at its
+        delay); ``delayed=False`` only ``u_n``. Embed forced records with a short ``tau`` (a few samples):
+        the input between the delays is not seen (``benchmarks/bench_forced.py`` measures both).
+
+        Examples
+        --------
+        >>> emb = DelayEmbedding(tau=2, dimension=2).fit(np.sin(np.arange(50.0)))
+        >>> u = np.arange(6.0)
+        >>> emb.transform_input(u).tolist()
+        [[0.0, 2.0], [1.0, 3.0], [2.0, 4.0], [3.0, 5.0]]
+        >>> emb.transform_input(u, delayed=False).ravel().tolist()
+        [2.0, 3.0, 4.0, 5.0]
+        """
+        check_is_fitted(self, "tau_")
+        arr = check_signal(u, "u")
+        self._check_length(arr.shape[0], self.tau_, self.dimension_, what="u")
+        if not delayed:
+            return arr[self.offset_ :].copy()
+        return np.hstack([delay_matrix(arr[:, j], self.tau_, self.dimension_) for j in range(arr.shape[1])])
 
     def _channel_names(self, names, what: str) -> list[str]:
         if names is None:
@@ -354,9 +373,7 @@ class DelayEmbedding(TransformerMixin, BaseEstimator):
         states = [f"q{i + 1}" for i in range(self.dimension_)]
         if self.n_features_in_ == 1:
             if input_features is not None and len(input_features) != 1:
-                raise ValueError(
-                    f"DelayEmbedding has 1 input feature, got input_features={input_features!r}"
-                )
+                raise ValueError(f"DelayEmbedding has 1 input feature, got input_features={input_features!r}")
             return np.asarray(states, dtype=object)
         channels = self._channel_names(input_features, "input_features")
         return np.asarray([f"{c}_{q}" for c in channels for q in states], dtype=object)
@@ -378,14 +395,6 @@ class DelayEmbedding(TransformerMixin, BaseEstimator):
             channels = [f"{name}{j}" for j in range(self.n_features_in_)]
         else:
             channels = self._channel_names(name, "name")
-        labels = []
-        for channel in channels:
-            for j in range(self.dimension_ - 1, -1, -1):
-                lag = j * self.tau_
-                if lag == 0:
-                    labels.append(f"{channel}(t)")
-                elif dt is None:
-                    labels.append(f"{channel}(t-{lag})")
-                else:
-                    labels.append(f"{channel}(t-{lag * dt:.6g})")
-        return labels
+        lags = [j * self.tau_ for j in range(self.dimension_ - 1, -1, -1)]
+        shown = {lag: str(lag) if dt is None else f"{lag * dt:.6g}" for lag in lags}
+        return [f"{c}(t)" if lag == 0 else f"{c}(t-{shown[lag]})" for c in channels for lag in lags]

@@ -10,87 +10,51 @@ each (:mod:`~sindy_impulse.simulation`), select (:mod:`~sindy_impulse.selection`
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
 from numbers import Integral, Real
 
 import numpy as np
 import pysindy as ps
 from pysindy.utils import AxesArray
+from threadpoolctl import threadpool_limits
 
-from ._fitted import FittedModelMixin
+from ._components import ComponentsMixin
+from ._fitted import FittedModelMixin, SweepPath, fresh_measure
 from ._params import HasMethods, Interval, Satisfies, validate_params
-from ._trajectories import as_trajectories, check_trajectories, restore
+from ._trajectories import as_trajectories, check_derivatives, refuse_unsupported
 from .diagnostics import at_rest_level, diagnose_fit, screen_states
 from .differentiation import differentiate
-from .exceptions import DataWarning, NoDynamicsWarning, UnsupportedProblemError, WorkBudgetWarning
+from .exceptions import DataWarning, NoDynamicsWarning, WorkBudgetWarning
 from .feature_library.terms import library_terms
-from .optimizers import ThresholdSweep, candidate_path, fresh_copy
+from .optimizers import candidate_path
 from .refinement import refine
 from .selection import SELECTION_RULES, select_candidate
-from .simulation import ERROR_MEASURES, ErrorMeasure, WorkBudget, compile_model, get_error_measure
+from .simulation import ERROR_MEASURES, ErrorMeasure, Reference, WorkBudget, compile_model
 from .simulation import simulation_gamma as _gamma
 
 __all__ = ["ImpulseSINDy", "SweepPath"]
 
 
-@dataclass
-class SweepPath:
-    """Every candidate of the threshold sweep (the data of the paper's Figure 6a).
-
-    Attributes
-    ----------
-    threshold : ndarray (n_candidates,)
-        Threshold at which each candidate appears (0: all terms; NaN for a single model).
-    score : ndarray (n_candidates,)
-        The error measure of each candidate's simulation (``inf`` if it diverged or was not simulated).
-    n_terms : ndarray (n_candidates,)
-        Number of non-zero coefficients.
-    coefficients : ndarray (n_candidates, n_states, n_features)
-    selected : int
-        Index of the selected candidate.
-    measure : str
-        Name of the error measure (``"gamma"`` is the paper's Gamma).
-    """
-
-    threshold: np.ndarray
-    score: np.ndarray
-    n_terms: np.ndarray
-    coefficients: np.ndarray
-    selected: int
-    measure: str = "gamma"
-
-    @property
-    def gamma(self) -> np.ndarray:
-        """The candidates' scores (the paper's Gamma when ``measure == "gamma"``)."""
-        return self.score
-
-    def __len__(self) -> int:
-        return len(self.score)
-
-
-_DEFAULTS = {
-    "optimizer": ThresholdSweep,
-    "feature_library": lambda: ps.PolynomialLibrary(degree=3),
-    "differentiation_method": lambda: __import__("sindy_impulse.differentiation").differentiation.TVRegDiff(),
-}
-
-
-class ImpulseSINDy(FittedModelMixin, ps.SINDy):
+class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
     """SINDy for impulse responses: threshold sweep on the simulation error and bounded refinement.
 
     A drop-in :class:`pysindy.SINDy` (the same constructor arguments and methods: ``fit``, ``predict``,
-    ``simulate``, ``score``, ``coefficients``, ``equations``, ``print``) and a scikit-learn estimator.
-    Every distinct sparse model along the optimizer's threshold path is simulated and scored by an error
+    ``simulate``, ``score``, ``coefficients``, ``equations``, ``print``; several and ragged trajectories,
+    control inputs ``u``, any optimizer and ODE library; PDE, weak-form and implicit problems raise
+    :class:`~sindy_impulse.exceptions.UnsupportedProblemError`) and a scikit-learn estimator. Every distinct
+    sparse model along the optimizer's threshold path is simulated (driven by ``u``) and scored by an error
     measure (the paper's Gamma for short records, a segment-wise measure for long ones); one is selected
-    and its non-zero coefficients refined within ``[0, bound_factor * xi]``.
+    and its non-zero coefficients refined within ``[0, bound_factor * xi]``. ``score`` is minus that error
+    with ``sweep=True`` and PySINDy's R^2 of the derivatives otherwise (see :meth:`score`). Unlike PySINDy,
+    a ``None`` component stays ``None`` (scikit-learn's rule): the fitted ones are ``optimizer_``,
+    ``feature_library_``, ``differentiation_method_``.
 
     Parameters
     ----------
     optimizer : PySINDy optimizer, default=ThresholdSweep()
         Its threshold path gives the candidates (see :func:`~sindy_impulse.optimizers.candidate_path`).
     feature_library : PySINDy feature library, default=PolynomialLibrary(degree=3)
-        Libraries the compiled simulator knows (polynomial, Fourier, their concatenation,
-        :class:`~sindy_impulse.MechanicalLibrary`) run fast; any other is simulated by a general fallback.
+        Polynomial, Fourier and :class:`~sindy_impulse.MechanicalLibrary` terms (also concatenated, tensored
+        or generalized) run compiled; any other library (e.g. ``CustomLibrary``) is simulated by a fallback.
     differentiation_method : PySINDy differentiation, default=TVRegDiff()
         Its ``smoothed_x_`` (the filtered states) is what the library, the simulations and the error use.
     error_measure : "auto", "gamma", "segmented", a registered name, ErrorMeasure or callable, default="auto"
@@ -205,16 +169,6 @@ class ImpulseSINDy(FittedModelMixin, ps.SINDy):
         self.divergence_factor = divergence_factor
         self.dt = dt
 
-    def set_params(self, **params):
-        """scikit-learn's ``set_params``; a nested parameter of a ``None`` component (e.g.
-        ``feature_library__degree``) first puts the default component in place, so grids work from the
-        defaults."""
-        for key in params:
-            name = key.split("__", 1)[0]
-            if "__" in key and name in _DEFAULTS and getattr(self, name, None) is None:
-                setattr(self, name, _DEFAULTS[name]())
-        return super().set_params(**params)
-
     # ------------------------------------------------------------------------------------------------
     # fit: the paper's pipeline
     # ------------------------------------------------------------------------------------------------
@@ -226,39 +180,62 @@ class ImpulseSINDy(FittedModelMixin, ps.SINDy):
         x : array-like (n_samples, n_states) or list of them
             Measured states; a list means several trajectories (e.g. repeated impacts), possibly ragged.
         t : float, array (n_samples,) or list of arrays, optional
-            Time step or time vector(s); defaults to ``dt``.
+            Time step or time vector(s); defaults to ``dt``. A list holds one entry per trajectory.
         x_dot : array-like or list, optional
             Known derivatives; then ``x`` itself is used as the filtered states.
         u : array-like (n_samples, n_inputs) or list of them, optional
-            Measured control inputs (e.g. the hammer force); the library is built on ``[x, u]``.
+            Measured inputs (e.g. the hammer force), one row per sample of ``x``: the library is built on
+            ``[x, u]`` and every simulation of the sweep and the refinement is driven by ``u``.
         feature_names : list of str, optional
             Names of the states (and of the inputs after them), e.g. ``["x", "v"]``.
 
         Returns
         -------
         self
+
+        Examples
+        --------
+        A forced oscillator ``x'' + 0.8 x' + 64 x = f(t)`` identified from its measured random force and
+        its response (40 dB noise): the sweep and the refinement simulate every candidate driven by ``u``.
+
+        >>> from sindy_impulse.datasets import forced_oscillator
+        >>> t, x, force = forced_oscillator(force="random", snr_db=40, random_state=0)
+        >>> model = ImpulseSINDy().fit(x, t=t, u=force, feature_names=["x", "v", "f"])
+        >>> model.print(precision=2)
+        (x)' =  1.00 v
+        (v)' = -64.02 x + -0.80 v +  1.00 f
         """
+        with threadpool_limits(limits=1):  # small matrices: one BLAS thread is faster, and reproducible
+            self._fit(x, t, x_dot, u, feature_names)
+            self.diagnostics_ = diagnose_fit(self, stacklevel=2)  # the verdict; warns once if not "ok"
+        return self
+
+    def _fit(self, x, t, x_dot, u, feature_names):
         validate_params(self)
-        _refuse_pde(x, self.feature_library)
+        refuse_unsupported(x, self.feature_library)
         data = as_trajectories(x, t, u, default_dt=1.0 if self.dt is None else self.dt, min_samples=3)
         self._resolve_components()
-        filtered, derivs = self._derivatives(data, x_dot)
+        if x_dot is None:
+            filtered, derivs = differentiate(self.differentiation_method_, data.x, data.t)
+        else:  # known derivatives: the measured states are the filtered ones
+            filtered, derivs = [xi.copy() for xi in data.x], check_derivatives(x_dot, data)
         level = screen_states(self, data, filtered)  # data checks; a ring-down's rest level (0: none)
         theta, y = self._regression([f - level for f in filtered], data, derivs)
         self._record_data(data, filtered, feature_names, theta.shape[1])
         thresholds, candidates = candidate_path(self.optimizer_, theta, y, self.sweep)
         terms = library_terms(self.feature_library_, data.n_states + data.n_inputs)
         reference_u = None if data.u is None else np.vstack(data.u)
+        reference = Reference(np.vstack(filtered) - level, reference_u, data.n_inputs)  # once for every model
 
         def compile_(coef):
-            model = compile_model(
-                coef, terms, np.vstack(filtered) - level, self.divergence_factor, reference_u, data.n_inputs
-            )
+            model = compile_model(coef, terms, reference, self.divergence_factor, reference_u, data.n_inputs)
             return at_rest_level(model, level)  # equations in x - level, states as measured
 
+        measure = fresh_measure(self.error_measure, filtered)
         if not (self.sweep or self.refine):  # plain PySINDy: one model, no simulation
+            self.error_measure_ = measure.name
             return self._keep(candidates, thresholds, 0, candidates[0], compile_, None, {}, np.nan, np.nan)
-        measure = get_error_measure(self.error_measure, filtered).bind(filtered, data.t, data.u)
+        measure.bind(filtered, data.t, data.u)  # the inputs drive every simulation that is scored
         budget = WorkBudget()
         n_terms = np.array([np.count_nonzero(c) for c in candidates])
         scores = self._score_candidates(candidates, n_terms, compile_, measure, budget)
@@ -279,29 +256,9 @@ class ImpulseSINDy(FittedModelMixin, ps.SINDy):
                 "candidates were not simulated or the refinement stopped early; the model may be less "
                 "accurate (see sindy_impulse.simulation.WORK_BUDGET)",
                 WorkBudgetWarning,
-                stacklevel=2,
+                stacklevel=3,
             )
         return self._keep(candidates, thresholds, index, coef, compile_, measure, history, scores, score)
-
-    def _resolve_components(self) -> None:
-        """The components of this fit: the given objects (plain mode, as PySINDy) or fresh copies."""
-        plain = not (self.sweep or self.refine)
-        for name, make in _DEFAULTS.items():
-            given = getattr(self, name)
-            value = make() if given is None else (given if plain else fresh_copy(given))
-            setattr(self, name + "_", value)
-
-    def _derivatives(self, data, x_dot):
-        """Filtered states and derivatives (given ``x_dot``: the measured states are the filtered ones)."""
-        if x_dot is None:
-            return differentiate(self.differentiation_method_, data.x, data.t)
-        derivs, multiple = check_trajectories(x_dot, "x_dot")
-        if multiple != data.multiple or len(derivs) != len(data.x):
-            raise ValueError("x_dot must have the same trajectories as x")
-        for i, (d, xi) in enumerate(zip(derivs, data.x)):
-            if d.shape != xi.shape:
-                raise ValueError(f"x_dot[{i}] has shape {d.shape} but x[{i}] has shape {xi.shape}")
-        return [xi.copy() for xi in data.x], derivs
 
     def _regression(self, filtered, data, derivs):
         """The library matrix on the filtered states (and inputs) and the stacked derivatives."""
@@ -309,7 +266,7 @@ class ImpulseSINDy(FittedModelMixin, ps.SINDy):
         theta = self.feature_library_.fit_transform(
             [AxesArray(j, {"ax_time": 0, "ax_coord": 1}) for j in joined]
         )
-        theta = np.vstack([np.asarray(th) for th in theta])
+        theta = np.asarray(theta[0]) if len(theta) == 1 else np.vstack([np.asarray(th) for th in theta])
         y = np.vstack(derivs)
         usable = int(np.sum(np.all(np.isfinite(y), axis=1) & np.all(np.isfinite(theta), axis=1)))
         if usable < theta.shape[1] + 1:
@@ -322,26 +279,9 @@ class ImpulseSINDy(FittedModelMixin, ps.SINDy):
             warnings.warn(  # plain PySINDy solves it (minimum norm): warn, do not refuse
                 message + " for a determined regression; use a longer record or a smaller library",
                 DataWarning,
-                stacklevel=3,
+                stacklevel=4,
             )
         return theta, y
-
-    def _record_data(self, data, filtered, feature_names, n_features) -> None:
-        n_states, n_inputs = data.n_states, data.n_inputs
-        names = [f"x{i}" for i in range(n_states)] + [f"u{i}" for i in range(n_inputs)]
-        if feature_names is not None:
-            given = [str(f) for f in feature_names]
-            if len(given) not in (n_states, n_states + n_inputs):
-                raise ValueError(f"feature_names has {len(given)} names for {n_states} states")
-            names = given + names[len(given) :]
-        self.feature_names_ = names
-        self.n_states_ = n_states
-        self.n_control_features_ = n_inputs
-        self.n_features_in_ = n_states + n_inputs
-        self.n_output_features_ = n_features
-        self.x_filtered_ = restore(filtered, data.multiple)
-        self.t_ = restore(data.t, data.multiple)
-        self.u_ = None if data.u is None else restore(data.u, data.multiple)
 
     def _score_candidates(self, candidates, n_terms, compile_, measure, budget) -> np.ndarray:
         """Score of every candidate's simulation, sparsest first; past the budget, inf (not simulated)."""
@@ -367,30 +307,29 @@ class ImpulseSINDy(FittedModelMixin, ps.SINDy):
         """Store the selected model and what led to it."""
         self.coef_ = np.asarray(coef, dtype=float)
         self.model_ = compile_(self.coef_)
-        filtered = self.x_filtered_ if isinstance(self.x_filtered_, list) else [self.x_filtered_]
-        times = self.t_ if isinstance(self.t_, list) else [self.t_]
-        inputs = None if self.u_ is None else (self.u_ if isinstance(self.u_, list) else [self.u_])
         n_terms = np.array([np.count_nonzero(c) for c in candidates])
-        name = getattr(measure, "name", "gamma")
         self.path_ = SweepPath(
-            thresholds, np.broadcast_to(scores, n_terms.shape).copy(), n_terms, candidates, index, name
+            thresholds,
+            np.broadcast_to(scores, n_terms.shape).copy(),
+            n_terms,
+            candidates,
+            index,
+            self.error_measure_ if measure is None else measure.name,
         )
         self.threshold_ = float(thresholds[index])
-        self.error_measure_ = name
         self.refinement_history_ = history
-        self.diagnostics_ = diagnose_fit(self, stacklevel=3)  # the verdict; warns once if not "ok"
         if measure is None:
             self.gamma_ = self.gamma_sindy_ = self.score_ = self.score_sindy_ = np.nan
             self.noise_level_, self.budget_used_ = np.nan, 0.0
             return self
+        self.error_measure_ = measure.name
         self.score_ = float(measure(self.model_)[0])
         self.score_sindy_ = float(scores[index])
-        self.gamma_ = self.score_ if name == "gamma" else _gamma(self.model_, filtered, times, inputs=inputs)
-        self.gamma_sindy_ = (
-            self.score_sindy_
-            if name == "gamma"
-            else _gamma(compile_(candidates[index]), filtered, times, inputs=inputs)
-        )
+        self.gamma_, self.gamma_sindy_ = self.score_, self.score_sindy_
+        if measure.name != "gamma":
+            data = [_as_list(v) for v in (self.x_filtered_, self.t_, self.u_)]
+            self.gamma_ = _gamma(self.model_, data[0], data[1], inputs=data[2])
+            self.gamma_sindy_ = _gamma(compile_(candidates[index]), data[0], data[1], inputs=data[2])
         return self
 
 
@@ -412,22 +351,10 @@ def _usable(scores, n_terms) -> np.ndarray:
         "every non-trivial candidate model diverged when simulated; the fitted model is x' = 0 (no "
         "deterministic dynamics found in the data)",
         NoDynamicsWarning,
-        stacklevel=3,
+        stacklevel=4,
     )
     return np.isfinite(scores)
 
 
-def _refuse_pde(x, library) -> None:
-    """PDE and weak-form problems are PySINDy's: a clear NotImplementedError."""
-    kind = type(library).__name__
-    if kind in ("PDELibrary", "WeakPDELibrary", "SINDyPILibrary"):
-        raise NotImplementedError(
-            f"{kind} (PDE, weak-form, implicit SINDy) is not supported; use pysindy.SINDy"
-        )
-    arrays = x if isinstance(x, (list, tuple)) and x and hasattr(x[0], "shape") else [x]
-    if any(np.ndim(a) > 2 for a in arrays):
-        shape = next(np.shape(a) for a in arrays if np.ndim(a) > 2)
-        raise UnsupportedProblemError(
-            f"x must be 1-D or 2-D, got an array of shape {shape} (spatiotemporal or PDE data: use "
-            "pysindy.SINDy)"
-        )
+def _as_list(value):
+    return value if isinstance(value, list) or value is None else [value]

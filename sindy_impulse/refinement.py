@@ -26,6 +26,9 @@ __all__ = ["refine", "refine_coefficients", "RefinementResult"]
 
 #: Forward-difference step on the multipliers (of order 1).
 _STEP = 1e-7
+#: Largest change of a multiplier SLSQP's first step may propose: the objective is scaled by its initial
+#: gradient so that the first quasi-Newton step (identity Hessian) is this long, whatever the record's length.
+_FIRST_STEP = 0.1
 
 
 @dataclass
@@ -76,6 +79,7 @@ class _Objective:
         self.values = self.start[self.mask]
         self.best = (np.inf, None)
         self.last = (None, None)
+        self.last_gradient = (None, None)
 
     def coef_of(self, w) -> np.ndarray:
         c = self.start.copy()
@@ -107,12 +111,17 @@ class _Objective:
 
     def gradient(self, w) -> np.ndarray:
         """Forward differences, all perturbed models scored in one call."""
+        w = np.asarray(w, dtype=float)
+        if self.last_gradient[0] is not None and np.array_equal(w, self.last_gradient[0]):
+            return self.last_gradient[1]
         g = self(w)
         perturbed = np.repeat(self.coef_of(w)[None], self.values.size, axis=0)
         rows, cols = np.nonzero(self.mask)
         perturbed[np.arange(self.values.size), rows, cols] += self.values * _STEP
         gp = self.scores(perturbed)
-        return (np.where(np.isfinite(gp), gp, self.penalty) - g) / _STEP
+        out = (np.where(np.isfinite(gp), gp, self.penalty) - g) / _STEP
+        self.last_gradient = (w.copy(), out)
+        return out
 
 
 def _check(bound_factor, max_iter) -> None:
@@ -179,16 +188,18 @@ def refine(
         history["coefficients"].append(objective.full(w))
 
     try:
+        start_w = np.ones(objective.values.size)
+        scale = max(float(np.max(np.abs(objective.gradient(start_w)))) / _FIRST_STEP, 1e-12 * g0, 1e-300)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
             res = minimize(
-                objective,
-                np.ones(objective.values.size),
-                jac=objective.gradient,
+                lambda w: objective(w) / scale,
+                start_w,
+                jac=lambda w: objective.gradient(w) / scale,
                 method="SLSQP",
                 bounds=[(0.0, bound_factor)] * objective.values.size,
                 callback=callback,
-                options={"maxiter": max_iter, "ftol": 1e-10 * max(g0, 1e-12)},
+                options={"maxiter": max_iter, "ftol": 1e-10 * max(g0, 1e-12) / scale},
             )
         w, success, message = np.asarray(res.x, float), bool(res.success), str(res.message)
     except OutOfBudget:

@@ -12,7 +12,6 @@ Contract violations found in modules owned by others are kept as strict xfails (
 
 from __future__ import annotations
 
-import time
 import warnings
 
 import numpy as np
@@ -775,11 +774,11 @@ def test_constant_signal_gives_the_empty_model_with_one_warning(kind):
     np.testing.assert_allclose(model.simulate(x[0], np.arange(200) * DT), x)
 
 
-def test_white_noise_gives_an_answer_fast_with_at_most_one_warning():
+def test_white_noise_gives_an_answer_within_its_work_budget_with_at_most_one_warning():
+    # "fast" deterministically: the simulation work of the fit stays within its budget (no wall clock)
     x = np.random.default_rng(0).normal(size=(300, 2))
-    start = time.perf_counter()
     model, messages = _fit_quietly(x)
-    assert time.perf_counter() - start < 20
+    assert model.budget_used_ <= 1.5  # at most one simulation past the budget
     assert len(messages) <= 1
     assert np.all(np.isfinite(model.coefficients()))
 
@@ -894,10 +893,10 @@ def test_optimizer_failure_keeps_the_unrefined_model(monkeypatch):
 def test_work_budget_bounds_a_fit(monkeypatch):
     monkeypatch.setattr(budget_module, "WORK_BUDGET", 2e5)
     t, x, _ = damped_oscillator(snr_db=30, random_state=0)
-    start = time.perf_counter()
     with pytest.warns(RuntimeWarning, match="work budget of the fit ran out"):
         model = ImpulseSINDy().fit(x, t=t)
-    assert time.perf_counter() - start < 5
+    # the work stops at the budget (overdrawn by one simulation at most), not after it
+    assert 1.0 < model.budget_used_ <= 1.5
     assert np.isfinite(model.gamma_) and model.complexity > 0
 
 
@@ -913,9 +912,8 @@ def test_refinement_stops_at_its_budget_with_the_best_point():
     "case",
     ["ill-conditioned", "diverging", "huge-library", "spike", "embedded-noise"],
 )
-def test_adversarial_fits_return_or_refuse_in_bounded_time(case):
+def test_adversarial_fits_return_or_refuse_in_bounded_work(case):
     rng = np.random.default_rng(0)
-    start = time.perf_counter()
     kwargs = {}
     if case == "ill-conditioned":  # nearly collinear states: a badly conditioned library
         x = np.column_stack([X[:, 0], X[:, 0] * (1 + 1e-12) + 1e-15 * rng.normal(size=N)])
@@ -935,9 +933,9 @@ def test_adversarial_fits_return_or_refuse_in_bounded_time(case):
         try:
             model = ImpulseSINDy(**kwargs).fit(x, t=T[: len(x)])
             assert np.all(np.isfinite(model.coefficients()))
+            assert model.budget_used_ <= 1.5  # bounded by the deterministic work budget, not a clock
         except ValueError as err:  # a clear refusal is fine
             assert str(err)
-    assert time.perf_counter() - start < 30
 
 
 # ------------------------------------------------------------------------------------------------------

@@ -106,3 +106,62 @@ def test_fused_gamma_is_inf_on_divergence():
     model, _, _ = _poly_model({(0, "x1"): 1.0, (1, "x0"): -64, (1, "x0^3"): 500.0, (1, "x0^2"): 80.0}, x)
     g, rows = model.weighted_l1(x, t, *_gamma_plan(x))
     assert g[0] == np.inf and rows[0] < len(t) - 1
+
+
+def test_linear_model_simulated_by_its_propagator_equals_rk4_stages():
+    from sindy_impulse.simulation import integrators
+    from sindy_impulse.simulation.program import pack
+
+    t, x, _ = damped_oscillator()
+    model, _, _ = _poly_model({(0, "x1"): 1.0, (1, "x0"): -64, (1, "x1"): -3.2, (1, "1"): 0.1}, x)
+    assert model.is_linear
+    fast = model.simulate(x[0], t)
+    stages = np.empty_like(fast)
+    prog, vals = pack(model.program, model.coef[None])
+    integrators.integrate(
+        x[0][None], t, np.zeros(1, np.int64), np.zeros((1, 0)), model.substeps(t), prog, vals,
+        integrators.NO_PROPAGATOR, model.bound, integrators.NO_INPUT, model._scratch, stages, np.empty(1),
+        np.empty(1, np.int64),
+    )
+    np.testing.assert_allclose(fast, stages, rtol=0, atol=1e-12)
+
+
+def test_long_record_is_scored_at_a_stride_with_the_same_value():
+    from sindy_impulse.simulation import Gamma
+
+    t, x, _ = damped_oscillator(dt=1e-4)  # 40,001 samples in a few periods: compared at a stride
+    model, _, _ = _poly_model({(0, "x1"): 1.0, (1, "x0"): -63, (1, "x1"): -3.0}, x)
+    measure = Gamma().bind([x], [t])
+    assert measure.strides_[0] > 10
+    full = np.sum(np.abs(model.simulate(x[0], t) - x) / np.max(np.abs(x), axis=0))
+    assert measure(model)[0] == pytest.approx(full, rel=1e-3)
+
+
+def test_read_only_data_are_simulated():
+    t, x, _ = damped_oscillator()
+    model, _, _ = _poly_model({(0, "x1"): 1.0, (1, "x0"): -64, (1, "x0^3"): -1.0}, x)
+    x_ro, t_ro = x.copy(), t.copy()
+    x_ro.flags.writeable = t_ro.flags.writeable = False
+    errors, _ = model.weighted_l1(x_ro, t_ro, *_gamma_plan(x))
+    assert errors[0] == model.weighted_l1(x, t, *_gamma_plan(x))[0]
+
+
+def test_a_reference_object_gives_the_model_of_its_array():
+    from sindy_impulse.simulation import Reference
+
+    t, x, _ = damped_oscillator()
+    model, coef, lib = _poly_model({(0, "x1"): 1.0, (1, "x0"): -64, (1, "x0^3"): -1.0}, x)
+    shared = CompiledModel(coef, TermTable.polynomial(lib.powers_), reference=Reference(x))
+    np.testing.assert_array_equal(shared.bound, model.bound)
+    assert shared.spectral_radius == model.spectral_radius
+
+
+def test_a_batch_stepped_together_scores_as_one_by_one():
+    t, x, _ = damped_oscillator(k_nl=10.0)
+    model, _, _ = _poly_model({(0, "x1"): 1.0, (1, "x0"): -64, (1, "x1"): -3.2, (1, "x0^3"): -10.0}, x)
+    coefs = model.coef[None] * np.array([1.0, 1.01, 0.99, -1.0])[:, None, None]  # the last one diverges
+    together, rows = model.weighted_l1(x, t, *_gamma_plan(x), coefs=coefs)
+    alone = [model.weighted_l1(x, t, *_gamma_plan(x), coefs=c[None]) for c in coefs]
+    np.testing.assert_array_equal(together, [a[0][0] for a in alone])
+    np.testing.assert_array_equal(rows, [a[1][0] for a in alone])
+    assert together[-1] == np.inf

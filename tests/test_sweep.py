@@ -81,3 +81,31 @@ def test_one_dimensional_target_gives_one_dimensional_coefficients():
     opt = ThresholdSweep().fit(X, x_dot[:, 1])
     assert opt.coef_.shape == (X.shape[1],) and opt.predict(X).shape == (len(X),)
     assert opt.history_[0].shape == (1, X.shape[1]) and opt.n_iter_ >= 1 and opt.n_features_in_ == 3
+
+
+def test_path_of_a_long_record_runs_on_a_reduced_problem_with_the_same_result():
+    from sindy_impulse.optimizers.sweep import _path, reduced
+
+    rng = np.random.default_rng(5)
+    X = rng.normal(size=(20_001, 8)) * np.logspace(-3, 3, 8)  # columns of very different units
+    Y = X[:, :2] @ [[1.0, 0.0], [0.0, -2.0]] + X[:, 5:6] * 1e-4 + 0.01 * rng.normal(size=(20_001, 2))
+    Xr, Yr, rcond = reduced(X, Y)
+    assert Xr.shape == (10, 8)  # more than REDUCE_ABOVE samples: reduced
+    thresholds, coefs, _ = _path(Xr, Yr, 20, rcond)
+    thresholds_full, coefs_full, _ = _path(X, Y, 20)
+    assert [np.count_nonzero(c) for c in coefs] == [np.count_nonzero(c) for c in coefs_full]
+    np.testing.assert_allclose(coefs, coefs_full, rtol=1e-9, atol=1e-12)
+
+
+def test_protected_terms_are_never_thresholded():
+    rng = np.random.default_rng(0)
+    X = rng.normal(size=(200, 4))
+    Y = X @ np.array([[2.0, 0.5], [0.0, 1e-3], [0.3, 0.0], [0.0, 0.0]]) + 1e-3 * rng.normal(size=(200, 2))
+    protected = np.array([[False, True, False, False], [False, True, True, False]])
+    thresholds, coefs = threshold_path(X, Y, protected=protected)
+    assert all(np.all(c[protected] != 0) for c in coefs)  # every candidate keeps them
+    assert np.count_nonzero(coefs[-1]) == protected.sum()  # the path ends with them alone
+    sweep = ThresholdSweep(protected=protected).fit(X, Y)
+    assert np.all(sweep.candidates_[:, protected] != 0)
+    with pytest.raises(ValueError, match="protected must have shape"):
+        ThresholdSweep(protected=[True, False]).fit(X, Y)

@@ -8,17 +8,20 @@ from sklearn.base import clone
 from sindy_impulse.datasets import add_noise, damped_oscillator
 from sindy_impulse.differentiation import TVRegDiff
 from sindy_impulse.differentiation._banded import (
-    SplineBasis,
     _trace_inverse_py,
     apply_difference,
     apply_difference_transpose,
+    consistency_error,
     difference_stencil,
     lambda_max,
+    lapack_smooth,
     normal_band,
     polynomial_residual,
     trace_inverse,
     tv_smooth,
 )
+from sindy_impulse.differentiation._smoother import smooth
+from sindy_impulse.differentiation._spline import SplineBasis
 
 T = np.arange(401) * 0.01
 X = np.exp(-1.6 * T) * np.cos(7.8 * T)
@@ -85,6 +88,35 @@ def test_spline_basis_reproduces_cubics_and_their_slopes():
                      basis.gram, max_iter=1)
     np.testing.assert_allclose(basis.values(c), poly, atol=1e-6)
     np.testing.assert_allclose(basis.slopes(c), 0.003 * tau**2 - 0.1 * tau + 1, atol=1e-6)
+
+
+def test_spline_basis_scores_in_one_pass_match_the_arrays():
+    rng = np.random.default_rng(3)
+    tau = np.sort(rng.uniform(0, 80, 500))
+    basis = SplineBasis(tau, 40)
+    c, g = rng.standard_normal(basis.n_coef), rng.standard_normal(tau.size)
+    values, slopes = basis.evaluate(c)
+    rss, consistency = basis.fit_scores(c, g, trim=5)
+    assert rss == pytest.approx(np.sum((g - values) ** 2), rel=1e-12)
+    assert consistency == pytest.approx(consistency_error(g, slopes, tau, 5), rel=1e-10)
+
+
+@pytest.mark.parametrize("basis", ["identity", "spline", "non-uniform"])
+def test_compiled_smoother_follows_the_lapack_iteration(basis):
+    rng = np.random.default_rng(4)
+    tau = np.sort(rng.uniform(0, 300, 300)) if basis == "non-uniform" else np.arange(300.0)
+    f = np.sin(tau / 20) + 0.05 * rng.standard_normal(tau.size)
+    gram, rhs, n = None, f, tau.size
+    if basis != "identity":
+        spline = SplineBasis(tau, 60)
+        gram, rhs, n = spline.gram, spline.rhs(f), spline.n_coef
+    coef, h = difference_stencil(None, n, 4)
+    start = np.interp(np.linspace(0, 1, n), np.linspace(0, 1, tau.size), f)
+    c, its = smooth(rhs, coef, h, 3.0, start, gram, 30, 1e-8, 1.0)
+    c_ref, its_ref = lapack_smooth(rhs, coef, h, 3.0, start, gram, 30, 1e-8, 1.0)
+    assert abs(its - its_ref) <= 1
+    # the same iteration; the systems are ill conditioned (weights up to 1e12), so rounding shows at 1e-9
+    np.testing.assert_allclose(c, c_ref, rtol=0, atol=1e-7 * np.max(np.abs(c_ref)))
 
 
 @pytest.mark.parametrize("uniform", [True, False])

@@ -16,7 +16,6 @@ from __future__ import annotations
 import time
 import warnings
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
 from numbers import Integral
 from typing import Any
 
@@ -25,228 +24,11 @@ from sklearn.base import clone
 
 from .._validation import check_signal, check_time
 from ..metrics import gamma_from_arrays
+from ._complexity_result import ComplexityError
 
 __all__ = ["complexity_error", "ComplexityError"]
 
 _ERRORS = ("record", "raise")
-
-
-# --------------------------------------------------------------------------------------------------------
-# result
-# --------------------------------------------------------------------------------------------------------
-@dataclass
-class ComplexityError:
-    """Models on the complexity-error plane: one entry per (estimator, input) pair.
-
-    Entries are ordered estimator-major: model ``k`` is estimator ``k // n_inputs`` fitted on input
-    ``k % n_inputs``. Arrays have one value per model.
-
-    Attributes
-    ----------
-    gamma : ndarray of float
-        Gamma of the model simulated from the first input sample against the input states (the
-        paper's definition: the embedded trajectories ``q(t)`` for single-signal input). ``inf`` if the
-        simulation diverged or the fit failed.
-    gamma_filtered : ndarray of float
-        The estimator's own ``gamma_``: against the states filtered by its differentiation (NaN if the
-        estimator has none or the fit failed).
-    gamma_sindy : ndarray of float
-        The estimator's ``gamma_sindy_``: the selected sweep candidate before refinement, against the
-        filtered states (NaN if unavailable).
-    n_terms : ndarray of int
-        Number of non-zero coefficients (the complexity); -1 for a failed fit.
-    estimator_index, input_index : ndarray of int
-        Position of the model's estimator and input.
-    estimator_label, input_label : ndarray
-        Their labels (numbers stay numeric, e.g. degrees and mixing ratios).
-    tau, dimension : ndarray of int
-        Embedding delay and dimension used for the input (-1 without embedding or if it failed).
-    fit_time : ndarray of float
-        Wall time of each fit in seconds (embedding excluded).
-    coefficients : list of ndarray or None
-        Coefficient matrix (n_states, n_features) of each model; None for a failed fit.
-    term_names : list of list of str or None
-        Names of the library terms (the columns of ``coefficients``).
-    equations : list of list of str or None
-        Right-hand sides, one string per state.
-    models : list of estimator or None
-        The fitted estimators (None for failed fits, or all None with ``keep_models=False``).
-    errors : list of str or None
-        ``"ExceptionType: message"`` for each failed fit, None for the others.
-
-    Examples
-    --------
-    >>> import numpy as np, pysindy as ps
-    >>> from sindy_impulse import DelayEmbedding, ImpulseSINDy, damped_oscillator
-    >>> from sindy_impulse.analysis import complexity_error
-    >>> ring_down = damped_oscillator()
-    >>> signals = {beta: beta * ring_down.x[:, 0] + (1 - beta) * ring_down.x[:, 1] for beta in (0.5, 1.0)}
-    >>> estimators = {p: ImpulseSINDy(feature_library=ps.PolynomialLibrary(degree=p)) for p in (1, 2)}
-    >>> result = complexity_error(estimators, signals, t=0.01, embedding=DelayEmbedding())
-    >>> len(result), result.n_terms.tolist()
-    (4, [4, 4, 4, 4])
-    >>> bool(np.all(result.gamma < 0.01))
-    True
-    >>> rec = result.to_records()
-    >>> rec.dtype.names[:4]
-    ('estimator_label', 'input_label', 'n_terms', 'gamma')
-    >>> result.grid("n_terms")
-    array([[4, 4],
-           [4, 4]])
-    """
-
-    gamma: np.ndarray
-    gamma_filtered: np.ndarray
-    gamma_sindy: np.ndarray
-    n_terms: np.ndarray
-    estimator_index: np.ndarray
-    input_index: np.ndarray
-    estimator_label: np.ndarray
-    input_label: np.ndarray
-    tau: np.ndarray
-    dimension: np.ndarray
-    fit_time: np.ndarray
-    coefficients: list = field(repr=False)
-    term_names: list = field(repr=False)
-    equations: list = field(repr=False)
-    models: list = field(repr=False)
-    errors: list = field(repr=False)
-    n_estimators: int = 1
-    n_inputs: int = 1
-
-    def __len__(self) -> int:
-        return int(self.gamma.size)
-
-    @property
-    def succeeded(self) -> np.ndarray:
-        """Boolean mask of the fits that did not raise."""
-        return np.array([e is None for e in self.errors], dtype=bool)
-
-    @property
-    def stable(self) -> np.ndarray:
-        """Boolean mask of the models whose simulation stayed finite (finite ``gamma``)."""
-        return np.isfinite(self.gamma)
-
-    def _metric(self, metric: str) -> np.ndarray:
-        if metric not in ("gamma", "gamma_filtered", "gamma_sindy"):
-            raise ValueError(f"metric must be 'gamma', 'gamma_filtered' or 'gamma_sindy', got {metric!r}")
-        return getattr(self, metric)
-
-    def pareto_front(self, metric: str = "gamma") -> np.ndarray:
-        """Indices of the non-dominated models, sparsest first.
-
-        A model is dominated if another has no more terms and no larger error, and is better in one
-        of the two. Failed fits and models with non-finite error are never on the front; of exactly
-        equal points the first is kept.
-
-        Parameters
-        ----------
-        metric : {"gamma", "gamma_filtered", "gamma_sindy"}, default="gamma"
-            The error axis.
-
-        Returns
-        -------
-        ndarray of int
-            Model indices ordered by increasing number of terms (and decreasing error).
-        """
-        err = self._metric(metric)
-        ok = np.flatnonzero(self.succeeded & np.isfinite(err) & (self.n_terms >= 0))
-        order = ok[np.lexsort((ok, err[ok], self.n_terms[ok]))]
-        front, best = [], np.inf
-        for i in order:
-            if err[i] < best:
-                front.append(int(i))
-                best = err[i]
-        return np.asarray(front, dtype=int)
-
-    def best(self, metric: str = "gamma", max_terms: int | None = None) -> int:
-        """Index of the model of least error (fewest terms on ties), optionally at most ``max_terms``.
-
-        Raises
-        ------
-        ValueError
-            If no successful model with finite error (and few enough terms) exists.
-        """
-        err = self._metric(metric)
-        ok = self.succeeded & np.isfinite(err) & (self.n_terms >= 0)
-        if max_terms is not None:
-            ok &= self.n_terms <= max_terms
-        idx = np.flatnonzero(ok)
-        if idx.size == 0:
-            raise ValueError("no successful model with a finite error" + ("" if max_terms is None else
-                             f" and at most {max_terms} terms"))
-        return int(idx[np.lexsort((idx, self.n_terms[idx], err[idx]))[0]])
-
-    def grid(self, name: str) -> np.ndarray:
-        """A per-model array reshaped to (n_estimators, n_inputs), e.g. for a heat map.
-
-        Parameters
-        ----------
-        name : str
-            One of ``gamma``, ``gamma_filtered``, ``gamma_sindy``, ``n_terms``, ``tau``, ``dimension``,
-            ``fit_time``.
-        """
-        allowed = ("gamma", "gamma_filtered", "gamma_sindy", "n_terms", "tau", "dimension", "fit_time")
-        if name not in allowed:
-            raise ValueError(f"name must be one of {allowed}, got {name!r}")
-        return getattr(self, name).reshape(self.n_estimators, self.n_inputs)
-
-    def to_records(self) -> np.recarray:
-        """All scalar columns as a NumPy record array (one record per model).
-
-        Fields: ``estimator_label, input_label, n_terms, gamma, gamma_filtered, gamma_sindy,
-        estimator_index, input_index, tau, dimension, fit_time, succeeded, stable, pareto``. Pass it to
-        ``pandas.DataFrame`` or ``numpy.savetxt``-like writers as is.
-        """
-        pareto = np.zeros(len(self), dtype=bool)
-        pareto[self.pareto_front()] = True
-        columns = {
-            "estimator_label": self.estimator_label,
-            "input_label": self.input_label,
-            "n_terms": self.n_terms,
-            "gamma": self.gamma,
-            "gamma_filtered": self.gamma_filtered,
-            "gamma_sindy": self.gamma_sindy,
-            "estimator_index": self.estimator_index,
-            "input_index": self.input_index,
-            "tau": self.tau,
-            "dimension": self.dimension,
-            "fit_time": self.fit_time,
-            "succeeded": self.succeeded,
-            "stable": self.stable,
-            "pareto": pareto,
-        }
-        return np.rec.fromarrays(list(columns.values()), names=list(columns))
-
-    def summary(self, metric: str = "gamma") -> str:
-        """A text table per estimator: terms (min/median/max), error (min/median/max), failures.
-
-        Examples
-        --------
-        The first line is the header: ``estimator  n  failed  unstable  terms min/med/max ...``.
-        """
-        err = self._metric(metric)
-        lines = [
-            f"{'estimator':>12} {'n':>4} {'failed':>6} {'unstable':>8} {'terms min/med/max':>18} "
-            f"{metric + ' min/median/max':>34}"
-        ]
-        for e in range(self.n_estimators):
-            sel = self.estimator_index == e
-            ok = sel & self.succeeded
-            fin = ok & np.isfinite(err)
-            if fin.any():
-                k = self.n_terms[fin]
-                g = err[fin]
-                terms = f"{k.min()}/{np.median(k):g}/{k.max()}"
-                gam = f"{g.min():.4g}/{np.median(g):.4g}/{g.max():.4g}"
-            else:
-                terms, gam = "-", "-"
-            label = self.estimator_label[np.flatnonzero(sel)[0]]
-            lines.append(
-                f"{label!s:>12} {int(sel.sum()):>4} {int((sel & ~self.succeeded).sum()):>6} "
-                f"{int((ok & ~np.isfinite(err)).sum()):>8} {terms:>18} {gam:>34}"
-            )
-        return "\n".join(lines)
 
 
 # --------------------------------------------------------------------------------------------------------
@@ -307,8 +89,11 @@ def _check_estimator(est, i: int) -> None:
 def _is_input(obj) -> bool:
     """One input: an array (or DataFrame/Series), not a list of arrays."""
     return hasattr(obj, "shape") or (
-        isinstance(obj, Sequence) and not isinstance(obj, str) and len(obj) > 0
-        and not hasattr(obj[0], "shape") and np.ndim(obj[0]) <= 1
+        isinstance(obj, Sequence)
+        and not isinstance(obj, str)
+        and len(obj) > 0
+        and not hasattr(obj[0], "shape")
+        and np.ndim(obj[0]) <= 1
     )
 
 
@@ -327,8 +112,10 @@ def _per_input_times(t, signals: list[np.ndarray], input_keys, inputs_is_mapping
         per = list(t)
     else:
         per = [t] * n
-    return [check_time(ti, s.shape[0], "t" if len(per) == 1 else f"t[{i}]")
-            for i, (ti, s) in enumerate(zip(per, signals))]
+    return [
+        check_time(ti, s.shape[0], "t" if len(per) == 1 else f"t[{i}]")
+        for i, (ti, s) in enumerate(zip(per, signals))
+    ]
 
 
 def _embed(embedding, signal: np.ndarray, t):
@@ -354,8 +141,15 @@ def _embed(embedding, signal: np.ndarray, t):
 def _failed_record(error: str | None) -> dict[str, Any]:
     """The record of a model that does not exist (yet): Gamma inf, no terms."""
     return {
-        "gamma": np.inf, "gamma_filtered": np.nan, "gamma_sindy": np.nan, "n_terms": -1,
-        "coefficients": None, "term_names": None, "equations": None, "model": None, "error": error,
+        "gamma": np.inf,
+        "gamma_filtered": np.nan,
+        "gamma_sindy": np.nan,
+        "n_terms": -1,
+        "coefficients": None,
+        "term_names": None,
+        "equations": None,
+        "model": None,
+        "error": error,
         "fit_time": np.nan,
     }
 
@@ -484,89 +278,22 @@ def complexity_error(
     >>> result.pareto_front().tolist()
     [0]
     """
-    if errors not in _ERRORS:
-        raise ValueError(f"errors must be one of {_ERRORS}, got {errors!r}")
-    if not isinstance(keep_models, (bool, np.bool_)):
-        raise TypeError(f"keep_models must be True or False, got {keep_models!r}")
-    if t is not None and dt is not None:
-        raise ValueError("pass either t or dt, not both")
-    if dt is not None:
-        t = check_time(dt, 1, "dt")
-    if n_jobs is not None and (not isinstance(n_jobs, Integral) or isinstance(n_jobs, bool) or n_jobs == 0):
-        raise ValueError(f"n_jobs must be None or a non-zero int, got {n_jobs!r}")
-    if embedding is not None and not all(hasattr(embedding, a) for a in ("fit_transform", "get_params")):
-        raise TypeError(f"embedding must be a scikit-learn transformer, got {type(embedding).__name__}")
-
+    t = _check_study(errors, keep_models, t, dt, n_jobs, embedding)
     ests, est_labels = _as_labelled(estimators, "estimators", estimator_labels, _is_estimator)
     for i, est in enumerate(ests):
         _check_estimator(est, i)
     raw, in_labels = _as_labelled(inputs, "inputs", input_labels, _is_input)
-    if embedding is not None:
-        signals = [check_signal(s, f"inputs[{i}]", min_samples=3, as_2d=False) for i, s in enumerate(raw)]
-        for i, s in enumerate(signals):
-            if s.ndim == 2 and s.shape[1] != 1:
-                raise ValueError(
-                    f"inputs[{i}] has {s.shape[1]} columns; an embedding needs one signal (n_samples,)"
-                )
-        signals = [s.reshape(-1) for s in signals]
-    else:
-        signals = [check_signal(s, f"inputs[{i}]", min_samples=3) for i, s in enumerate(raw)]
+    signals = _signals(raw, embedding is not None)
     if feature_names is not None:
         if isinstance(feature_names, str):
             raise TypeError("feature_names must be a sequence of strings, not one string")
         feature_names = [str(f) for f in feature_names]
     times = _per_input_times(t, signals, in_labels, isinstance(inputs, Mapping))
-
-    # embed each input once (cheap), here
-    prepared, taus, dims, embed_errors = [], [], [], []
-    for i, (s, ti) in enumerate(zip(signals, times)):
-        if embedding is None:
-            prepared.append((s, ti, feature_names))
-            taus.append(-1)
-            dims.append(-1)
-            embed_errors.append(None)
-            continue
-        try:
-            states, t_states, emb = _embed(embedding, s, ti)
-        except Exception as err:  # noqa: BLE001 - recorded like a failing fit
-            if errors == "raise":
-                raise
-            prepared.append(None)
-            taus.append(-1)
-            dims.append(-1)
-            embed_errors.append(f"embedding of inputs[{i}] failed: {type(err).__name__}: {err}")
-            continue
-        names = feature_names
-        if names is None and hasattr(emb, "get_feature_names_out"):
-            names = [str(n) for n in emb.get_feature_names_out()]
-        prepared.append((states, t_states, names))
-        taus.append(int(getattr(emb, "tau_", -1)))
-        dims.append(int(getattr(emb, "dimension_", states.shape[1])))
-        embed_errors.append(None)
-
-    n_in = len(signals)
-    tasks = [(e, i) for e in range(len(ests)) for i in range(n_in)]
-    runnable = [(e, i) for e, i in tasks if prepared[i] is not None]
-
-    def call(e, i):
-        states, ti, names = prepared[i]
-        return _fit_one(ests[e], states, ti, names, keep_models, errors)
-
-    if n_jobs is None or n_jobs == 1 or len(runnable) <= 1:
-        outputs = [call(e, i) for e, i in runnable]
-    else:
-        from joblib import Parallel, delayed
-
-        outputs = Parallel(n_jobs=n_jobs)(
-            delayed(_fit_one)(ests[e], *prepared[i], keep_models, errors) for e, i in runnable
-        )
-    by_task = dict(zip(runnable, outputs))
-
-    records = []
-    for e, i in tasks:
-        rec = by_task.get((e, i))
-        records.append(rec if rec is not None else _failed_record(embed_errors[i]))
-
+    prepared = [
+        _prepare(embedding, s, ti, feature_names, i, errors) for i, (s, ti) in enumerate(zip(signals, times))
+    ]
+    tasks = [(e, i) for e in range(len(ests)) for i in range(len(signals))]
+    records = _run_fits(ests, prepared, tasks, keep_models, errors, n_jobs)
     failed = [r["error"] for r in records if r["error"] is not None]
     if failed:
         warnings.warn(
@@ -574,27 +301,100 @@ def complexity_error(
             RuntimeWarning,
             stacklevel=2,
         )
+    return _result(records, tasks, est_labels, in_labels, prepared, len(ests), len(signals))
 
+
+def _check_study(errors, keep_models, t, dt, n_jobs, embedding):
+    """The study's options checked; returns ``t`` (``dt`` folded in)."""
+    if errors not in _ERRORS:
+        raise ValueError(f"errors must be one of {_ERRORS}, got {errors!r}")
+    if not isinstance(keep_models, (bool, np.bool_)):
+        raise TypeError(f"keep_models must be True or False, got {keep_models!r}")
+    if t is not None and dt is not None:
+        raise ValueError("pass either t or dt, not both")
+    if n_jobs is not None and (not isinstance(n_jobs, Integral) or isinstance(n_jobs, bool) or n_jobs == 0):
+        raise ValueError(f"n_jobs must be None or a non-zero int, got {n_jobs!r}")
+    if embedding is not None and not all(hasattr(embedding, a) for a in ("fit_transform", "get_params")):
+        raise TypeError(f"embedding must be a scikit-learn transformer, got {type(embedding).__name__}")
+    return check_time(dt, 1, "dt") if dt is not None else t
+
+
+def _signals(raw, embedded: bool) -> list[np.ndarray]:
+    """Validated inputs: state arrays, or 1-D signals for an embedding."""
+    if not embedded:
+        return [check_signal(s, f"inputs[{i}]", min_samples=3) for i, s in enumerate(raw)]
+    signals = [check_signal(s, f"inputs[{i}]", min_samples=3, as_2d=False) for i, s in enumerate(raw)]
+    for i, s in enumerate(signals):
+        if s.ndim == 2 and s.shape[1] != 1:
+            raise ValueError(
+                f"inputs[{i}] has {s.shape[1]} columns; an embedding needs one signal (n_samples,)"
+            )
+    return [s.reshape(-1) for s in signals]
+
+
+def _prepare(embedding, signal, t, feature_names, i: int, errors: str) -> dict:
+    """One input ready to fit: states, time, state names, delay and dimension (or the embedding's error)."""
+    if embedding is None:
+        return {"fit": (signal, t, feature_names), "tau": -1, "dimension": -1, "error": None}
+    try:
+        states, t_states, emb = _embed(embedding, signal, t)
+    except Exception as err:  # noqa: BLE001 - recorded like a failing fit
+        if errors == "raise":
+            raise
+        message = f"embedding of inputs[{i}] failed: {type(err).__name__}: {err}"
+        return {"fit": None, "tau": -1, "dimension": -1, "error": message}
+    names = feature_names
+    if names is None and hasattr(emb, "get_feature_names_out"):
+        names = [str(n) for n in emb.get_feature_names_out()]
+    dimension = int(getattr(emb, "dimension_", states.shape[1]))
+    return {
+        "fit": (states, t_states, names),
+        "tau": int(getattr(emb, "tau_", -1)),
+        "dimension": dimension,
+        "error": None,
+    }
+
+
+def _run_fits(ests, prepared, tasks, keep_models, errors, n_jobs) -> list[dict]:
+    """Every (estimator, input) fit, serially or with joblib; a record per task."""
+    runnable = [(e, i) for e, i in tasks if prepared[i]["fit"] is not None]
+    if n_jobs is None or n_jobs == 1 or len(runnable) <= 1:
+        outputs = [_fit_one(ests[e], *prepared[i]["fit"], keep_models, errors) for e, i in runnable]
+    else:
+        from joblib import Parallel, delayed
+
+        outputs = Parallel(n_jobs=n_jobs)(
+            delayed(_fit_one)(ests[e], *prepared[i]["fit"], keep_models, errors) for e, i in runnable
+        )
+    by_task = dict(zip(runnable, outputs))
+    return [by_task.get(task) or _failed_record(prepared[task[1]]["error"]) for task in tasks]
+
+
+def _result(records, tasks, est_labels, in_labels, prepared, n_estimators, n_inputs) -> ComplexityError:
     est_idx = np.array([e for e, _ in tasks], dtype=int)
     in_idx = np.array([i for _, i in tasks], dtype=int)
     est_lab, in_lab = _label_array(est_labels), _label_array(in_labels)
+
+    def column(key, dtype=float):
+        return np.array([r[key] for r in records], dtype=dtype)
+
     return ComplexityError(
-        gamma=np.array([r["gamma"] for r in records], dtype=float),
-        gamma_filtered=np.array([r["gamma_filtered"] for r in records], dtype=float),
-        gamma_sindy=np.array([r["gamma_sindy"] for r in records], dtype=float),
-        n_terms=np.array([r["n_terms"] for r in records], dtype=int),
+        gamma=column("gamma"),
+        gamma_filtered=column("gamma_filtered"),
+        gamma_sindy=column("gamma_sindy"),
+        n_terms=column("n_terms", int),
         estimator_index=est_idx,
         input_index=in_idx,
         estimator_label=est_lab[est_idx],
         input_label=in_lab[in_idx],
-        tau=np.asarray(taus, dtype=int)[in_idx],
-        dimension=np.asarray(dims, dtype=int)[in_idx],
-        fit_time=np.array([r["fit_time"] for r in records], dtype=float),
+        tau=np.array([p["tau"] for p in prepared], dtype=int)[in_idx],
+        dimension=np.array([p["dimension"] for p in prepared], dtype=int)[in_idx],
+        fit_time=column("fit_time"),
         coefficients=[r["coefficients"] for r in records],
         term_names=[r["term_names"] for r in records],
         equations=[r["equations"] for r in records],
         models=[r["model"] for r in records],
         errors=[r["error"] for r in records],
-        n_estimators=len(ests),
-        n_inputs=n_in,
+        n_estimators=n_estimators,
+        n_inputs=n_inputs,
     )

@@ -1,7 +1,8 @@
-"""Command line: ``sindy-impulse demo | fit | features``.
+"""Command line: ``sindy-impulse demo | fit | modes | features``.
 
 ``demo`` runs the paper's oscillator case end to end. ``fit`` reconstructs the equations of one measured
-ring-down stored as a CSV file and reports Gamma, the nonlinearity test and the modal parameters. ``features``
+ring-down stored as a CSV file and reports Gamma, the nonlinearity test and the modal parameters. ``modes``
+finds the modes of a raw hammer-test record (a modal table, one equation per mode). ``features``
 turns many CSV files into one table of SINDy coefficient features (paper section 3.4).
 
 One module per command (:mod:`.demo`, :mod:`.fit`, :mod:`.features`: each ``add_parser(sub)`` and
@@ -19,14 +20,14 @@ from __future__ import annotations
 import argparse
 import sys
 
-from . import demo, features, fit
+from . import demo, features, fit, modes
 from ._io import CLIError, Table, read_csv
 from ._options import Parser
 
 __all__ = ["CLIError", "Table", "build_parser", "main", "read_csv"]
 
 #: The commands, in the order of ``--help``.
-COMMANDS = (demo, fit, features)
+COMMANDS = (demo, fit, modes, features)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -89,6 +89,10 @@ def _nonlinearity(test) -> dict:
         "nonlinear": bool(test.nonlinear),
         "statistic": _finite(test.statistic),
         "threshold": _finite(test.threshold),
+        "significance": _finite(test.significance),
+        "amplitude_dependence": _finite(test.amplitude_dependence),
+        "frequency_shift": _finite(test.frequency_shift),
+        "damping_ratio_shift": _finite(test.damping_ratio_shift),
         "gamma_linear": _finite(test.gamma_linear),
         "gamma_nonlinear": _finite(test.gamma_nonlinear),
         "noise_gamma": _finite(test.noise_gamma),
@@ -150,8 +154,9 @@ def _print_nonlinearity(nl: dict, precision: int) -> None:
     verdict = "NONLINEAR" if nl["nonlinear"] else "linear"
     cmp = ">" if nl["nonlinear"] else "<="
     print(
-        f"Nonlinearity test: {verdict} (Gamma grows by {_fmt(nl['statistic'])} without nonlinear terms "
-        f"{cmp} threshold {_fmt(nl['threshold'])}; Gamma linear {_fmt(nl['gamma_linear'])}, "
+        f"Nonlinearity test: {verdict} (statistic {_fmt(nl['statistic'])} {cmp} threshold "
+        f"{_fmt(nl['threshold'])}: significance {_fmt(nl['significance'])}, amplitude dependence "
+        f"{_fmt(nl['amplitude_dependence'])}; Gamma linear {_fmt(nl['gamma_linear'])}, "
         f"nonlinear {_fmt(nl['gamma_nonlinear'])})"
     )
     if nl["terms"] and not nl["nonlinear"]:

@@ -8,7 +8,7 @@ coefficients per row, and the normal matrix ``G + lam D^T W D`` in the lower ban
 
 The smoothed signal is ``y = B c``: ``B`` is the identity (``c`` are the smoothed samples, ``G = I``) or,
 for long records, a uniform cubic B-spline basis with fewer coefficients than samples (P-splines, Eilers &
-Marx 1996; ``G = B^T B`` banded). The penalty acts on differences of ``c``.
+Marx 1996; ``G = B^T B`` banded; :mod:`._spline`). The penalty acts on differences of ``c``.
 """
 
 from __future__ import annotations
@@ -19,6 +19,9 @@ import numpy as np
 from scipy.linalg import solveh_banded
 from scipy.linalg.lapack import dpbsv
 
+from .._jit import kernel
+from ._smoother import smooth
+
 __all__ = [
     "difference_stencil",
     "apply_difference",
@@ -28,7 +31,7 @@ __all__ = [
     "tv_smooth",
     "trace_inverse",
     "IdentityBasis",
-    "SplineBasis",
+    "consistency_error",
     "penalty_weight",
     "polynomial_residual",
 ]
@@ -124,58 +127,27 @@ class IdentityBasis:
         """d y / d tau at the samples: centred differences (second order, no lag)."""
         return np.gradient(c, self.tau)
 
+    def evaluate(self, c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The smoothed samples and their derivative per unit of ``tau``."""
+        return c, self.slopes(c)
+
+    def fit_scores(self, c: np.ndarray, g: np.ndarray, trim: int) -> tuple[float, float]:
+        """Residual sum of squares against ``g`` and the paper's consistency error."""
+        return float(np.sum((g - c) ** 2)), consistency_error(g, self.slopes(c), self.tau, trim)
+
     def start(self, f: np.ndarray) -> np.ndarray:
         return f.copy()
 
 
-class SplineBasis:
-    """Uniform cubic B-splines with ``n_intervals`` knot intervals spanning ``tau`` (P-splines).
-
-    ``y(tau) = sum_k c_k B_k(tau)``; each sample touches 4 coefficients, so ``G = B^T B`` has 3
-    off-diagonals and ``B^T f`` is 4 weighted bincounts: O(N). The derivative is the exact derivative of
-    the spline, so ``y`` is exactly the time integral of the derivative.
-    """
-
-    def __init__(self, tau: np.ndarray, n_intervals: int):
-        self.tau = tau
-        self.n_coef = n_intervals + 3
-        self.spacing = float(tau[-1] - tau[0]) / n_intervals
-        pos = (tau - tau[0]) / self.spacing
-        self.start_index = np.clip(np.floor(pos).astype(int), 0, n_intervals - 1)
-        u = pos - self.start_index
-        self.w = np.column_stack(
-            [(1 - u) ** 3, 3 * u**3 - 6 * u**2 + 4, -3 * u**3 + 3 * u**2 + 3 * u + 1, u**3]
-        ) / 6.0
-        self.dw = np.column_stack(
-            [-((1 - u) ** 2), 3 * u**2 - 4 * u, -3 * u**2 + 2 * u + 1, u**2]
-        ) / (2.0 * self.spacing)
-        gram = np.zeros((4, self.n_coef))
-        for s in range(4):
-            for a in range(4 - s):
-                gram[s] += np.bincount(
-                    self.start_index + a, self.w[:, a] * self.w[:, a + s], minlength=self.n_coef
-                )
-        # a tiny ridge keeps G + lam P positive definite where knot intervals hold no sample
-        gram[0] += 1e-10 * max(float(np.max(gram[0])), 1.0)
-        self.gram = gram
-
-    def rhs(self, f: np.ndarray) -> np.ndarray:
-        out = np.zeros(self.n_coef)
-        for a in range(4):
-            out += np.bincount(self.start_index + a, self.w[:, a] * f, minlength=self.n_coef)
-        return out
-
-    def values(self, c: np.ndarray) -> np.ndarray:
-        j = self.start_index
-        return sum(self.w[:, a] * c[j + a] for a in range(4))
-
-    def slopes(self, c: np.ndarray) -> np.ndarray:
-        j = self.start_index
-        return sum(self.dw[:, a] * c[j + a] for a in range(4))
-
-    def start(self, f: np.ndarray) -> np.ndarray:
-        centres = self.tau[0] + (np.arange(self.n_coef) - 1) * self.spacing
-        return np.interp(centres, self.tau, f)
+def consistency_error(g: np.ndarray, slopes: np.ndarray, tau: np.ndarray, trim: int) -> float:
+    """Paper's criterion: RMS(input - time-integrated derivative) on the kept samples, offset free."""
+    n = g.shape[0]
+    lo, hi = trim, n - trim
+    u = slopes[lo:hi]
+    integral = np.concatenate(([0.0], np.cumsum(0.5 * (u[1:] + u[:-1]) * np.diff(tau[lo:hi]))))
+    diff = g[lo:hi] - integral
+    diff -= np.mean(diff)  # free integration constant (least squares)
+    return float(np.sqrt(np.mean(diff**2)))
 
 
 def lambda_max(grad: np.ndarray, coef: np.ndarray, h: np.ndarray) -> float:
@@ -211,7 +183,8 @@ def polynomial_residual(f: np.ndarray, tau: np.ndarray, degree: int) -> np.ndarr
     """``f`` minus its least-squares polynomial fit of ``degree`` in ``tau`` (Legendre basis)."""
     x = (tau - tau[0]) / max(float(tau[-1] - tau[0]), 1e-300) * 2.0 - 1.0
     vander = np.polynomial.legendre.legvander(x, degree)
-    return f - vander @ np.linalg.lstsq(vander, f, rcond=None)[0]
+    # Legendre polynomials on [-1, 1] are close to orthogonal: the normal equations are well conditioned
+    return f - vander @ np.linalg.solve(vander.T @ vander, vander.T @ f)
 
 
 def tv_smooth(
@@ -236,17 +209,25 @@ def tv_smooth(
 
     Returns the coefficients and the number of iterations used.
     """
-    n = rhs.shape[0]
-    c = c0.copy()
     if lam <= 0 and gram is None:
         return rhs.copy(), 0
+    compiled = smooth(rhs, coef, h, lam, c0, gram, max_iter, tol, eps_rel)  # the same steps, compiled
+    if compiled is not None:
+        return compiled
+    return lapack_smooth(rhs, coef, h, lam, c0, gram, max_iter, tol, eps_rel)  # a pivot was not positive
+
+
+def lapack_smooth(rhs, coef, h, lam, c0, gram, max_iter, tol, eps_rel) -> tuple[np.ndarray, int]:
+    """:func:`tv_smooth`'s iteration in numpy with LAPACK's banded solver (a ridge where it fails)."""
+    n = rhs.shape[0]
+    c = c0.copy()
     scale = max(float(np.sqrt(np.mean(c0**2))), 1e-300)
     it = 0
     for it in range(1, max_iter + 1):  # noqa: B007
         weight = penalty_weight(coef, h, lam, c, eps_rel)
         band = normal_band(coef, weight, n, gram)
         _, c_new, info = dpbsv(band, rhs, lower=1)  # LAPACK banded Cholesky solve, no wrapper overhead
-        if info != 0:  # pragma: no cover - only for pathological weights
+        if info != 0:  # only for pathological weights
             band[0] += 1e-10 * np.max(band[0])
             c_new = solveh_banded(band, rhs, lower=True, check_finite=False)
         change = float(np.sqrt(np.mean((c_new - c) ** 2)))
@@ -269,12 +250,16 @@ def _trace_inverse_py(band: np.ndarray, gram: np.ndarray) -> float:
 
     LDL^T factorization followed by the selected-inversion recursion of Hutchinson & de Hoog (1985):
     only the entries of ``A^-1`` inside the band of ``A`` are computed, from the last row upwards; ``G``'s
-    band must not be wider than ``A``'s.
+    band must not be wider than ``A``'s. (Python; :func:`trace_inverse` runs the same code compiled.)
     """
+    return _selected_trace(band, gram, np.zeros(band.shape), np.zeros(band.shape[1]), np.zeros(band.shape))
+
+
+def _selected_trace(band, gram, low, diag, inv) -> float:
+    """:func:`_trace_inverse_py` with its work arrays given (``low[s, j] = L[j + s, j]`` of the unit lower
+    factor, the diagonal ``D``, ``inv[s, i] = (A^-1)[i + s, i]``): the compiled kernel allocates nothing."""
     b = band.shape[0] - 1
     n = band.shape[1]
-    low = np.zeros((b + 1, n))  # low[s, j] = L[j + s, j] (unit lower factor)
-    diag = np.zeros(n)
     for j in range(n):
         acc = band[0, j]
         for k in range(max(0, j - b), j):
@@ -289,7 +274,6 @@ def _trace_inverse_py(band: np.ndarray, gram: np.ndarray) -> float:
             for k in range(max(0, i - b), j):
                 acc -= low[i - k, k] * low[j - k, k] * diag[k]
             low[s, j] = acc / diag[j]
-    inv = np.zeros((b + 1, n))  # inv[s, i] = (A^-1)[i + s, i]
     trace = 0.0
     for i in range(n - 1, -1, -1):
         for s in range(1, b + 1):
@@ -317,22 +301,15 @@ def _trace_inverse_py(band: np.ndarray, gram: np.ndarray) -> float:
     return trace
 
 
-_trace_inverse_jit = None
+_trace_inverse_kernel = kernel(_selected_trace)
 
 
 def trace_inverse(band: np.ndarray, gram: np.ndarray | None = None) -> float:
     """``trace((G + lam D^T W D)^-1 G)``: the effective number of parameters of the linearized smoother.
 
-    Compiled with numba on first use (cached on disk); the pure-Python version is the fallback.
+    Compiled with numba (cached on disk; ``_trace_inverse_py`` is the same code in Python).
     """
-    global _trace_inverse_jit
-    if _trace_inverse_jit is None:
-        try:
-            import numba
-
-            _trace_inverse_jit = numba.njit(cache=True)(_trace_inverse_py)
-        except Exception:  # pragma: no cover - numba missing or broken
-            _trace_inverse_jit = _trace_inverse_py
-    if gram is None:
-        gram = np.ones((1, band.shape[1]))
-    return float(_trace_inverse_jit(np.ascontiguousarray(band), np.ascontiguousarray(gram)))
+    band = np.ascontiguousarray(band, dtype=float)
+    gram = np.ones((1, band.shape[1])) if gram is None else np.ascontiguousarray(gram, dtype=float)
+    work = np.zeros((3, *band.shape))
+    return float(_trace_inverse_kernel(band, gram, work[0], work[1, 0], work[2]))

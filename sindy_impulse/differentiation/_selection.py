@@ -54,7 +54,7 @@ def select_alpha(problem: AlphaProblem, to_alpha: float, scale: float, use_gcv: 
     order = sorted(records, reverse=True)  # increasing alpha
     table = np.array([records[r][:4] for r in order], dtype=float).reshape(-1, 4)
     curve = {
-        "alpha": lam_max * 10.0 ** -np.array(order, dtype=float) * to_alpha,
+        "alpha": np.array([lam_max * 10**-r for r in order]) * to_alpha,  # as alpha_ is computed
         "error": table[:, key] * (1.0 if use_gcv else scale),
         "gcv": table[:, 0],
         "consistency": table[:, 1] * scale,
@@ -100,23 +100,10 @@ class AlphaProblem:
         weight = penalty_weight(self.coef, self.h, lam, c, self.options["eps_rel"])
         gram = self.basis.gram
         dof = trace_inverse(normal_band(self.coef, weight, c.shape[0], gram), gram)
-        y = self.basis.values(c)
-        rss = float(np.sum((self.g - y) ** 2))
+        rss, consistency = self.basis.fit_scores(c, self.g, self.trim)
         denom = n - _GCV_GAMMA * dof
         gcv = n * rss / denom**2 if denom > 0 and 0 < dof <= n else np.inf
-        consistency = _consistency_error(self.g, y, self.basis.slopes(c), self.basis.tau, self.trim)
         return gcv, consistency, float(np.sqrt(rss / n)), dof
-
-
-def _consistency_error(g, y, slopes, tau, trim):
-    """Paper's criterion: RMS(input - time-integrated derivative) on the kept samples, offset free."""
-    n = g.shape[0]
-    lo, hi = trim, n - trim
-    u = slopes[lo:hi]
-    integral = np.concatenate(([0.0], np.cumsum(0.5 * (u[1:] + u[:-1]) * np.diff(tau[lo:hi]))))
-    diff = g[lo:hi] - integral
-    diff -= np.mean(diff)  # free integration constant (least squares)
-    return float(np.sqrt(np.mean(diff**2)))
 
 
 def empty_curve() -> dict:

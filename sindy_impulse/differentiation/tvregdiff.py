@@ -32,8 +32,9 @@ from sklearn.utils.validation import check_is_fitted
 
 from .._params import Interval, Options, Satisfies, validate_params
 from .._validation import check_array, check_signal, check_time
-from ._banded import IdentityBasis, SplineBasis, difference_stencil
+from ._banded import IdentityBasis, difference_stencil
 from ._selection import AlphaProblem, empty_curve, select_alpha
+from ._spline import SplineBasis
 
 __all__ = ["TVRegDiff"]
 
@@ -309,29 +310,9 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         n_iter = np.zeros(n_coord, dtype=int)
         curves = []
         for j in range(n_coord):
-            f = arr[:, j]
-            center = float(np.mean(f))
-            scale = float(np.std(f))
-            if scale <= 64 * np.finfo(float).eps * max(float(np.max(np.abs(f))), np.finfo(float).tiny):
-                # constant column (up to rounding): zero derivative, nothing to choose
-                smoothed[:, j] = f
-                x_dot[:, j] = 0.0
-                alpha_used[j] = np.nan if alphas[j] is None else alphas[j]
-                curves.append(empty_curve())
-                continue
-            g = (f - center) / scale
-            to_alpha = scale * dt_coef ** (m - 1)
-            problem = AlphaProblem(g, basis, coef, h, self)
-            if alphas[j] is None:
-                c, lam, curve, its = select_alpha(problem, to_alpha, scale, self.alpha_selection == "gcv")
-            else:
-                lam = alphas[j] / to_alpha
-                c, its = problem.smooth(lam)
-                curve = empty_curve()
-            smoothed[:, j] = center + scale * basis.values(c)
-            x_dot[:, j] = scale * basis.slopes(c) / dt_mean
-            alpha_used[j] = lam * to_alpha
-            n_iter[j] = its
+            smoothed[:, j], x_dot[:, j], alpha_used[j], n_iter[j], curve = self._column(
+                arr[:, j], alphas[j], basis, coef, h, dt_coef, dt_mean
+            )
             curves.append(curve)
 
         if self.trim:
@@ -344,6 +325,27 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         self.n_features_in_ = n_coord
         return (x_dot[:, 0] if one_d else x_dot), smoothed
 
+
+    def _column(self, f, alpha, basis, coef, h, dt_coef, dt_mean):
+        """One column: ``(smoothed, derivative, alpha used, iterations, alpha curve)``; ``alpha`` None =
+        automatic."""
+        center = float(np.mean(f))
+        scale = float(np.std(f))
+        if scale <= 64 * np.finfo(float).eps * max(float(np.max(np.abs(f))), np.finfo(float).tiny):
+            # constant column (up to rounding): zero derivative, nothing to choose
+            return f, 0.0, np.nan if alpha is None else alpha, 0, empty_curve()
+        m = coef.shape[1] - 1
+        g = (f - center) / scale
+        to_alpha = scale * dt_coef ** (m - 1)
+        problem = AlphaProblem(g, basis, coef, h, self)
+        if alpha is None:
+            c, lam, curve, its = select_alpha(problem, to_alpha, scale, self.alpha_selection == "gcv")
+        else:
+            lam = alpha / to_alpha
+            c, its = problem.smooth(lam)
+            curve = empty_curve()
+        values, slopes = basis.evaluate(c)
+        return center + scale * values, scale * slopes / dt_mean, lam * to_alpha, its, curve
 
 
 #: Spline coefficients per oscillation period: below ~10 the spline cannot follow the oscillation.

@@ -23,14 +23,19 @@ MAX_REFITS = 60
 
 
 def fresh_copy(obj):
-    """An unfitted copy: scikit-learn's ``clone``, or a deep copy for objects clone cannot rebuild."""
+    """An unfitted copy: scikit-learn's ``clone``, or a deep copy for objects clone cannot rebuild.
+
+    Clone fails on objects whose ``get_params`` does not match their constructor (PySINDy's
+    ``CustomLibrary`` stores ``library_functions`` as ``functions``: an ``AttributeError``) or that change
+    their parameters in ``__init__`` (``WrappedOptimizer``: a ``RuntimeError``).
+    """
     try:
         return clone(obj)
-    except (RuntimeError, TypeError, ValueError):
+    except (AttributeError, RuntimeError, TypeError, ValueError):
         return copy.deepcopy(obj)
 
 
-def least_squares(theta: np.ndarray, y: np.ndarray, support: np.ndarray) -> np.ndarray:
+def least_squares(theta: np.ndarray, y: np.ndarray, support: np.ndarray, rcond=None) -> np.ndarray:
     """Least-squares coefficients of each equation on its support (rows with NaN dropped).
 
     Parameters
@@ -38,6 +43,8 @@ def least_squares(theta: np.ndarray, y: np.ndarray, support: np.ndarray) -> np.n
     theta : ndarray (n_samples, n_features)
     y : ndarray (n_samples, n_targets)
     support : ndarray of bool (n_targets, n_features)
+    rcond : float, optional
+        Relative cut-off of small singular values (``numpy.linalg.lstsq``'s; default: its own).
 
     Examples
     --------
@@ -52,7 +59,7 @@ def least_squares(theta: np.ndarray, y: np.ndarray, support: np.ndarray) -> np.n
     for i in range(support.shape[0]):
         cols = np.flatnonzero(support[i])
         if cols.size:
-            coef[i, cols] = np.linalg.lstsq(theta[rows][:, cols], y[rows, i], rcond=None)[0]
+            coef[i, cols] = np.linalg.lstsq(theta[rows][:, cols], y[rows, i], rcond=rcond)[0]
     return coef
 
 
@@ -126,6 +133,14 @@ def candidate_path(optimizer, theta: np.ndarray, y: np.ndarray, sweep: bool = Tr
         return single
     if hasattr(optimizer, "candidates_") and hasattr(optimizer, "thresholds_"):
         return np.asarray(optimizer.thresholds_, dtype=float), np.asarray(optimizer.candidates_, dtype=float)
-    if "threshold" in optimizer.get_params(deep=False):
+    if "threshold" in _parameters(optimizer):
         return _threshold_grid(optimizer, theta, y)
     return single
+
+
+def _parameters(optimizer) -> dict:
+    """The optimizer's parameters; none for one whose ``get_params`` fails (``WrappedOptimizer``)."""
+    try:
+        return optimizer.get_params(deep=False)
+    except (AttributeError, RuntimeError, TypeError):
+        return {}

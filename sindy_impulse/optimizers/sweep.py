@@ -14,6 +14,7 @@ from numbers import Integral, Real
 
 import numpy as np
 from pysindy.optimizers import BaseOptimizer
+from scipy.linalg import solve_triangular
 from sklearn.utils.validation import check_is_fitted
 
 from .._params import Interval, validate_params
@@ -23,8 +24,8 @@ from .path import least_squares
 __all__ = ["ThresholdSweep", "threshold_path"]
 
 
-def threshold_path(X: np.ndarray, Y: np.ndarray, max_iter: int = 20):
-    """All distinct STLSQ supports from the full model down to the empty one.
+def threshold_path(X: np.ndarray, Y: np.ndarray, max_iter: int = 20, protected=None):
+    """All distinct STLSQ supports from the full model down to the empty one (or the protected terms).
 
     Parameters
     ----------
@@ -34,6 +35,8 @@ def threshold_path(X: np.ndarray, Y: np.ndarray, max_iter: int = 20):
         Derivatives.
     max_iter : int
         Thresholding iterations per breakpoint.
+    protected : ndarray of bool (n_features,) or (n_targets, n_features), optional
+        Terms never thresholded (e.g. a mode's linear stiffness and damping): the path ends with them.
 
     Returns
     -------
@@ -50,12 +53,82 @@ def threshold_path(X: np.ndarray, Y: np.ndarray, max_iter: int = 20):
     >>> [int(np.count_nonzero(c)) for c in coefs]
     [3, 2, 1, 0]
     """
-    thresholds, coefficients, _ = _path(X, Y, max_iter)
+    X = np.asarray(X, dtype=float)
+    Y = np.asarray(Y, dtype=float).reshape(X.shape[0], -1)
+    complete = np.all(np.isfinite(X), axis=1) & np.all(np.isfinite(Y), axis=1)
+    if not complete.all():
+        X, Y = X[complete], Y[complete]
+    X, Y, rcond = reduced(X, Y)
+    thresholds, coefficients, _ = _path(X, Y, max_iter, rcond, protected)
     return thresholds, coefficients
 
 
-def _path(X, Y, max_iter: int):
-    """:func:`threshold_path` plus the number of thresholding iterations it ran."""
+#: Rows per block of the QR reduction (bounds its memory on long records).
+_BLOCK = 1 << 16
+#: Records of more samples than this run the path on the QR-reduced problem. Shorter ones keep the full
+#: library matrix, where a support's least squares do not depend on the other columns of the library
+#: (the same candidate from any library that contains its terms).
+REDUCE_ABOVE = 20_000
+
+
+def reduced(X: np.ndarray, Y: np.ndarray):
+    """A square problem with the same least squares as ``(X, Y)`` on every subset of columns.
+
+    ``[X Y] = Q R``: ``||X_S c - y||`` equals ``||R_x,S c - R_y||`` for every column subset ``S``, and
+    column norms are kept. Returns ``(R_x, R_y, rcond)``, ``rcond`` the cut-off ``numpy.linalg.lstsq``
+    would have used on ``X`` (None when ``X`` is returned unchanged: at most :data:`REDUCE_ABOVE` rows).
+    The cost of the path then does not depend on the record length.
+    """
+    n, p = X.shape
+    if n <= REDUCE_ABOVE:
+        return X, Y, None
+    R = _triangular_factor(X, Y)
+    return R[:, :p], R[:, p:], np.finfo(float).eps * n
+
+
+def _triangular_factor(X, Y) -> np.ndarray:
+    """``R`` of ``[X Y] = Q R`` without forming ``[X Y]`` or ``Q`` (memory: a block of rows).
+
+    Cholesky QR twice on unit-norm columns (two passes of matrix products, accurate while the columns are
+    not nearly dependent); Householder QR block by block when they are.
+    """
+    norms = np.sqrt(np.concatenate([np.einsum("ij,ij->j", X, X), np.einsum("ij,ij->j", Y, Y)]))
+    norms = np.where(norms > 0, norms, 1.0)
+    gram = np.block([[X.T @ X, X.T @ Y], [Y.T @ X, Y.T @ Y]]) / np.outer(norms, norms)
+    try:
+        r1 = np.linalg.cholesky(gram).T
+        if np.linalg.cond(r1) < 1e6:
+            gram2 = np.zeros_like(gram)
+            inverse = solve_triangular(r1, np.eye(r1.shape[0])) / norms[:, None]
+            for start in range(0, X.shape[0], _BLOCK):
+                q = np.hstack([X[start : start + _BLOCK], Y[start : start + _BLOCK]]) @ inverse
+                gram2 += q.T @ q
+            return (np.linalg.cholesky(gram2).T @ r1) * norms
+    except np.linalg.LinAlgError:
+        pass
+    R = np.zeros((0, gram.shape[0]))
+    for start in range(0, X.shape[0], _BLOCK):
+        block = np.hstack([X[start : start + _BLOCK], Y[start : start + _BLOCK]])
+        R = np.linalg.qr(np.vstack([R, block]), mode="r")
+    return R
+
+
+def _protection(protected, n_targets: int, n_features: int) -> np.ndarray:
+    """The protected terms as a boolean (n_targets, n_features) mask."""
+    if protected is None:
+        return np.zeros((n_targets, n_features), dtype=bool)
+    mask = np.asarray(protected, dtype=bool)
+    if mask.shape == (n_features,):
+        mask = np.broadcast_to(mask, (n_targets, n_features))
+    if mask.shape != (n_targets, n_features):
+        raise ValueError(
+            f"protected must have shape ({n_features},) or ({n_targets}, {n_features}), got {mask.shape}"
+        )
+    return mask
+
+
+def _path(X, Y, max_iter: int, rcond=None, protected=None):
+    """:func:`threshold_path` plus the number of thresholding iterations it ran (rows without NaN)."""
     X = np.asarray(X, dtype=float)
     Y = np.asarray(Y, dtype=float).reshape(X.shape[0], -1)
     col_norm = np.linalg.norm(X, axis=0)
@@ -70,20 +143,21 @@ def _path(X, Y, max_iter: int):
         # Only the equations whose support changed are solved again (the others keep their solution).
         coef = np.zeros((n_targets, n_features)) if coef is None else coef.copy()
         for i in range(n_targets) if rows is None else np.flatnonzero(rows):
-            coef[i] = least_squares(Xn, Yn[:, [i]], support[[i]])[0]
+            coef[i] = least_squares(Xn, Yn[:, [i]], support[[i]], rcond)[0]
         return coef
 
     n_iter = 0
+    keep = _protection(protected, n_targets, n_features)
     support = np.ones((n_targets, n_features), dtype=bool)
     support[:, np.all(X == 0, axis=0)] = False  # an all-zero column carries no information
     coef = solve(support)
     thresholds, coefs, seen = [0.0], [coef.copy()], {support.tobytes()}
-    while support.any():
-        lam = np.min(np.abs(coef[support]))
+    while (support & ~keep).any():
+        lam = np.min(np.abs(coef[support & ~keep]))
         lam = lam * (1 + 1e-9) + 1e-300
         for _ in range(max_iter):
             n_iter += 1
-            new_support = support & (np.abs(coef) > lam)
+            new_support = support & ((np.abs(coef) > lam) | keep)
             changed = np.any(new_support != support, axis=1)
             if not changed.any():
                 break
@@ -110,6 +184,9 @@ class ThresholdSweep(BaseOptimizer):
     ----------
     max_iter : int, default=20
         Thresholding iterations per breakpoint.
+    protected : array-like of bool (n_features,) or (n_targets, n_features), optional
+        Terms the sweep never removes (e.g. the linear stiffness and damping of a mode's oscillator, so
+        that no candidate lacks them); the path then ends with the protected terms instead of no term.
 
     Attributes
     ----------
@@ -144,7 +221,10 @@ class ThresholdSweep(BaseOptimizer):
     3
     """
 
-    _parameter_constraints = {"max_iter": [Interval(Integral, 1, None, "left")]}
+    _parameter_constraints = {
+        "max_iter": [Interval(Integral, 1, None, "left")],
+        "protected": [None, "array-like"],
+    }
 
     # BaseOptimizer's settings, fixed for the sweep (class attributes: not parameters, not set in __init__)
     normalize_columns = False
@@ -154,8 +234,9 @@ class ThresholdSweep(BaseOptimizer):
     fit_intercept = False
     positive = False  # LinearRegression reads it (tags)
 
-    def __init__(self, max_iter: int = 20):
+    def __init__(self, max_iter: int = 20, protected=None):
         self.max_iter = max_iter
+        self.protected = protected
 
     @property
     def candidates_(self) -> np.ndarray:
@@ -183,7 +264,8 @@ class ThresholdSweep(BaseOptimizer):
         complete = np.all(np.isfinite(X), axis=1) & np.all(np.isfinite(Y.reshape(len(Y), -1)), axis=1)
         if not complete.any():
             raise ValueError(f"x and y have no sample without NaN (of {X.shape[0]})")
-        X, Y = X[complete], Y[complete]
+        if not complete.all():
+            X, Y = X[complete], Y[complete]
         if weights is not None:
             weights = weights[complete]
             if not np.any(weights > 0):
@@ -214,13 +296,15 @@ class ThresholdSweep(BaseOptimizer):
         return X @ self.coef_.T
 
     def _reduce(self, x, y):
-        thresholds, coefs, n_iter = _path(x, y, self.max_iter)
+        x, y, rcond = reduced(x, y)  # the same least squares and residuals, whatever the record length
+        thresholds, coefs, n_iter = _path(x, y, self.max_iter, rcond, self.protected)
         n = self._n_weighted * y.shape[1]
+        # residuals below rounding (exact derivatives) carry no information: floor them there
+        floor = max(float((x.shape[1] * np.finfo(float).eps) ** 2 * np.sum(y**2)), 1e-300 * n)
         aicc = np.empty(len(coefs))
         for j, c in enumerate(coefs):
             k = int(np.count_nonzero(c))
-            rss = float(np.sum((y - x @ c.T) ** 2))
-            rss = max(rss, 1e-300 * n)
+            rss = max(float(np.sum((y - x @ c.T) ** 2)), floor)
             penalty = 2 * k + (2 * k * (k + 1) / (n - k - 1) if n - k - 1 > 0 else np.inf)
             aicc[j] = n * np.log(rss / n) + penalty
         self.thresholds_ = thresholds

@@ -16,11 +16,12 @@ function                           figure of Stender, Oberst & Hoffmann (2019)
 :func:`plot_linear_vs_nonlinear`   13: linear against nonlinear ring-down (and their coefficients)
 :func:`plot_feature_space`         14b: 2-D feature space (e.g. PCA of SINDyFeatures) by label
 :func:`plot_backbone`              beyond the paper: backbone curves of data and models overlaid
+:func:`plot_modes`                 beyond the paper: a hammer-test record's spectrum and its modes
 =================================  ==============================================================
 
 The functions live in one module per family of figures (``filtering``, ``sweep``, ``embedding``,
-``complexity``, ``identification``, ``features``, ``backbone``; shared helpers in ``_common``); import them
-from here.
+``complexity``, ``identification``, ``features``, ``backbone``, ``modes``; shared helpers in ``_common``);
+import them from here.
 matplotlib is imported only when a function is called. Bad input raises ``ValueError`` or ``TypeError``
 naming the argument (the array checks are the shared ones of :mod:`sindy_impulse._validation`).
 """
@@ -31,6 +32,7 @@ from .embedding import plot_embedding
 from .features import plot_feature_space
 from .filtering import plot_alpha_curve, plot_filtering
 from .identification import plot_consensus, plot_linear_vs_nonlinear, plot_parameter_dependency
+from .modes import plot_modes
 from .sweep import plot_reconstruction, plot_refinement, plot_sweep
 
 __all__ = [
@@ -42,6 +44,7 @@ __all__ = [
     "plot_feature_space",
     "plot_filtering",
     "plot_linear_vs_nonlinear",
+    "plot_modes",
     "plot_parameter_dependency",
     "plot_reconstruction",
     "plot_refinement",

@@ -8,7 +8,8 @@
 - Peaks: local maxima whose PSD exceeds the floor by ``threshold_db`` and which stand out of their
   surroundings (the deepest point towards any higher peak) by 3 dB (half power) and by more than noise
   added to their own level could make them (this merges noise ripples on a broad peak into it). They are
-  searched from 20 periods over the record to 0.45 fs. The default threshold is
+  searched from 3 periods over the record to 0.45 fs (below 8 periods the floor is least certain and a
+  peak needs 6 dB more: a strongly damped short ring-down still shows). The default threshold is
   ``10 log10(ln(1000 M / 1e-3))`` for ``M`` resolution bins searched (13-14 dB for 1,000-100,000
   samples): a noise periodogram bin exceeds ``x`` times its mean with probability ``exp(-x)``; the factor
   1000 covers the zero padding and the scatter of the floor. Measured false peaks
@@ -50,7 +51,9 @@ _EFFECTIVE_BINS = 1000
 #: Noise power (over the floor) a ripple on a peak is allowed, in the prominence a peak needs.
 _RIPPLE = 5.0
 #: Periods of the lowest frequency searched over the ring-down, and the highest frequency over fs.
-_MIN_PERIODS, _MAX_FRACTION = 20.0, 0.45
+_MIN_PERIODS, _MAX_FRACTION = 3.0, 0.45
+#: Below this many periods over the record the floor is least certain: peaks there need _LOW_EXTRA_DB more.
+_LOW_PERIODS, _LOW_EXTRA_DB = 8.0, 6.0
 
 
 @dataclass(frozen=True)
@@ -226,7 +229,9 @@ def _significant(spectrum: Spectrum, lo: float, hi: float, threshold_db: float, 
     idx, props = find_peaks(level_db, prominence=prominence_db)
     f = spectrum.frequency_hz[idx]
     needed = np.maximum(prominence_db, _noise_prominence_db(height_db[idx]))
-    keep = (f >= lo) & (f <= hi) & (height_db[idx] >= threshold_db) & (props["prominences"] >= needed)
+    low = f < _LOW_PERIODS * spectrum.resolution_hz
+    threshold = threshold_db + np.where(low, _LOW_EXTRA_DB, 0.0)
+    keep = (f >= lo) & (f <= hi) & (height_db[idx] >= threshold) & (props["prominences"] >= needed)
     return idx[keep], height_db[idx[keep]]
 
 
@@ -274,7 +279,7 @@ def spectral_peaks(y, fs: float, *, n_modes: int | None = None, bands=None, thre
     prominence_db : float
         Dip (dB) separating a peak from any higher one; 3 dB: the half-power points lie between them.
     f_range : (float, float), optional
-        Frequencies searched; default from 20 periods over the record to 0.45 ``fs``.
+        Frequencies searched; default from 3 periods over the record to 0.45 ``fs``.
     width_factor, min_half_width : float
         See :func:`peak_bands`.
 

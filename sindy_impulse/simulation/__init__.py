@@ -1,12 +1,14 @@
 """Simulation and scoring: the hot path of the sweep and the refinement.
 
-Nothing here imports from the rest of the package: a model is coefficients plus a
-:class:`~sindy_impulse.simulation.terms.TermTable` (or a function evaluating the terms), the integrators
-run it, the error measures score it, and the work budget bounds it.
+Nothing here imports from the rest of the package (but the numba decorator, :mod:`sindy_impulse._jit`): a
+model is coefficients plus a :class:`~sindy_impulse.simulation.terms.TermTable` (or a function evaluating
+the terms), the integrators run it, the error measures score it, and the work budget bounds it.
 
 - :mod:`.terms`: the simulator's description of library terms;
+- :mod:`.sparse`: what every model shares (:class:`Reference`, time scale, work, adaptive integrator);
 - :mod:`.compile`: :class:`CompiledModel` (numba kernels) and :class:`FallbackModel` (any library);
-- :mod:`.integrators`: RK4 kernels, the fused weighted-L1 kernel, the adaptive integrator;
+- :mod:`.program`: a model as the kernels read it (product tree, compressed coefficients, propagator);
+- :mod:`.integrators`: the RK4 kernel (trajectory or fused weighted-L1 error), the adaptive integrator;
 - :mod:`.scoring`: error measures registered by name (``"gamma"``, ``"segmented"``, your own);
 - :mod:`.budget`: the deterministic work budget of a fit.
 """
@@ -26,6 +28,7 @@ from .scoring import (
     register_error_measure,
     simulation_gamma,
 )
+from .sparse import Reference
 from .terms import TermTable
 
 __all__ = [
@@ -38,6 +41,7 @@ __all__ = [
     "Gamma",
     "MAX_SUBSTEPS",
     "OutOfBudget",
+    "Reference",
     "STEP_SCALE",
     "Segmented",
     "TermTable",

@@ -10,173 +10,25 @@ data); a model that would need more than ``MAX_SUBSTEPS`` is stiff and goes to t
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
-from .integrators import MAX_SUBSTEPS, NO_INPUT, rhs_points, rk4_simulate, solve_ivp_simulate, weighted_l1
+from . import integrators as kernels
+from .integrators import scratch_size
+from .program import build_program, pack, propagators, term_values
+from .sparse import STEP_SCALE, Reference, _as_inputs, _SparseModel
 from .terms import TermTable
 
-__all__ = ["CompiledModel", "FallbackModel", "compile_model", "STEP_SCALE", "FALLBACK_COST"]
+__all__ = ["CompiledModel", "FallbackModel", "Reference", "compile_model", "STEP_SCALE", "FALLBACK_COST"]
 
-#: Target of ``h * rho`` per Runge-Kutta sub-step (``h`` the sub-step, ``rho`` the spectral radius).
-#: 0.02 keeps RK4's global error below 1e-7 relative on the paper's oscillator.
-STEP_SCALE = 0.02
 #: Work units charged per right-hand-side evaluation and term by the fallback (Python is ~100x slower).
 FALLBACK_COST = 100.0
 #: Work units per evaluation and term of a compiled model called from the adaptive integrator (through
 #: Python, about 25x a kernel RK4 step).
 ADAPTIVE_COST = 25.0
 
-
-def _kernel_arrays(terms: TermTable) -> tuple:
-    """The term table in the sparse form the kernels read."""
-    counts = terms.powers.sum(axis=1)
-    factor_ptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
-    factor_state = np.concatenate(
-        [np.zeros(0, np.int64)] + [np.repeat(np.arange(terms.powers.shape[1]), row) for row in terms.powers]
-    ).astype(np.int64)
-    return (
-        factor_ptr,
-        factor_state,
-        np.ascontiguousarray(terms.func, dtype=np.int64),
-        np.ascontiguousarray(terms.func_state, dtype=np.int64),
-        np.ascontiguousarray(terms.func_param, dtype=float),
-    )
-
-
-def _as_inputs(u, n_times: int, n_inputs: int) -> np.ndarray:
-    """Control inputs on the time grid as a contiguous (n_times, n_inputs) array (empty without inputs)."""
-    if n_inputs == 0:
-        return NO_INPUT
-    if u is None:
-        raise ValueError(f"the model has {n_inputs} control input(s): u is required")
-    arr = np.ascontiguousarray(np.asarray(u, dtype=float).reshape(n_times, -1))
-    if arr.shape[1] != n_inputs:
-        raise ValueError(f"u has {arr.shape[1]} input(s) but the model has {n_inputs}")
-    return arr
-
-
-class _SparseModel:
-    """What both model kinds share: coefficients, admissible box, time scale, work accounting."""
-
-    def __init__(self, coefficients, n_inputs_total: int, reference, divergence_factor: float, reference_u):
-        coef = np.atleast_2d(np.asarray(coefficients, dtype=float))
-        self.n_states = coef.shape[0]
-        self.n_inputs = n_inputs_total - self.n_states
-        if self.n_inputs < 0:
-            raise ValueError(
-                f"the library acts on {n_inputs_total} inputs but there are {self.n_states} equations"
-            )
-        self.full_coefficients = coef
-        self.active = np.flatnonzero(np.any(coef != 0, axis=0))
-        self.coef = np.ascontiguousarray(coef[:, self.active])
-        ref = (
-            np.zeros((1, self.n_states)) if reference is None else np.atleast_2d(np.asarray(reference, float))
-        )
-        scale = np.max(np.abs(ref), axis=0)
-        self.bound = divergence_factor * np.where(scale > 0, scale, 1.0)
-        idx = np.unique(np.linspace(0, ref.shape[0] - 1, min(64, ref.shape[0])).astype(int))
-        probe = ref[idx]
-        if self.n_inputs:
-            ru = np.zeros((ref.shape[0], self.n_inputs)) if reference_u is None else np.asarray(reference_u)
-            probe = np.hstack([probe, np.asarray(ru, float).reshape(ref.shape[0], -1)[idx]])
-        self._probe = np.ascontiguousarray(probe)
-        self.work_done = 0.0
-
-    # -- time scale and cost ---------------------------------------------------------------------------
-    def _spectral_radius(self, coef) -> float:
-        """Largest |eigenvalue| of the state Jacobian over the probe points (central differences)."""
-        Z = self._probe
-        n = self.n_states
-        h = 1e-6 * np.maximum(np.max(np.abs(Z[:, :n]), axis=0), 1e-12)
-        jac = np.empty((Z.shape[0], n, n))
-        for j in range(n):
-            dz = np.zeros(Z.shape[1])
-            dz[j] = h[j]
-            jac[:, :, j] = (self._rhs_z(Z + dz, coef) - self._rhs_z(Z - dz, coef)) / (2 * h[j])
-        if not np.all(np.isfinite(jac)):
-            return np.inf
-        return float(np.max(np.abs(np.linalg.eigvals(jac))))
-
-    @property
-    def spectral_radius(self) -> float:
-        """Fastest time scale of the model along the reference (sets the RK4 sub-steps).
-
-        Assignable: the refinement fixes it for the whole optimization (a smooth objective needs a fixed
-        integration grid).
-        """
-        if not hasattr(self, "_radius"):
-            self._radius = self._spectral_radius(self.coef)
-        return self._radius
-
-    @spectral_radius.setter
-    def spectral_radius(self, value: float) -> None:
-        self._radius = float(value)
-
-    def required_substeps(self, t, radius: float | None = None) -> float:
-        """RK4 sub-steps per sample interval for ``h * rho <= STEP_SCALE`` (inf if not finite)."""
-        rho = self.spectral_radius if radius is None else radius
-        dt_max = float(np.max(np.diff(t))) if len(t) > 1 else 0.0
-        return math.inf if not np.isfinite(rho) else max(1.0, math.ceil(dt_max * rho / STEP_SCALE))
-
-    def substeps(self, t, radius: float | None = None) -> int:
-        """RK4 sub-steps per sample interval, at most ``MAX_SUBSTEPS``."""
-        return int(min(MAX_SUBSTEPS, self.required_substeps(t, radius)))
-
-    def is_stiff(self, t, radius: float | None = None) -> bool:
-        """True when RK4 would need more than ``MAX_SUBSTEPS`` sub-steps (the adaptive path is used)."""
-        return self.required_substeps(t, radius) > MAX_SUBSTEPS
-
-    def work(self, t, substeps: int | None = None, rows: int | None = None) -> float:
-        """Cost of simulating ``rows`` sample intervals of ``t``, in term evaluations per RK4 step."""
-        steps = self.substeps(t) if substeps is None else int(substeps)
-        rows = len(t) - 1 if rows is None else rows
-        return float(max(rows, 0) * steps * max(1, self.coef.shape[1]))
-
-    # -- evaluation ---------------------------------------------------------------------------------------
-    def _z(self, x, u) -> np.ndarray:
-        X = np.atleast_2d(np.asarray(x, dtype=float))
-        if self.n_inputs == 0:
-            return np.ascontiguousarray(X)
-        return np.ascontiguousarray(np.hstack([X, _as_inputs(u, X.shape[0], self.n_inputs)]))
-
-    def rhs(self, x, u=None, coef=None) -> np.ndarray:
-        """Right-hand side at states ``x`` (n_points, n_states) and inputs ``u``; ``coef`` overrides."""
-        return self._rhs_z(self._z(x, u), self.coef if coef is None else np.asarray(coef, dtype=float))
-
-    def _check_x0(self, x0) -> np.ndarray:
-        x0 = np.ascontiguousarray(x0, dtype=float).ravel()
-        if x0.shape[0] != self.n_states:
-            raise ValueError(f"x0 has {x0.shape[0]} entries but the model has {self.n_states} states")
-        return x0
-
-    def _adaptive(self, x0, t, u, c, **kws) -> np.ndarray:
-        bound = np.maximum(self.bound, 10 * np.abs(x0))
-        out, n_eval = solve_ivp_simulate(lambda z: self._rhs_z(z[None], c)[0], x0, t, u, bound, **kws)
-        self.work_done += n_eval * max(1, c.shape[1]) * self._eval_cost
-        return out
-
-    def weighted_l1(self, reference, t, starts, weights, coefs=None, u=None, substeps=None):
-        """Weighted L1 error of segment-restarted simulations (see :func:`integrators.weighted_l1`).
-
-        Through the adaptive integrator, segment by segment, when the fast kernel cannot be used.
-        """
-        ref = np.ascontiguousarray(reference, dtype=float)
-        t = np.ascontiguousarray(t, dtype=float)
-        c = self.coef[None] if coefs is None else np.ascontiguousarray(coefs, dtype=float)
-        uu = _as_inputs(u, len(t), self.n_inputs)
-        starts = np.ascontiguousarray(starts, dtype=np.int64)
-        errors = np.empty(c.shape[0])
-        ends = np.append(starts[1:], len(t) - 1)
-        for b in range(c.shape[0]):
-            total = 0.0
-            for k, (s0, s1) in enumerate(zip(starts, ends)):
-                seg_u = None if self.n_inputs == 0 else uu[s0 : s1 + 1]
-                sim = self._adaptive(ref[s0], t[s0 : s1 + 1], seg_u, c[b])
-                total += float(np.sum(weights[k] * np.abs(sim[1:] - ref[s0 + 1 : s1 + 1])))
-            errors[b] = total if np.isfinite(total) else np.inf
-        return errors, np.full(c.shape[0], len(t) - 1, dtype=np.int64)
+_FIRST = np.zeros(1, dtype=np.int64)  # one segment from the first sample
+_NO_WEIGHTS = np.zeros((1, 0))
+_NO_OUTPUT = np.empty((0, 0))
 
 
 class CompiledModel(_SparseModel):
@@ -225,29 +77,81 @@ class CompiledModel(_SparseModel):
             )
         super().__init__(coef, terms.n_inputs, reference, divergence_factor, reference_u)
         self.terms = terms.subset(self.active)
-        self._kernel = _kernel_arrays(self.terms)
+        self.program = build_program(self.terms, self.n_states)
+        self._scratch = np.empty(scratch_size(terms.n_inputs, self.program.n_values))
+        self._own = None  # (grid key, packed arrays) of the model's own coefficients
+
+    def __getstate__(self):
+        state = self.__dict__.copy()
+        for name in ("program", "_scratch", "_own", "_last_grid"):  # rebuilt on unpickling (writable)
+            state.pop(name, None)
+        return state
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        self.program = build_program(self.terms, self.n_states)
+        self._scratch = np.empty(scratch_size(self.terms.n_inputs, self.program.n_values))
+        self._own = self._last_grid = None
+
+    @property
+    def is_linear(self) -> bool:
+        """True for a linear model without inputs: simulated by its RK4 propagator (same solution)."""
+        return self.program.linear_state is not None
 
     def _rhs_z(self, Z, coef) -> np.ndarray:
-        return rhs_points(np.ascontiguousarray(Z, dtype=float), np.ascontiguousarray(coef), *self._kernel)
+        Z = np.asarray(Z, dtype=float)
+        return term_values(self.program, Z) @ np.asarray(coef, dtype=float).T
+
+    def _packed(self, c, dt, steps):
+        """The kernel program, coefficient rows and propagators of a batch (the model's own: cached)."""
+        own = c is None
+        if own and self._own is not None and self._own[0] == (dt, steps):
+            return self._own[1]
+        batch = self.coef[None] if own else c
+        prog, vals = pack(self.program, batch)
+        packed = (prog, vals, propagators(self.program, batch, dt, steps))
+        if own:
+            self._own = ((dt, steps), packed)
+        return packed
+
+    def _integrate(self, ref, t, starts, weights, c, u, substeps, out):
+        """Run the kernel (see :func:`integrators.integrate`); returns ``(errors, rows)``."""
+        steps = self.substeps(t) if substeps is None else int(substeps)
+        prog, vals, props = self._packed(c, self._grid(t)[1], steps)
+        bound = np.maximum(self.bound, 10 * np.max(np.abs(ref[starts]), axis=0))
+        errors = np.empty(vals.shape[0])
+        rows = np.empty(vals.shape[0], dtype=np.int64)
+        uu = _as_inputs(u, len(t), self.n_inputs)
+        # read-only arrays (e.g. memory-mapped data) would compile another kernel: copy them
+        arrays = (ref, t, starts, weights, uu)
+        ref, t, starts, weights, uu = (a if a.flags.writeable else a.copy() for a in arrays)
+        if vals.shape[0] > 2 and props.size == 0 and out.size == 0:  # models stepped together
+            work = np.empty((self._scratch.shape[0], vals.shape[0]))
+            kernels.integrate_batch(ref, t, starts, weights, steps, prog, vals, bound, uu, work, errors, rows)
+        else:
+            kernels.integrate(
+                ref, t, starts, weights, steps, prog, vals, props, bound, uu, self._scratch, out, errors, rows
+            )
+        self.work_done += self.work(t, 1 if props.size else steps, int(rows.sum()))
+        return errors, rows
 
     def simulate(self, x0, t, u=None, coef=None, substeps: int | None = None, **integrator_kws) -> np.ndarray:
         """Integrate from ``x0`` over the time grid ``t`` (inputs ``u`` on the grid, if the model has any).
 
-        RK4 with sub-steps from the model's time scale; the adaptive integrator when the model is stiff or
-        when ``integrator_kws`` (options of ``scipy.integrate.solve_ivp``) are given. Returns an array
-        (len(t), n_states); rows after a divergence are NaN.
+        RK4 with sub-steps from the model's time scale (a linear model: RK4's map over a sample interval,
+        the same solution); the adaptive integrator when the model is stiff or when ``integrator_kws``
+        (options of ``scipy.integrate.solve_ivp``) are given. Returns an array (len(t), n_states); rows
+        after a divergence are NaN.
         """
         t = np.ascontiguousarray(t, dtype=float)
         x0 = self._check_x0(x0)
-        c = self.coef if coef is None else np.ascontiguousarray(coef, dtype=float)
-        uu = u if callable(u) else _as_inputs(u, len(t), self.n_inputs)
+        c = None if coef is None else np.ascontiguousarray(coef, dtype=float)[None]
         if integrator_kws or callable(u) or (substeps is None and self.is_stiff(t)):
+            c = self.coef if coef is None else c[0]
+            uu = u if callable(u) or self.n_inputs == 0 else _as_inputs(u, len(t), self.n_inputs)
             return self._adaptive(x0, t, None if self.n_inputs == 0 else uu, c, **integrator_kws)
-        steps = self.substeps(t) if substeps is None else int(substeps)
         out = np.empty((t.shape[0], self.n_states))
-        bound = np.maximum(self.bound, 10 * np.abs(x0))
-        rows = rk4_simulate(x0, t, steps, c, *self._kernel, bound, uu, out)
-        self.work_done += self.work(t, steps, rows)
+        self._integrate(x0[None], t, _FIRST, _NO_WEIGHTS, c, u, substeps, out)
         return out
 
     def weighted_l1(self, reference, t, starts, weights, coefs=None, u=None, substeps=None):
@@ -273,24 +177,16 @@ class CompiledModel(_SparseModel):
         t = np.ascontiguousarray(t, dtype=float)
         if substeps is None and self.is_stiff(t):
             return super().weighted_l1(reference, t, starts, weights, coefs, u)
-        ref = np.ascontiguousarray(reference, dtype=float)
-        c = self.coef[None] if coefs is None else np.ascontiguousarray(coefs, dtype=float)
-        steps = self.substeps(t) if substeps is None else int(substeps)
-        starts = np.ascontiguousarray(starts, dtype=np.int64)
-        bound = np.maximum(self.bound, 10 * np.max(np.abs(ref[starts]), axis=0))
-        errors, rows = weighted_l1(
-            ref,
+        return self._integrate(
+            np.ascontiguousarray(reference, dtype=float),
             t,
             np.ascontiguousarray(starts, dtype=np.int64),
             np.ascontiguousarray(weights, dtype=float),
-            steps,
-            c,
-            *self._kernel,
-            bound,
-            _as_inputs(u, len(t), self.n_inputs),
+            None if coefs is None else np.ascontiguousarray(coefs, dtype=float),
+            u,
+            substeps,
+            _NO_OUTPUT,
         )
-        self.work_done += sum(self.work(t, steps, int(r)) for r in rows)
-        return errors, rows
 
 
 class FallbackModel(_SparseModel):

@@ -1,21 +1,32 @@
-"""Integrators of a compiled model: fixed-step RK4 kernels (the hot path) and an adaptive fallback.
+"""Integrators of a compiled model: the fixed-step RK4 kernel (the hot path) and an adaptive fallback.
 
-The numba kernels integrate ``x' = coef @ Theta([x, u(t)])`` on the data's time grid with ``substeps``
-equal classical Runge-Kutta steps per sample interval; control inputs ``u`` given on the same grid are
-interpolated linearly inside each interval. A trajectory that leaves the admissible box (``bound`` per
-state) or becomes non-finite is stopped at once, so every simulation takes bounded time.
+:func:`integrate` integrates ``x' = coef @ Theta([x, u(t)])`` on a time grid with ``substeps`` equal
+classical Runge-Kutta steps per grid interval; control inputs ``u`` given on the same grid are interpolated
+linearly inside each interval. A trajectory that leaves the admissible box (``bound`` per state) or becomes
+non-finite is stopped at once, so every simulation takes bounded time. It either stores the trajectory
+(``simulate``) or, the fused path every built-in error measure uses, restarts the simulation from the
+reference state at each segment start (one segment: the paper's simulation from the first sample;
+several: multiple shooting) and accumulates ``sum weights[segment, state] * |x_sim - x_ref|`` without
+storing the trajectory, for a batch of coefficient rows in one call.
 
-``weighted_l1`` is the fused kernel every built-in error measure uses: it restarts the simulation from the
-reference state at each segment start (one segment: the paper's simulation from the first sample; several:
-multiple shooting) and accumulates ``sum weights[segment, state] * |x_sim - x_ref|`` without storing the
-trajectory, for a batch of coefficient matrices in one call.
+A model reaches the kernel as a *program* (:mod:`.program`): its monomials as a product tree
+(``theta[q] = theta[parent[q]] * z[var[q]]``, ``theta[0] = 1``), so a term costs one multiplication
+whatever its degree; its non-polynomial factors (``x|x|``, ``tanh``, ``|x|``, ``sin``, ``cos``) appended
+after the monomials; and its non-zero coefficients per equation in compressed rows (``eq_ptr``,
+``slot``) with one row of values per model of a batch. Only non-zero coefficients cost work.
 
-``solve_ivp_simulate`` is the adaptive path: SciPy's ``solve_ivp`` on the compiled right-hand side, used for
-stiff models (more RK4 sub-steps than :data:`MAX_SUBSTEPS` would be needed) and when a caller asks for
+A linear model without inputs (every term ``x_j`` or the constant) integrated by RK4 is a linear map per
+grid interval: ``x_s = M x_{s-1}`` with ``M = P(hA)^substeps`` and ``P`` RK4's stability polynomial.
+The kernel then applies ``M`` (the *propagator*) instead of the stages: the same RK4 solution (to
+rounding) at a fraction of the cost.
+
+The kernel allocates nothing (the caller passes scratch space), which keeps its compilation short, and is
+cached on disk by numba (:mod:`sindy_impulse._warmup` builds the cache in the background on a machine's
+first import).
+
+``solve_ivp_simulate`` is the adaptive path: SciPy's ``solve_ivp`` on the right-hand side, used for stiff
+models (more RK4 sub-steps than :data:`MAX_SUBSTEPS` would be needed) and when a caller asks for
 PySINDy's integrator options.
-
-Numba is a dependency because it pays: one simulation of the paper's 401-sample oscillator takes tens of
-microseconds against seconds for ``pysindy.SINDy.simulate`` (``benchmarks/``).
 """
 
 from __future__ import annotations
@@ -23,146 +34,241 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
-__all__ = ["rk4_simulate", "weighted_l1", "rhs_points", "solve_ivp_simulate", "MAX_SUBSTEPS", "NO_INPUT"]
+from .._jit import jit, kernel
+
+__all__ = [
+    "integrate",
+    "integrate_batch",
+    "solve_ivp_simulate",
+    "scratch_size",
+    "MAX_SUBSTEPS",
+    "NO_INPUT",
+    "NO_PROPAGATOR",
+]
 
 #: Most RK4 sub-steps per sample interval; a model that needs more is stiff (adaptive path).
 MAX_SUBSTEPS = 256
 #: The empty input array (a model without control inputs).
 NO_INPUT = np.empty((0, 0))
+#: The empty propagator batch (a model integrated stage by stage).
+NO_PROPAGATOR = np.empty((0, 0, 0))
 
 
-@njit(cache=True, inline="always")
-def _rhs(z, coef, fp, fs, fn, fst, fpar, out):
-    """``coef @ Theta(z)`` over the active terms (see :mod:`sindy_impulse.simulation.terms`)."""
-    for i in range(coef.shape[0]):
-        out[i] = 0.0
-    for k in range(fp.shape[0] - 1):
-        v = 1.0
-        for q in range(fp[k], fp[k + 1]):
-            v *= z[fs[q]]
-        f = fn[k]
-        if f != 0:
-            zv = z[fst[k]]
-            if f == 1:
-                v *= zv * abs(zv)
-            elif f == 2:
-                v *= math.tanh(zv / fpar[k])
-            elif f == 3:
-                v *= abs(zv)
-            elif f == 4:
-                v *= math.sin(fpar[k] * zv)
-            else:
-                v *= math.cos(fpar[k] * zv)
-        for i in range(coef.shape[0]):
-            out[i] += coef[i, k] * v
+def scratch_size(n_z: int, n_values: int) -> int:
+    """Floats of scratch space the kernels need for ``n_z`` inputs and ``n_values`` term values.
 
-
-@njit(cache=True)
-def rhs_points(Z, coef, fp, fs, fn, fst, fpar):
-    """Right-hand side at every row of ``Z`` (n_points, n_inputs)."""
-    out = np.empty((Z.shape[0], coef.shape[0]))
-    for r in range(Z.shape[0]):
-        _rhs(Z[r], coef, fp, fs, fn, fst, fpar, out[r])
-    return out
-
-
-@njit(cache=True, inline="always")
-def _inputs_at(z, n, u, s, frac):
-    """Control inputs interpolated linearly at ``t[s-1] + frac * (t[s] - t[s-1])`` into ``z[n:]``."""
-    for q in range(u.shape[1]):
-        a = u[s - 1, q]
-        z[n + q] = a + frac * (u[s, q] - a)
-
-
-@njit(cache=True, inline="always")
-def _advance(x, t, s, substeps, coef, fp, fs, fn, fst, fpar, u, k1, k2, k3, k4, z):
-    """Integrate ``x`` in place from ``t[s-1]`` to ``t[s]`` with ``substeps`` RK4 steps."""
-    n = x.shape[0]
-    h = (t[s] - t[s - 1]) / substeps
-    has_u = u.shape[0] > 0
-    for j in range(substeps):
-        for i in range(n):
-            z[i] = x[i]
-        if has_u:
-            _inputs_at(z, n, u, s, j / substeps)
-        _rhs(z, coef, fp, fs, fn, fst, fpar, k1)
-        for i in range(n):
-            z[i] = x[i] + 0.5 * h * k1[i]
-        if has_u:
-            _inputs_at(z, n, u, s, (j + 0.5) / substeps)
-        _rhs(z, coef, fp, fs, fn, fst, fpar, k2)
-        for i in range(n):
-            z[i] = x[i] + 0.5 * h * k2[i]
-        _rhs(z, coef, fp, fs, fn, fst, fpar, k3)
-        for i in range(n):
-            z[i] = x[i] + h * k3[i]
-        if has_u:
-            _inputs_at(z, n, u, s, (j + 1.0) / substeps)
-        _rhs(z, coef, fp, fs, fn, fst, fpar, k4)
-        for i in range(n):
-            x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
-
-
-@njit(cache=True)
-def rk4_simulate(x0, t, substeps, coef, fp, fs, fn, fst, fpar, bound, u, out):
-    """RK4 from ``x0`` over the grid ``t`` into ``out`` (len(t), n_states); returns the valid rows.
-
-    Rows after a divergence (a state beyond ``bound`` or not finite) are NaN.
+    Layout: the stage accumulator, the state at a step's start, the current state and a stage's
+    derivative (``n_z`` each), then the term values (the constant 1, the inputs of a stage, the other
+    monomials and terms).
     """
-    n = x0.shape[0]
-    n_z = n + u.shape[1]
-    k1, k2, k3, k4, z = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n_z)
-    x = x0.copy()
-    out[0, :] = x
-    for s in range(1, t.shape[0]):
-        _advance(x, t, s, substeps, coef, fp, fs, fn, fst, fpar, u, k1, k2, k3, k4, z)
-        for j in range(n):
-            if not (abs(x[j]) <= bound[j]):  # also true for NaN
-                out[s:, :] = np.nan
-                return s
-            out[s, j] = x[j]
-    return t.shape[0]
+    return 4 * n_z + n_values
 
 
-@njit(cache=True)
-def weighted_l1(ref, t, starts, weights, substeps, coefs, fp, fs, fn, fst, fpar, bound, u):
-    """Weighted L1 error of simulations restarted from ``ref`` at each segment start, per model.
+@kernel
+def integrate(ref, t, starts, weights, substeps, prog, vals, props, bound, u, work, out, errors, rows):
+    """Simulate a batch of models over the grid ``t``, restarted from ``ref`` at each segment start.
 
     Segment ``k`` starts at sample ``starts[k]`` from ``ref[starts[k]]`` and runs through the next start
-    (or the last sample); each sample's error ``|x - ref|`` of state ``j`` is weighted by
-    ``weights[k, j]``. Returns ``(errors, rows)`` per coefficient matrix of ``coefs``: the error (``inf`` if
-    a segment diverged) and the number of sample intervals simulated (the work done).
+    (or the last sample). Model ``b`` has the coefficient row ``vals[b]`` (and propagator ``props[b]``,
+    if ``props`` is not empty). With an empty ``out`` each sample's error ``|x - ref|`` of state ``j`` is
+    weighted by ``weights[k, j]`` and summed into ``errors[b]`` (``inf`` once a segment diverged); else
+    the trajectory of the (single) model is written into ``out``, NaN after a divergence. ``rows[b]`` is
+    the number of grid intervals simulated (the work done).
     """
     n = ref.shape[1]
-    n_t = t.shape[0]
-    n_seg = starts.shape[0]
-    k1, k2, k3, k4, z = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n + u.shape[1])
-    x = np.empty(n)
-    errors = np.empty(coefs.shape[0])
-    rows = np.zeros(coefs.shape[0], dtype=np.int64)
-    for b in range(coefs.shape[0]):
+    n_z = n + u.shape[1]
+    x_old = work[n_z : n_z + n]
+    x = work[2 * n_z : 2 * n_z + n]
+    store = out.shape[0] > 0
+    for b in range(vals.shape[0]):
         total = 0.0
-        for k in range(n_seg):
+        done = 0
+        for k in range(starts.shape[0]):
             s0 = starts[k]
-            s1 = starts[k + 1] if k + 1 < n_seg else n_t - 1
-            for j in range(n):
-                x[j] = ref[s0, j]
+            s1 = starts[k + 1] if k + 1 < starts.shape[0] else t.shape[0] - 1
+            for i in range(n):
+                x[i] = ref[s0, i]
+                if store:
+                    out[s0, i] = x[i]
             for s in range(s0 + 1, s1 + 1):
-                _advance(x, t, s, substeps, coefs[b], fp, fs, fn, fst, fpar, u, k1, k2, k3, k4, z)
-                rows[b] += 1
-                for j in range(n):
-                    if not (abs(x[j]) <= bound[j]):
+                if props.shape[0] > 0:  # RK4's map over the interval
+                    for i in range(n):
+                        x_old[i] = x[i]
+                    for i in range(n):
+                        d = props[b, i, n] if props.shape[2] > n else 0.0
+                        for q in range(n):
+                            d += props[b, i, q] * x_old[q]
+                        x[i] = d
+                else:
+                    _rk4_interval(x, t, s, substeps, prog, vals[b], u, work)
+                done += 1
+                for i in range(n):
+                    if not (abs(x[i]) <= bound[i]):  # diverged (also true for NaN)
                         total = np.inf
+                        for r in range(s, out.shape[0]):  # (loops, not slicing: less code to compile)
+                            for q in range(n):
+                                out[r, q] = np.nan
                         break
-                    total += weights[k, j] * abs(x[j] - ref[s, j])
+                    if store:
+                        out[s, i] = x[i]
+                    else:
+                        total += weights[k, i] * abs(x[i] - ref[s, i])
                 if total == np.inf:
                     break
             if total == np.inf:
                 break
         errors[b] = total
-    return errors, rows
+        rows[b] = done
+
+
+# The RK4 interval runs without numba's reference counting (``_nrt=False``): with it, every call passing
+# arrays would cost more than the arithmetic of a small model.
+
+
+@jit(_nrt=False)
+def _rk4_interval(x, t, s, substeps, prog, vals, u, work):
+    """Integrate ``x`` in place from ``t[s-1]`` to ``t[s]`` with ``substeps`` RK4 steps."""
+    parent, var, fcode, fslot, finput, fparam, eq_ptr, slot = prog
+    n = x.shape[0]
+    n_z = n + u.shape[1]
+    n_mono = parent.shape[0]
+    acc = work[0:n]
+    x_old = work[n_z : n_z + n]
+    dx = work[3 * n_z : 3 * n_z + n]
+    theta = work[4 * n_z :]
+    theta[0] = 1.0
+    z = theta[1 : 1 + n_z]  # the inputs are the first monomials
+    h = (t[s] - t[s - 1]) / substeps
+    for j in range(substeps):
+        for i in range(n):
+            x_old[i] = x[i]
+            z[i] = x[i]
+            acc[i] = 0.0
+        for stage in range(4):
+            if n_z > n:
+                frac = (j + (0.0 if stage == 0 else (1.0 if stage == 3 else 0.5))) / substeps
+                for q in range(n_z - n):
+                    z[n + q] = u[s - 1, q] + frac * (u[s, q] - u[s - 1, q])
+            for q in range(1 + n_z, n_mono):  # monomials by the product tree, then the other terms
+                theta[q] = theta[parent[q]] * z[var[q]]
+            for f in range(fcode.shape[0]):
+                theta[n_mono + f] = theta[fslot[f]] * _factor(fcode[f], z[finput[f]], fparam[f])
+            for i in range(n):
+                d = 0.0
+                for p in range(eq_ptr[i], eq_ptr[i + 1]):
+                    d += vals[p] * theta[slot[p]]
+                dx[i] = d
+            step = h if stage == 2 else 0.5 * h
+            weight = 1.0 if (stage == 0 or stage == 3) else 2.0
+            for i in range(n):  # after every equation: z is part of theta
+                acc[i] += weight * dx[i]
+                z[i] = x_old[i] + step * dx[i]
+        for i in range(n):
+            x[i] = x_old[i] + h / 6.0 * acc[i]
+
+
+@kernel
+def integrate_batch(ref, t, starts, weights, substeps, prog, vals, bound, u, work, errors, rows):
+    """:func:`integrate`'s weighted error for a batch of models stepped together, stage by stage.
+
+    One model's RK4 stages wait on memory; several models interleaved fill the wait (the gradient of the
+    refinement scores one model per coefficient). The arithmetic of each model is :func:`integrate`'s, in
+    the same order: the same errors and work. ``work`` is (scratch rows, n_models).
+    """
+    n = ref.shape[1]
+    n_z = n + u.shape[1]
+    x = work[2 * n_z : 2 * n_z + n]
+    for b in range(vals.shape[0]):
+        errors[b] = 0.0
+        rows[b] = 0
+    for k in range(starts.shape[0]):
+        s0 = starts[k]
+        s1 = starts[k + 1] if k + 1 < starts.shape[0] else t.shape[0] - 1
+        for i in range(n):
+            for b in range(vals.shape[0]):
+                x[i, b] = ref[s0, i]
+        for s in range(s0 + 1, s1 + 1):
+            _rk4_interval_batch(x, t, s, substeps, prog, vals, u, work)
+            alive = 0
+            for b in range(vals.shape[0]):
+                if errors[b] == np.inf:
+                    continue
+                rows[b] += 1
+                total = errors[b]
+                for i in range(n):
+                    if not (abs(x[i, b]) <= bound[i]):  # diverged (also true for NaN)
+                        total = np.inf
+                        break
+                    total += weights[k, i] * abs(x[i, b] - ref[s, i])
+                errors[b] = total
+                alive += total != np.inf
+            if alive == 0:
+                return
+
+
+@jit(_nrt=False)
+def _rk4_interval_batch(x, t, s, substeps, prog, vals, u, work):
+    """:func:`_rk4_interval` for the columns of ``x`` (n_states, n_models), each with its ``vals`` row."""
+    parent, var, fcode, fslot, finput, fparam, eq_ptr, slot = prog
+    n, n_b = x.shape
+    n_z = n + u.shape[1]
+    n_mono = parent.shape[0]
+    acc = work[0:n]
+    x_old = work[n_z : n_z + n]
+    dx = work[3 * n_z : 3 * n_z + n]
+    theta = work[4 * n_z :]
+    z = theta[1 : 1 + n_z]
+    h = (t[s] - t[s - 1]) / substeps
+    for b in range(n_b):
+        theta[0, b] = 1.0
+    for j in range(substeps):
+        for i in range(n):
+            for b in range(n_b):
+                x_old[i, b] = x[i, b]
+                z[i, b] = x[i, b]
+                acc[i, b] = 0.0
+        for stage in range(4):
+            if n_z > n:
+                frac = (j + (0.0 if stage == 0 else (1.0 if stage == 3 else 0.5))) / substeps
+                for q in range(n_z - n):
+                    for b in range(n_b):
+                        z[n + q, b] = u[s - 1, q] + frac * (u[s, q] - u[s - 1, q])
+            for q in range(1 + n_z, n_mono):
+                for b in range(n_b):
+                    theta[q, b] = theta[parent[q], b] * z[var[q], b]
+            for f in range(fcode.shape[0]):
+                for b in range(n_b):
+                    theta[n_mono + f, b] = theta[fslot[f], b] * _factor(fcode[f], z[finput[f], b], fparam[f])
+            for i in range(n):
+                for b in range(n_b):
+                    dx[i, b] = 0.0
+                for p in range(eq_ptr[i], eq_ptr[i + 1]):
+                    for b in range(n_b):
+                        dx[i, b] += vals[b, p] * theta[slot[p], b]
+            step = h if stage == 2 else 0.5 * h
+            weight = 1.0 if (stage == 0 or stage == 3) else 2.0
+            for i in range(n):
+                for b in range(n_b):
+                    acc[i, b] += weight * dx[i, b]
+                    z[i, b] = x_old[i, b] + step * dx[i, b]
+        for i in range(n):
+            for b in range(n_b):
+                x[i, b] = x_old[i, b] + h / 6.0 * acc[i, b]
+
+
+@jit
+def _factor(code, zv, param):
+    """The non-polynomial factor ``g(z_v)`` of a term (codes of :mod:`.terms`)."""
+    if code == 1:
+        return zv * abs(zv)
+    if code == 2:
+        return math.tanh(zv / param)
+    if code == 3:
+        return abs(zv)
+    if code == 4:
+        return math.sin(param * zv)
+    return math.cos(param * zv)
 
 
 #: Most right-hand-side evaluations per output sample the adaptive integrator may spend (a stiff solver on a

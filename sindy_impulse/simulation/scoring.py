@@ -42,6 +42,8 @@ __all__ = [
     "FunctionMeasure",
     "ERROR_MEASURES",
     "AUTO_PERIODS",
+    "SAMPLES_PER_PERIOD",
+    "compare_stride",
     "register_error_measure",
     "get_error_measure",
     "oscillation_count",
@@ -50,6 +52,11 @@ __all__ = [
 
 #: Records with more periods than this are scored by ``"segmented"`` when ``error_measure="auto"``.
 AUTO_PERIODS = 30
+#: Most samples per period of a record's dominant oscillation at which the built-in measures compare a
+#: simulation with the reference. A more finely sampled record is compared at every ``stride``-th sample,
+#: each compared sample standing for ``stride`` samples; the simulation still takes the steps the model's
+#: time scale needs, so the cost of a score depends on the model and the duration, not on the sampling.
+SAMPLES_PER_PERIOD = 200
 
 
 def oscillation_count(x: np.ndarray) -> float:
@@ -72,6 +79,22 @@ def oscillation_count(x: np.ndarray) -> float:
         signs = np.sign(col[np.abs(col) > band[j]])
         most = max(most, int(np.count_nonzero(np.diff(signs))))
     return most / 2
+
+
+def compare_stride(reference: np.ndarray) -> int:
+    """Every how many samples the built-in measures compare (at most :data:`SAMPLES_PER_PERIOD` per period).
+
+    A record without a full oscillation is compared at :data:`SAMPLES_PER_PERIOD` samples in all.
+
+    Examples
+    --------
+    >>> t = np.linspace(0, 10, 200_001)
+    >>> compare_stride(np.cos(2 * np.pi * t)), compare_stride(np.cos(2 * np.pi * t[::100]))
+    (100, 1)
+    """
+    n = len(reference)
+    periods = max(oscillation_count(reference), 1.0)
+    return max(1, int(n // (SAMPLES_PER_PERIOD * periods)))
 
 
 class ErrorMeasure:
@@ -130,21 +153,46 @@ class ErrorMeasure:
 class WeightedL1(ErrorMeasure):
     """Weighted L1 error of segment-restarted simulations: the fused-kernel family.
 
-    Subclasses define the plan: segment starts and weights ``(n_segments, n_states)``.
+    Subclasses define the plan: segment starts and weights ``(n_segments, n_states)`` for the samples
+    they are given. A finely sampled record is compared at every ``stride``-th sample (see
+    :func:`compare_stride`; not with control inputs, which may change between those samples), with the
+    weights multiplied by the stride, so a score still sums over the whole record.
     """
 
     floor = 1e-5  # a mean relative deviation of 1e-5: filter and integrator accuracy on clean data
+
+    def bind(self, references, times, inputs=None) -> ErrorMeasure:
+        inputs = [None] * len(references) if inputs is None else list(inputs)
+        self.trajectories_, self.plans_, self.strides_ = [], [], []
+        for r, t, u in zip(references, times, inputs):
+            r, t, stride = self._compared(r, t, u is None)
+            starts, weights = self.prepare(r, t)
+            self.trajectories_.append((r, t, u))
+            self.plans_.append((starts, weights * stride))
+            self.strides_.append(stride)
+        return self
+
+    @staticmethod
+    def _compared(reference, t, may_stride: bool = True):
+        """The compared samples of a trajectory and their stride."""
+        reference = np.asarray(reference, dtype=float).reshape(len(t), -1)
+        stride = compare_stride(reference) if may_stride else 1
+        return (
+            np.ascontiguousarray(reference[::stride]),
+            np.ascontiguousarray(np.asarray(t, dtype=float)[::stride]),
+            stride,
+        )
 
     def evaluate(self, model, reference, t, coefs, u, plan) -> np.ndarray:
         starts, weights = plan
         return model.weighted_l1(reference, t, starts, weights, coefs, u)[0]
 
     def compare(self, x_true, x_other, t) -> float:
-        starts, weights = self.prepare(np.asarray(x_true, dtype=float), np.asarray(t, dtype=float))
-        x_true = np.asarray(x_true, dtype=float).reshape(len(t), -1)
-        x_other = np.asarray(x_other, dtype=float).reshape(x_true.shape)
+        x_true, t, stride = self._compared(x_true, t)
+        x_other = np.asarray(x_other, dtype=float).reshape(-1, x_true.shape[1])[::stride]
+        starts, weights = self.prepare(x_true, t)
         segment = np.clip(np.searchsorted(starts, np.arange(len(t)), side="left") - 1, 0, None)
-        value = float(np.sum(weights[segment] * np.abs(x_true - x_other)))
+        value = float(np.sum(stride * weights[segment] * np.abs(x_true - x_other)))
         return value if np.isfinite(value) else np.inf
 
 

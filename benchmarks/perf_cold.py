@@ -1,0 +1,80 @@
+"""Cold start: the first fit of the paper's case in a fresh process right after installing the package.
+
+An installation is emulated by copying the package (without any ``__pycache__``) into a fresh directory,
+with a fresh user cache directory (``XDG_CACHE_HOME``) and no ``NUMBA_CACHE_DIR``: nothing compiled
+exists. Each process times ``import sindy_impulse``, then the import of the estimator (PySINDy,
+scikit-learn, numba), then the first and the second ``ImpulseSINDy().fit`` of the paper's oscillator.
+
+Variants: ``warm-up`` (the package as shipped: the first import builds the kernels in the background),
+``no warm-up`` (``SINDY_IMPULSE_PRECOMPILE=0``: each kernel compiled at its first call, the baseline),
+``read-only package`` (numba cannot write next to the package and caches in the user's directory), and a
+second process after the first (the cache is there).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+CHILD = r"""
+import json, time
+t0 = time.perf_counter()
+import sindy_impulse
+t1 = time.perf_counter()
+from sindy_impulse import ImpulseSINDy, damped_oscillator
+t2 = time.perf_counter()
+t, x, _ = damped_oscillator()
+t3 = time.perf_counter()
+ImpulseSINDy().fit(x, t=t)
+t4 = time.perf_counter()
+ImpulseSINDy().fit(x, t=t)
+t5 = time.perf_counter()
+print(json.dumps({"import": t1 - t0, "import_estimator": t2 - t1, "first_fit": t4 - t3,
+                  "second_fit": t5 - t4}))
+"""
+
+
+def _install(package: Path, target: Path, read_only: bool) -> None:
+    """Copy the package as an installer would; ``read_only``: no ``__pycache__`` can be created in it."""
+    shutil.copytree(package, target / package.name, ignore=shutil.ignore_patterns("__pycache__"))
+    if read_only:  # a file where numba would create its cache directory: the in-tree cache is unusable
+        for directory in (target / package.name).rglob("*"):
+            if directory.is_dir():
+                (directory / "__pycache__").write_text("")
+        (target / package.name / "__pycache__").write_text("")
+
+
+def _run(env: dict, cwd: str) -> dict:
+    out = subprocess.run([sys.executable, "-c", CHILD], env=env, capture_output=True, text=True, cwd=cwd)
+    if out.returncode != 0:
+        raise RuntimeError(out.stderr[-2000:])
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def cold_start(package: Path, variant: str = "warm-up") -> dict:
+    """Times of a first process after installation, and of a second one (``second_process``)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        site = Path(tmp) / "site"
+        site.mkdir()
+        _install(package, site, read_only=variant == "read-only package")
+        env = {k: v for k, v in os.environ.items() if k not in ("NUMBA_CACHE_DIR", "PYTHONPATH")}
+        env.update(PYTHONPATH=str(site), XDG_CACHE_HOME=str(Path(tmp) / "cache"), PYTHONDONTWRITEBYTECODE="1")
+        if variant == "no warm-up":
+            env["SINDY_IMPULSE_PRECOMPILE"] = "0"
+        first = _run(env, tmp)
+        _wait_for_builds(Path(tmp) / "cache" / "sindy_impulse")
+        first["second_process"] = _run(env, tmp)
+        return first
+
+
+def _wait_for_builds(directory: Path, timeout: float = 120.0) -> None:
+    """Let a background build finish before the next measurement (it would compete for the CPU)."""
+    deadline = time.monotonic() + timeout
+    while directory.exists() and any(directory.glob("*.lock")) and time.monotonic() < deadline:
+        time.sleep(0.05)

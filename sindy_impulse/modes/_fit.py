@@ -1,0 +1,234 @@
+"""One band of a record to one mode: states, the paper's identification, the mode's values and checks."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pysindy as ps
+
+from ..analysis.modal import modal_parameters
+from ..optimizers import fresh_copy
+from ..preprocessing import bandpass
+from ._states import EDGE, STATE_NAMES, channel_shape, derivative_states, group_states
+from .result import Mode, Rejected
+
+__all__ = ["default_estimator", "fit_band", "fit_direct", "fit_group", "MAX_FIT_ERROR"]
+
+#: Largest fit error (mean absolute deviation relative to the local amplitude) of a model reported as a
+#: mode; a peak whose best model does worse is rejected.
+MAX_FIT_ERROR = 0.25
+_SENSOR_POWER = {"displacement": 0, "velocity": 1, "acceleration": 2}
+
+
+def default_estimator():
+    """The identification of one mode: ImpulseSINDy with a cubic polynomial library on ``[y, dy]``.
+
+    The linear oscillator's terms (``dy`` in ``y'``; ``y`` and ``dy`` in ``dy'``) are protected from the
+    threshold sweep: a mode always keeps a stiffness and a damping (a very lightly damped mode's damping
+    term explains a tiny share of ``dy'``, which the sweep would otherwise remove first), and the sweep
+    searches only the nonlinear terms.
+    """
+    from ..estimator import ImpulseSINDy
+    from ..optimizers import ThresholdSweep
+
+    library = ps.PolynomialLibrary(degree=3, include_bias=False)  # y, dy, y^2, y dy, dy^2, y^3, ...
+    protected = np.zeros((2, 9), dtype=bool)
+    protected[0, 1] = protected[1, 0] = protected[1, 1] = True
+    return ImpulseSINDy(optimizer=ThresholdSweep(protected=protected), feature_library=library)
+
+
+def _linear_mode(model, band_hz):
+    """The model's oscillatory linear mode inside the band: (frequency_hz, damping_ratio) or a reason."""
+    frequencies, damping = modal_parameters(model)
+    return _closest_mode(frequencies, damping, band_hz)
+
+
+def _closest_mode(frequencies, damping, band_hz):
+    """The mode of ``frequencies`` inside the band nearest its centre, if damped; or a reason."""
+    inside = (frequencies >= band_hz[0]) & (frequencies <= band_hz[1])
+    if not inside.any():
+        found = ", ".join(f"{f:.4g}" for f in frequencies) or "none"
+        return None, f"no oscillatory mode of the model inside the band (model modes: {found} Hz)"
+    i = int(
+        np.flatnonzero(inside)[np.argmin(np.abs(np.log(frequencies[inside] / np.sqrt(np.prod(band_hz)))))]
+    )
+    if not damping[i] > 0:
+        return None, f"the identified mode is not damped (damping ratio {damping[i]:.3g}): an unstable model"
+    return (float(frequencies[i]), float(damping[i])), None
+
+
+#: Largest decay (in e-folds) of a mode during the band-pass transient trimmed before its band signal, and
+#: largest share of the band its half-power width may take: beyond either the band signal is mostly the
+#: filter's own response, not the mode's.
+MAX_TRIM_DECAY, MAX_WIDTH_SHARE = 3.0, 0.5
+
+
+def _too_narrow(band, frequency: float, zeta: float) -> str | None:
+    """Why the band cannot represent a mode this damped (None when it can)."""
+    decay = zeta * 2 * np.pi * frequency * band.trimmed_start / (band.fs * band.decimation)
+    width = 2 * zeta * frequency / (band.band_hz[1] - band.band_hz[0])
+    if decay > MAX_TRIM_DECAY or width > MAX_WIDTH_SHARE:
+        return (
+            f"the band is too narrow for a mode this damped (damping ratio {zeta:.3g}: it decays by "
+            f"{decay:.1f} e-folds during the band-pass transient and fills {width:.0%} of the band)"
+        )
+    return None
+
+
+def _poor_fit(band_hz, fit_error: float, index: int) -> Rejected:
+    return Rejected(
+        tuple(band_hz),
+        f"the model does not reproduce the signal (fit error {fit_error:.3g} > {MAX_FIT_ERROR})",
+        index,
+    )
+
+
+def _shape(record, band, states, omega, channel) -> np.ndarray:
+    """Complex amplitude of the mode in every channel relative to the reference channel."""
+    out = np.empty(record.shape[1], dtype=complex)
+    for c in range(record.shape[1]):
+        if c == channel:
+            out[c] = 1.0
+            continue
+        z = bandpass(record[:, c], band.fs * band.decimation, band.band_hz)
+        other = z[band.start_index : band.stop_index : band.decimation][EDGE : EDGE + len(states)]
+        out[c] = channel_shape(states[: len(other), 0], states[: len(other), 1], omega, other)
+    return out
+
+
+def fit_band(
+    band,
+    template,
+    *,
+    onset_time: float,
+    record=None,
+    channel: int = 0,
+    impulse=None,
+    sensor=None,
+    index: int = 0,
+):
+    """Identify the mode of one band (a :class:`~sindy_impulse.preprocessing.BandSignal`).
+
+    Returns a :class:`Mode`, or a :class:`Rejected` saying why no stable, well-fitting model explains the
+    band.
+    """
+    states, states_dot, t = derivative_states(band.y, band.t)
+    model = fresh_copy(template)
+    # the band-pass filtered the signal: band-limited derivatives, unless the template asks for its own method
+    x_dot = states_dot if getattr(model, "differentiation_method", None) is None else None
+    model.fit(states, t=t, x_dot=x_dot, feature_names=list(STATE_NAMES))
+    found, reason = _linear_mode(model, band.band_hz)
+    if found is None:
+        return Rejected(tuple(band.band_hz), reason, index)
+    frequency, zeta = found
+    fit_error = float(model.score_) / states.size
+    if not fit_error <= MAX_FIT_ERROR:
+        return _poor_fit(band.band_hz, fit_error, index)
+    narrow = _too_narrow(band, frequency, zeta)
+    if narrow:
+        return Rejected(tuple(band.band_hz), narrow, index)
+    omega = 2 * np.pi * frequency
+    omega_d = omega * math.sqrt(max(1 - zeta**2, 0.0))
+    amplitude = float(band.envelope[EDGE] * np.exp(zeta * omega * (t[0] - onset_time)))
+    residue = None
+    if impulse is not None and sensor is not None and impulse > 0:
+        residue = amplitude * omega_d / (omega ** _SENSOR_POWER[sensor] * impulse)
+    shape = None if record is None or record.shape[1] == 1 else _shape(record, band, states, omega, channel)
+    return Mode(
+        frequency_hz=frequency,
+        damping_ratio=zeta,
+        band_hz=tuple(float(b) for b in band.band_hz),
+        amplitude=amplitude,
+        fit_error=fit_error,
+        model=model,
+        states=states,
+        t=t,
+        snr_db=float(band.snr_db),
+        shape=shape,
+        residue=residue,
+        record=index,
+    )
+
+
+def fit_direct(pre, band_hz, template, *, index: int = 0):
+    """Identify the only mode of a record without band-pass: a strongly damped or short ring-down whose
+    filter transient would swallow it (the paper's single-sensor route: the offset-removed record from
+    the hit, delay-embedded, TVRegDiff inside the estimator).
+
+    Returns a :class:`Mode` (its measured coordinate is the undelayed last column) or a :class:`Rejected`.
+    """
+    from ..embedding import DelayEmbedding
+
+    y = pre.y[pre.impact.ringdown_index :]
+    t = pre.t0 + (pre.impact.ringdown_index + np.arange(y.size)) / pre.fs
+    embedding = DelayEmbedding().fit(y)
+    states, t_states = embedding.transform(y), embedding.transform_time(t)
+    model = fresh_copy(template)
+    names = [str(n) for n in embedding.get_feature_names_out()]
+    model.fit(states, t=t_states, feature_names=names)
+    found, reason = _linear_mode(model, band_hz)
+    if found is None:
+        return Rejected(tuple(band_hz), reason, index)
+    frequency, zeta = found
+    fit_error = float(model.score_) / states.size
+    if not fit_error <= MAX_FIT_ERROR:
+        return _poor_fit(band_hz, fit_error, index)
+    period = max(2, int(round(pre.fs / frequency)))
+    amplitude = float(np.max(np.abs(y[:period])))
+    return Mode(
+        frequency_hz=frequency,
+        damping_ratio=zeta,
+        band_hz=tuple(float(b) for b in band_hz),
+        amplitude=amplitude,
+        fit_error=fit_error,
+        model=model,
+        states=states,
+        t=t_states,
+        record=index,
+        coordinate_=states.shape[1] - 1,
+    )
+
+
+def fit_group(band, peak_bands, template, *, onset_time: float, index: int = 0) -> list:
+    """Identify close modes jointly: one band holding ``len(peak_bands)`` peaks whose own bands would be too
+    narrow for their damping (the band-pass transient would swallow a strongly damped mode next to a lightly
+    damped one). The states are the band signal's ``2 n`` delay coordinates, the library linear:
+    the modes are the eigenvalues of the identified linear system, one per peak band.
+
+    Returns one :class:`Mode` (sharing the model) or :class:`Rejected` per peak band.
+    """
+    n_states = 2 * len(peak_bands)
+    tau = max(1, int(round(band.samples_per_period / 4)))  # a quarter period of the band's centre
+    states, states_dot, t = group_states(band.y, band.t, n_states, tau)
+    model = fresh_copy(template)
+    model.set_params(feature_library=ps.PolynomialLibrary(degree=1, include_bias=False), sweep=False)
+    names = [f"y(t-{k}tau)" if k else "y" for k in range(n_states - 1, -1, -1)]
+    x_dot = states_dot if getattr(model, "differentiation_method", None) is None else None
+    model.fit(states, t=t, x_dot=x_dot, feature_names=names)
+    frequencies, damping = modal_parameters(model)
+    fit_error = float(model.score_) / states.size
+    out = []
+    for peak_band in peak_bands:
+        found, reason = _closest_mode(frequencies, damping, peak_band)
+        if found is None or not fit_error <= MAX_FIT_ERROR:
+            out.append(
+                Rejected(tuple(peak_band), reason or _poor_fit(peak_band, fit_error, index).reason, index)
+            )
+            continue
+        frequency, zeta = found
+        out.append(
+            Mode(
+                frequency_hz=frequency,
+                damping_ratio=zeta,
+                band_hz=tuple(float(b) for b in band.band_hz),
+                amplitude=float("nan"),
+                fit_error=fit_error,
+                model=model,
+                states=states,
+                t=t,
+                snr_db=float(band.snr_db),
+                record=index,
+            )
+        )
+    return out

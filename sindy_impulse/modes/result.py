@@ -1,0 +1,186 @@
+"""What :func:`~sindy_impulse.identify_modes` hands back: the modes and the modal table."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+__all__ = ["Mode", "ModalSurvey", "Rejected"]
+
+
+@dataclass(eq=False)
+class Mode:
+    """One identified mode: its linear (small-amplitude) values, its model and what it was fitted on.
+
+    Attributes
+    ----------
+    frequency_hz : float
+        Undamped natural frequency ``|lambda| / 2 pi`` of the model's linear part.
+    damped_frequency_hz : float
+        ``frequency_hz * sqrt(1 - damping_ratio**2)``.
+    damping_ratio : float
+        ``-Re(lambda) / |lambda|`` of the model's linear part.
+    band_hz : (float, float)
+        The band the mode was extracted from.
+    amplitude : float
+        Amplitude of the mode at the hit (sensor units), extrapolated back from the band signal with the
+        identified decay rate.
+    fit_error : float
+        How well the model reproduces the mode's prepared signal: the mean absolute deviation of its
+        simulation (restarted every few periods for long records) relative to the local amplitude.
+    model : ImpulseSINDy
+        Fitted on ``states`` over ``t`` (states ``[y, dy]``: the band signal and its derivative), so every
+        :mod:`sindy_impulse.analysis` function works on it.
+    states, t : ndarray
+        Exactly what the model was fitted on.
+    snr_db : float
+        Signal-to-noise ratio of the band at its first kept sample.
+    shape : ndarray of complex or None
+        Per channel, the amplitude ratio and phase of the mode relative to the reference channel (several
+        sensors only).
+    residue : float or None
+        Driving-point residue ``amplitude * omega_d / (omega_n**p * impulse)`` (``p`` 0, 1, 2 for
+        displacement, velocity, acceleration sensors) when the force and the sensor kind are given.
+    record : int
+        Index of the hit the mode comes from (0 for one record).
+    hits : list of Mode
+        With repeated hits, the matching mode of each hit (the values above are then the consensus).
+    frequency_spread_hz, damping_ratio_spread : float
+        Interquartile range of the hits' values (0 for one hit).
+    coordinate_ : int
+        The measured coordinate among the states (0: ``y``), read by :func:`analysis.backbone`.
+    """
+
+    frequency_hz: float
+    damping_ratio: float
+    band_hz: tuple
+    amplitude: float
+    fit_error: float
+    model: object = field(repr=False)
+    states: np.ndarray = field(repr=False)
+    t: np.ndarray = field(repr=False)
+    snr_db: float = math.nan
+    shape: np.ndarray | None = field(default=None, repr=False)
+    residue: float | None = None
+    record: int = 0
+    hits: list = field(default_factory=list, repr=False)
+    frequency_spread_hz: float = 0.0
+    damping_ratio_spread: float = 0.0
+    coordinate_: int = 0
+
+    @property
+    def damped_frequency_hz(self) -> float:
+        """``frequency_hz * sqrt(1 - damping_ratio**2)``."""
+        return self.frequency_hz * math.sqrt(max(1.0 - self.damping_ratio**2, 0.0))
+
+    @cached_property
+    def backbone(self):
+        """Backbone curve of the model (:func:`sindy_impulse.analysis.backbone`), computed once."""
+        from ..analysis import backbone
+
+        return backbone(self.model, coordinate=self.coordinate_)
+
+    @cached_property
+    def nonlinearity(self):
+        """The test for nonlinearity on the mode's states (:func:`analysis.nonlinearity_test`), once."""
+        from ..analysis import nonlinearity_test
+
+        return nonlinearity_test(self.model, self.states, self.t)
+
+    @property
+    def nonlinear(self) -> bool:
+        """The verdict of :attr:`nonlinearity`."""
+        return bool(self.nonlinearity.nonlinear)
+
+    def row(self, nonlinear: bool = False) -> dict:
+        """The mode as a row of the modal table."""
+        row = {
+            "frequency_hz": self.frequency_hz,
+            "damped_frequency_hz": self.damped_frequency_hz,
+            "damping_ratio": self.damping_ratio,
+            "band_low_hz": self.band_hz[0],
+            "band_high_hz": self.band_hz[1],
+            "amplitude": self.amplitude,
+            "fit_error": self.fit_error,
+            "snr_db": self.snr_db,
+        }
+        if self.hits:
+            row.update(
+                n_hits=len(self.hits),
+                frequency_spread_hz=self.frequency_spread_hz,
+                damping_ratio_spread=self.damping_ratio_spread,
+            )
+        if self.residue is not None:
+            row["residue"] = self.residue
+        if nonlinear:
+            row["nonlinear"] = self.nonlinear
+        return row
+
+
+@dataclass(frozen=True)
+class Rejected:
+    """A spectral peak (band) that gave no mode, and why."""
+
+    band_hz: tuple
+    reason: str
+    record: int = 0
+
+
+@dataclass(eq=False)
+class ModalSurvey:
+    """The result of :func:`~sindy_impulse.identify_modes`.
+
+    Attributes
+    ----------
+    modes : list of Mode
+        Sorted by frequency.
+    rejected : list of Rejected
+        Peaks or bands that gave no mode, with the reason.
+    preprocessing : list of Preprocessed
+        What preprocessing found and did, per record (onset, offset removed, peaks, bands, decimation).
+    notes : list of str
+        Remarks a user should read (double hits, no ring-down found, ...).
+    """
+
+    modes: list
+    rejected: list
+    preprocessing: list = field(repr=False)
+    notes: list = field(default_factory=list)
+
+    def __len__(self) -> int:
+        return len(self.modes)
+
+    def __iter__(self):
+        return iter(self.modes)
+
+    def __getitem__(self, i):
+        return self.modes[i]
+
+    def table(self, nonlinear: bool = False) -> list[dict]:
+        """The modal table: one dict per mode (``pandas.DataFrame(survey.table())`` makes a frame).
+
+        ``nonlinear=True`` adds the verdict of the test for nonlinearity (it refits: slower).
+        """
+        return [m.row(nonlinear) for m in self.modes]
+
+    def plot(self, axes=None):
+        """Spectrum with the modes marked, and each mode's data against its model
+        (:func:`sindy_impulse.plotting.plot_modes`)."""
+        from ..plotting import plot_modes
+
+        return plot_modes(self, axes=axes)
+
+    def __repr__(self) -> str:
+        head = f"ModalSurvey({len(self.modes)} mode(s), {len(self.rejected)} rejected)"
+        lines = [head, "  #   f_n [Hz]    f_d [Hz]   damping   amplitude   fit error   band [Hz]"]
+        for i, m in enumerate(self.modes):
+            lines.append(
+                f"  {i:<3d} {m.frequency_hz:<11.6g} {m.damped_frequency_hz:<10.6g} {m.damping_ratio:<9.4g} "
+                f"{m.amplitude:<11.4g} {m.fit_error:<11.3g} {m.band_hz[0]:.4g}-{m.band_hz[1]:.4g}"
+            )
+        lines += [f"  rejected {r.band_hz[0]:.4g}-{r.band_hz[1]:.4g} Hz: {r.reason}" for r in self.rejected]
+        lines += [f"  note: {n}" for n in self.notes]
+        return "\n".join(lines)

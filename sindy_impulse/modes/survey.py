@@ -1,0 +1,247 @@
+"""A raw hammer-test record in, a modal table out: :func:`identify_modes`.
+
+For each record (one hit; several sensors allowed): :func:`~sindy_impulse.preprocessing.preprocess` finds
+the impact, removes the offset, picks the spectral peaks and extracts one band-passed, decimated signal per
+peak; each band becomes one mode by the paper's machinery (:func:`._fit.fit_band`: derivative coordinates,
+TVRegDiff, the threshold sweep scored on the simulation error -- segment-wise for long records -- and the
+bounded refinement); the mode's frequency and damping ratio come from the identified model's linear part.
+Repeated hits of one structure are matched by frequency and combined by the paper's consensus (section
+3.3.2).
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import replace
+from numbers import Integral, Real
+
+import numpy as np
+
+from .._params import HasMethods, Interval, Options, check_param
+from .._validation import check_signal
+from ..exceptions import DataWarning, NoDynamicsWarning
+from ..preprocessing import extract_band, preprocess
+from ._fit import default_estimator, fit_band, fit_direct, fit_group
+from ._hits import merge_hits
+from .result import ModalSurvey, Mode, Rejected
+
+__all__ = ["identify_modes"]
+
+_SENSORS = Options({"displacement", "velocity", "acceleration"})
+
+
+def _records(y, force) -> tuple[list[np.ndarray], list]:
+    """One (n_samples, n_channels) array per hit, and the force of each (or None)."""
+    many = isinstance(y, (list, tuple)) and len(y) > 0 and all(hasattr(r, "shape") for r in y)
+    ys = list(y) if many else [y]
+    arrays = [check_signal(r, "y" if not many else f"y[{i}]", ndim=(1, 2)) for i, r in enumerate(ys)]
+    if force is None:
+        return arrays, [None] * len(arrays)
+    forces = list(force) if many else [force]
+    if len(forces) != len(arrays):
+        raise ValueError(f"force has {len(forces)} records but y has {len(arrays)}")
+    checked = []
+    for i, (f, r) in enumerate(zip(forces, arrays)):
+        f = check_signal(f, "force" if not many else f"force[{i}]", ndim=(1, 2), as_2d=False).reshape(-1)
+        if f.size != r.shape[0]:
+            raise ValueError(f"force has {f.size} samples but y has {r.shape[0]}")
+        checked.append(f)
+    return arrays, checked
+
+
+def _times(t, n_records: int):
+    if isinstance(t, (list, tuple)) and len(t) == n_records and n_records > 1 and np.ndim(t[0]) == 1:
+        return list(t)
+    return [t] * n_records
+
+
+def _reference_channel(record: np.ndarray, channel) -> int:
+    if channel is not None:
+        check_param("channel", channel, [Interval(Integral, 0, record.shape[1] - 1)], "identify_modes")
+        return int(channel)
+    centred = record - np.median(record, axis=0)
+    return int(np.argmax(np.sqrt(np.mean(centred**2, axis=0))))
+
+
+def _impulse(force, pre) -> float | None:
+    """Impulse of the hammer (N s): the force integrated over the hit's pulses."""
+    if force is None or not pre.impact.hits:
+        return None
+    lo, hi = pre.impact.onset_index, pre.impact.ringdown_index
+    return float(np.sum(force[lo : hi + 1]) / pre.fs)
+
+
+def _first_periods(band, max_periods):
+    """The band signal's first ``max_periods`` periods of its centre frequency (all of it for None)."""
+    keep = None if max_periods is None else int(np.ceil(max_periods * band.samples_per_period))
+    if keep is None or keep >= band.y.size:
+        return band
+    stop = band.start_index + keep * band.decimation
+    return replace(
+        band,
+        y=band.y[:keep],
+        t=band.t[:keep],
+        envelope=band.envelope[:keep],
+        stop_index=stop,
+        trimmed_end=band.trimmed_end + (band.stop_index - stop),
+        end_reason="max_periods",
+    )
+
+
+def _survey_record(index, record, t, fs, force, options, template, sensor, channel, max_periods):
+    """Preprocess one hit and fit every band: (modes, rejected, preprocessed, notes)."""
+    ref = _reference_channel(record, channel)
+    pre = preprocess(record[:, ref], t, fs=fs, force=force, **options)
+    notes = []
+    if pre.impact.double_hit:
+        notes.append(f"record {index}: double hit at {', '.join(f'{h[0]:.4g} s' for h in pre.impact.hits)}")
+    if len(pre.peaks) == 0:
+        notes.append(f"record {index}: no spectral peak significantly above the noise floor: no ring-down")
+    impulse = _impulse(force, pre)
+    if len(pre.peaks) == 1 and not pre.bands:  # one mode the band-pass cannot keep: strongly damped, short
+        out = fit_direct(pre, tuple(pre.peaks.band_hz[0]), template, index=index)
+        return ([out], [], pre, notes) if not isinstance(out, Rejected) else ([], [out], pre, notes)
+    modes, rejected = [], []
+    for band in (_first_periods(b, max_periods) for b in pre.bands):
+        out = fit_band(
+            band,
+            template,
+            onset_time=pre.impact.onset_time,
+            record=record,
+            channel=ref,
+            impulse=impulse,
+            sensor=sensor,
+            index=index,
+        )
+        (modes if not isinstance(out, Rejected) else rejected).append(out)
+    for skipped, why in pre.skipped:
+        out = _joint(pre, tuple(skipped), template, index) if "periods remain" in why else None
+        if isinstance(out, Mode):
+            modes.append(out)
+        else:
+            rejected.append(out if isinstance(out, Rejected) else Rejected(tuple(skipped), why, index))
+    return modes, rejected, pre, notes
+
+
+def _joint(pre, skipped: tuple, template, index: int):
+    """A peak whose own band is too narrow for its damping, fitted jointly with its closest neighbour in
+    one wide band holding both (see :func:`._fit.fit_group`); None when it has no neighbour.
+
+    The joint band reaches out to the geometric midpoints towards the next peaks outside the pair: the
+    wider the band, the shorter the band-pass transient that would otherwise swallow a strongly damped mode.
+    """
+    bands = sorted((tuple(b) for b in pre.peaks.band_hz), key=lambda b: b[0])
+    centres = [float(np.sqrt(b[0] * b[1])) for b in bands]
+    k = bands.index(skipped)
+    if len(bands) < 2:
+        return None
+    j = min(
+        (i for i in (k - 1, k + 1) if 0 <= i < len(bands)), key=lambda i: abs(np.log(centres[i] / centres[k]))
+    )
+    lo_i, hi_i = min(j, k), max(j, k)
+    low = np.sqrt(centres[lo_i] * centres[lo_i - 1]) if lo_i > 0 else 0.5 * centres[lo_i]
+    high = np.sqrt(centres[hi_i] * centres[hi_i + 1]) if hi_i + 1 < len(bands) else 2.0 * centres[hi_i]
+    joint = (float(low), float(min(high, 0.45 * pre.fs)))
+    try:
+        band = extract_band(pre.y, pre.fs, joint, start=pre.impact.ringdown_index, t0=pre.t0)
+    except ValueError as err:
+        return Rejected(skipped, f"jointly with its neighbour: {err}", index)
+    return fit_group(band, [skipped, bands[j]], template, onset_time=pre.impact.onset_time, index=index)[0]
+
+
+def identify_modes(
+    y,
+    t=None,
+    *,
+    fs: float | None = None,
+    force=None,
+    n_modes: int | None = None,
+    bands=None,
+    sensor: str | None = None,
+    estimator=None,
+    channel: int | None = None,
+    onset="auto",
+    offset="auto",
+    samples_per_period: float = 16.0,
+    max_periods: float | None = 200.0,
+) -> ModalSurvey:
+    """Identify the modes of a hammer-test record: a modal table with one equation per mode.
+
+    Parameters
+    ----------
+    y : array-like (n_samples,) or (n_samples, n_channels), or a list of them
+        One record (several synchronous sensors allowed), or a list of records (repeated hits of the same
+        test, combined by consensus). Raw: pre-trigger, offset and all modes included.
+    t : array-like (n_samples,) or float, optional
+        Time vector (uniform) or step (a list of vectors for several records); or give ``fs``.
+    fs : float, optional
+        Sampling rate (Hz).
+    force : array-like (n_samples,) or list, optional
+        The hammer's force: the onset and the end of contact come from it, double hits are reported, and
+        with ``sensor`` the driving-point residues are computed.
+    n_modes : int, optional
+        Keep the ``n_modes`` strongest spectral peaks.
+    bands : sequence of (low_hz, high_hz), optional
+        The bands to identify, instead of the detected peaks' bands.
+    sensor : {"displacement", "velocity", "acceleration"}, optional
+        The kind of sensor (for the residues).
+    estimator : ImpulseSINDy, optional
+        Template of the per-mode identification (cloned per mode); default: a cubic polynomial library on
+        the states ``[y, dy]`` (see :func:`~sindy_impulse.modes._fit.default_estimator`).
+    channel : int, optional
+        Reference channel (peaks and bands are found on it); default: the strongest.
+    onset, offset, samples_per_period
+        Passed to :func:`~sindy_impulse.preprocessing.preprocess` (every automatic choice can be
+        overridden).
+    max_periods : float or None, default=200
+        Each mode is identified on the first ``max_periods`` periods of its band signal (the strongest
+        part of the ring-down; None: all of it). 200 periods resolve the frequency and the damping ratio
+        well inside the marks of ``benchmarks/bench_modes.py`` and bound the cost of long records.
+
+    Returns
+    -------
+    ModalSurvey
+        ``.modes`` (sorted by frequency), ``.table()``, ``.plot()``, ``.rejected``, ``.preprocessing``.
+
+    Examples
+    --------
+    >>> from sindy_impulse import identify_modes, impact_record
+    >>> rec = impact_record([120.0, 240.0], [0.005, 0.01], fs=5000, duration=1.0, snr_db=50, random_state=0)
+    >>> survey = identify_modes(rec.y, fs=rec.fs)
+    >>> [round(m.frequency_hz, 1) for m in survey.modes], [round(m.damping_ratio, 3) for m in survey.modes]
+    ([120.0, 240.0], [0.005, 0.01])
+    """
+    check_param("sensor", sensor, [None, _SENSORS], "identify_modes")
+    check_param("estimator", estimator, [None, HasMethods("fit", "an ImpulseSINDy")], "identify_modes")
+    check_param("max_periods", max_periods, [None, Interval(Real, 10, None)], "identify_modes")
+    records, forces = _records(y, force)
+    options = {
+        "n_modes": n_modes,
+        "bands": bands,
+        "onset": onset,
+        "offset": offset,
+        "samples_per_period": samples_per_period,
+    }
+    template = default_estimator() if estimator is None else estimator
+    per_record, rejected, preps, notes = [], [], [], []
+    for i, (record, ti, fi) in enumerate(zip(records, _times(t, len(records)), forces)):
+        modes, rej, pre, note = _survey_record(
+            i, record, ti, fs, fi, options, template, sensor, channel, max_periods
+        )
+        per_record.append(modes)
+        rejected += rej
+        preps.append(pre)
+        notes += note
+    modes = merge_hits(per_record) if len(records) > 1 else per_record[0]
+    modes.sort(key=lambda m: m.frequency_hz)
+    for note in notes:
+        warnings.warn(note, DataWarning, stacklevel=2)
+    if not modes:
+        warnings.warn(
+            "no mode found: "
+            + ("; ".join(r.reason for r in rejected) or "no ring-down in the record")
+            + " (check the sensor, the sampling rate fs, or give bands=)",
+            NoDynamicsWarning,
+            stacklevel=2,
+        )
+    return ModalSurvey(modes, rejected, preps, notes)
