@@ -21,9 +21,9 @@ from ._components import ComponentsMixin
 from ._fitted import FittedModelMixin, SweepPath, fresh_measure
 from ._params import HasMethods, Interval, Satisfies, validate_params
 from ._trajectories import as_trajectories, check_derivatives, refuse_unsupported
-from .diagnostics import at_rest_level, diagnose_fit, screen_states
+from .diagnostics import at_rest_level, diagnose_fit, leave_out_clipped, screen_states
 from .differentiation import differentiate
-from .exceptions import DataWarning, NoDynamicsWarning, WorkBudgetWarning
+from .exceptions import DataWarning, NoDynamicsWarning
 from .feature_library.terms import library_terms
 from .optimizers import candidate_path
 from .refinement import refine
@@ -220,6 +220,7 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         else:  # known derivatives: the measured states are the filtered ones
             filtered, derivs = [xi.copy() for xi in data.x], check_derivatives(x_dot, data)
         level = screen_states(self, data, filtered)  # data checks; a ring-down's rest level (0: none)
+        derivs = leave_out_clipped(self, data, derivs)  # clipped samples out of the regression
         theta, y = self._regression([f - level for f in filtered], data, derivs)
         self._record_data(data, filtered, feature_names, theta.shape[1])
         thresholds, candidates = candidate_path(self.optimizer_, theta, y, self.sweep)
@@ -249,15 +250,7 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
             int(sum(f.size for f in filtered)),
             measure.floor,
         )
-        self.budget_used_ = budget.used
-        if budget.exhausted:
-            warnings.warn(
-                "the simulation work budget of the fit ran out (long record or large library): some dense "
-                "candidates were not simulated or the refinement stopped early; the model may be less "
-                "accurate (see sindy_impulse.simulation.WORK_BUDGET)",
-                WorkBudgetWarning,
-                stacklevel=3,
-            )
+        self.budget_used_ = budget.used  # a budget that ran out is a reason of the verdict (diagnostics_)
         return self._keep(candidates, thresholds, index, coef, compile_, measure, history, scores, score)
 
     def _regression(self, filtered, data, derivs):
@@ -296,7 +289,7 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
 
     def _refined(self, coef, score, compile_, measure, budget):
         """The candidate refined on the measure (paper section 2.5); never worse than unrefined."""
-        if not self.refine:
+        if not self.refine or self._screening.excluded:  # refining would fit the clipped stretches
             return coef, score, {"score": [], "coefficients": []}
         res = refine(compile_(coef), measure, self.bound_factor, self.refine_max_iter, budget=budget)
         if not res.score <= score:

@@ -23,6 +23,7 @@ from sindy_impulse.exceptions import (
     ModalWarning,
     NoDynamicsWarning,
     SindyImpulseWarning,
+    WorkBudgetWarning,
 )
 from sindy_impulse.simulation import CompiledModel, TermTable
 
@@ -269,6 +270,13 @@ def _numbers(**kw):
         ({"terms": TermTests(alternatives=[("x1' : x1^3", "x1' : x1|x1|")])}, {}, "doubtful", "ambiguous"),
         ({}, {"clipped": 12}, "doubtful", "clipping"),
         ({}, {"relative_step": 0.05}, "doubtful", "quantisation"),
+        ({"budget": 1.02}, {}, "doubtful", "budget"),
+        (
+            {"fit_error": np.array([0.1, 0.01]), "noise_ratio": np.zeros(2)},
+            {"noise_known": False},
+            "ok",
+            None,
+        ),
     ],
 )
 def test_verdict_rules(numbers, checks, verdict, reason):
@@ -281,6 +289,7 @@ def test_data_only_reasons_warn_with_a_data_warning(clean):
     d = clean[0].diagnostics_
     assert replace(d, verdict="doubtful", reasons={"clipping": "clipped"}).warning_class() is DataWarning
     assert replace(d, verdict="doubtful", reasons={"support": "s"}).warning_class() is FitWarning
+    assert replace(d, verdict="doubtful", reasons={"budget": "b"}).warning_class() is WorkBudgetWarning
 
 
 # -- SINDyFeatures ------------------------------------------------------------------------------------------

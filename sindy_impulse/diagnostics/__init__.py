@@ -23,7 +23,7 @@ its data), :mod:`.verdict` (the rules), :mod:`.report` (:class:`FitDiagnostics`)
 (:func:`diagnose_fit`).
 """
 
-from .data import MAGNITUDE_RANGE, DataChecks, check_magnitude, clipped_rows, screen_states
+from .data import MAGNITUDE_RANGE, DataChecks, check_magnitude, clipped_rows, leave_out_clipped, screen_states
 from .fit import diagnose_fit
 from .report import VERDICTS, FitDiagnostics
 from .rest import AtRestLevel, RestLevel, at_rest_level, rest_level
@@ -39,6 +39,7 @@ __all__ = [
     "check_magnitude",
     "clipped_rows",
     "diagnose_fit",
+    "leave_out_clipped",
     "rest_level",
     "screen_states",
 ]

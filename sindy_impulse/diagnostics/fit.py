@@ -21,8 +21,6 @@ def _estimator_warned(estimator) -> frozenset:
     """Reasons the estimator itself has already warned about during this fit."""
     path = getattr(estimator, "path_", None)
     out = set()
-    if float(getattr(estimator, "budget_used_", 0.0) or 0.0) >= 1.0 and (estimator.sweep or estimator.refine):
-        out.add("budget")
     if path is not None:
         live = np.isfinite(path.score) & (path.n_terms > 0)
         if not live.any() and np.isfinite(path.score).any():
@@ -40,7 +38,8 @@ def _guarded(check, notes: dict, key: str, what: str, default):
 
 
 def _terms(fitted: Fitted, checks: DataChecks, notes: dict) -> TermTests:
-    tests = term_tests(fitted, checks.rest.shift, checks.noise_ratio, checks.raw)
+    raw = checks.raw if checks.noise_known else None  # None: errors coloured like the data
+    tests = term_tests(fitted, checks.rest.shift, checks.noise_ratio, raw)
     if tests is None:
         notes["terms"] = "the term tests were skipped: the model's simulation diverges when perturbed"
         return TermTests(complete=False)
@@ -85,11 +84,6 @@ def _notes(estimator, checks: DataChecks, fitted: Fitted) -> dict:
         )
     if any(oscilations > AUTO_PERIODS for oscilations in _periods(fitted)):
         notes["segments"] = "long record: the fit error restarts the simulation every 8 periods"
-    if (estimator.sweep or estimator.refine) and float(getattr(estimator, "budget_used_", 0.0)) >= 1.0:
-        notes["budget"] = (
-            "the simulation work budget ran out (WorkBudgetWarning): the sweep or the refinement was cut "
-            "short; the checks above judge the model it gave"
-        )
     return notes
 
 

@@ -81,6 +81,31 @@ class TermTests:
     complete: bool = True
 
 
+def correlation_inflation(residual: np.ndarray, max_lag: int = 200) -> np.ndarray:
+    """Per column, ``1 + 2 sum(rho_k)``: how much correlation between neighbouring samples inflates the
+    variance of a least-squares statistic (the sum stops at the first lag whose correlation is below 0.05).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> white = rng.standard_normal((4000, 1))
+    >>> smooth = np.convolve(white[:, 0], np.ones(10) / 10, "same")[:, None]
+    >>> bool(correlation_inflation(white)[0] < 1.2), bool(correlation_inflation(smooth)[0] > 5)
+    (True, True)
+    """
+    r = residual - residual.mean(axis=0)
+    n = r.shape[0]
+    spectrum = np.fft.rfft(r, 2 * n, axis=0)
+    acf = np.fft.irfft(np.abs(spectrum) ** 2, axis=0)[: min(max_lag, n // 4) + 1]
+    acf = acf / np.where(acf[0] > 0, acf[0], 1.0)
+    out = np.ones(r.shape[1])
+    for j in range(r.shape[1]):
+        low = np.flatnonzero(acf[1:, j] < 0.05)
+        stop = low[0] if low.size else acf.shape[0] - 1
+        out[j] = 1.0 + 2.0 * float(np.sum(acf[1 : stop + 1, j]))
+    return out
+
+
 class _Sensitivity:
     """Residual of the model (noise units) and its sensitivity to coefficients of the library."""
 
@@ -111,6 +136,8 @@ class _Sensitivity:
         if own is not None:
             own = own.reshape(-1, scale.size)
             self.sigma = np.maximum(floor, np.sqrt(np.mean(own**2, axis=0)))
+            if not raw:  # compared with filtered states: correlated errors count fewer independent samples
+                self.sigma = self.sigma * np.sqrt(correlation_inflation(own))
             self.r0 = (own / self.sigma).ravel()
 
     def model(self, columns):

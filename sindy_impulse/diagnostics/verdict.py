@@ -112,7 +112,7 @@ def _unreliable(m: dict, checks: DataChecks, names) -> dict:
 def _doubtful(m: dict, checks: DataChecks) -> dict:
     out = {}
     err, noise = np.asarray(m["fit_error"]), np.asarray(m["noise_ratio"])
-    excess = (err > ADEQUACY * noise) & (err > ERROR_FLOOR)
+    excess = (err > ADEQUACY * noise) & (err > ERROR_FLOOR) & checks.noise_known
     if np.all(np.isfinite(err)) and np.any(excess):
         j = int(np.argmax(np.where(excess, err / np.maximum(noise, 1e-300), 0)))
         out["adequacy"] = (
@@ -147,6 +147,12 @@ def _doubtful(m: dict, checks: DataChecks) -> dict:
         out["ambiguous"] = (
             f"other terms explain the data as well ({pairs}{more}): the data cannot tell which is right; "
             "fit a record with larger amplitude or less noise, or restrict the library to the physics"
+        )
+    if m.get("budget", 0.0) >= 1.0:
+        out["budget"] = (
+            "the simulation work budget of the fit ran out (long record or large library): some dense "
+            "candidates were not simulated or the refinement stopped early; shorten or decimate the record, "
+            "or use a smaller library (sindy_impulse.simulation.WORK_BUDGET)"
         )
     out.update(quality_problems(checks))
     return out
