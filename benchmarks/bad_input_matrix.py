@@ -277,6 +277,9 @@ def _features_and_plain():
     yield _case("plain", "copies", {"channels": "copy"}, _warn(), params=plain)
     yield _case("plain", "sweep only", {"snr": 40}, _right_or_warn(0.05), params={"refine": False})
     yield _case("plain", "refine only", {"snr": 40}, _right_or_warn(0.05), params={"sweep": False})
+    # PySINDy solves states too small for double precision (x' = 0): plain mode warns, it does not refuse
+    yield _case("plain", "1e-200", {"scale": 1e-200}, _warn(match="rescale"), params=plain)
+    yield _case("plain", "1e200", {"scale": 1e200}, _raise("ValueError", "rescale"), params=plain)
 
 
 def _calls():

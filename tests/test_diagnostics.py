@@ -132,6 +132,25 @@ def test_magnitudes_beyond_double_precision_are_refused(scale):
         ImpulseSINDy().fit(RING.x * scale, t=RING.t)
 
 
+def test_plain_mode_accepts_states_too_small_and_says_to_rescale():
+    model, caught = _fit(RING.x * 1e-200, sweep=False, refine=False)
+    assert "scale" in model.diagnostics_.reasons
+    assert len(caught) == 1 and "rescale x" in str(caught[0].message)
+
+
+def test_clipped_samples_are_left_out_of_the_fit():
+    ring = damped_oscillator(snr_db=40, random_state=10)
+    x = np.clip(ring.x, -0.5 * np.abs(ring.x).max(axis=0), 0.5 * np.abs(ring.x).max(axis=0))
+    model, caught = _fit(x)
+    names = model.get_feature_names()
+    assert model.diagnostics_.reasons["clipping"].count("left out of the regression") == 1
+    assert len(caught) == 1 and "clipped" in str(caught[0].message)
+    assert np.count_nonzero(model.coefficients()) == 3
+    np.testing.assert_allclose(
+        model.coefficients()[1, [names.index("x0"), names.index("x1")]], [-64, -3.2], rtol=0.05
+    )
+
+
 def test_scaled_data_give_the_same_model():
     model, caught = _fit(RING.x * 1e-120)
     np.testing.assert_allclose(model.coefficients()[1, 1:3], [-64.0, -3.2], rtol=1e-3)

@@ -77,6 +77,8 @@ class DataChecks:
         then, and the checks that compare with it are left out or made robust to coloured errors.
     excluded : int
         Samples left out of the regression because a state is clipped there (:func:`leave_out_clipped`).
+    scale_problem : str or None
+        States too small for double precision, accepted in plain PySINDy mode (:func:`check_magnitude`).
     """
 
     rest: RestLevel
@@ -94,10 +96,14 @@ class DataChecks:
     constant: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
     noise_known: bool = True
     excluded: int = 0
+    scale_problem: str | None = None
 
 
-def check_magnitude(trajectories, name: str = "x") -> None:
+def check_magnitude(trajectories, name: str = "x", refuse_small: bool = True) -> str | None:
     """Refuse states whose magnitude lies outside :data:`MAGNITUDE_RANGE` (a clear ValueError).
+
+    With ``refuse_small=False`` (plain PySINDy mode, which solves such data) states too small are not
+    refused: the problem is returned as a sentence for the verdict instead (None when there is none).
 
     Examples
     --------
@@ -114,10 +120,14 @@ def check_magnitude(trajectories, name: str = "x") -> None:
             f"beyond {high:.0e}; rescale {name} (change its units) and fit again"
         )
     if 0 < largest < low:
-        raise ValueError(
+        message = (
             f"{name} is at most {largest:.3g}: below {low:.0e} the squares of the states underflow double "
             f"precision and no dynamics can be resolved; rescale {name} (change its units) and fit again"
         )
+        if refuse_small:
+            raise ValueError(message)
+        return message
+    return None
 
 
 def _quality(trajectories, times) -> tuple:
@@ -207,9 +217,10 @@ def screen_states(estimator, data, filtered) -> np.ndarray:
     ndarray (n_states,)
         The level to subtract from the states (0 where nothing is removed).
     """
-    check_magnitude(data.x)
+    scale_problem = check_magnitude(data.x, refuse_small=bool(estimator.sweep or estimator.refine))
     rest = rest_level(data.x, data.t, allow_removal=bool(estimator.sweep or estimator.refine))
-    reports, clipped, step, peaks, widths, heights = _quality(data.x, data.t)
+    with np.errstate(all="ignore"):  # tiny states (plain mode): the checks' ratios may overflow
+        reports, clipped, step, peaks, widths, heights = _quality(data.x, data.t)
     condition, pair = _collinearity(filtered)
     noise = _noise_ratio(data.x, filtered, rest.level)
     constant = np.array([all(np.ptp(x[:, j]) == 0 for x in data.x) for j in range(data.n_states)])
@@ -228,6 +239,7 @@ def screen_states(estimator, data, filtered) -> np.ndarray:
         _spikes(data.x, filtered),
         constant,
         not all(np.array_equal(r, f) for r, f in zip(data.x, filtered)),
+        scale_problem=scale_problem,
     )
     return rest.shift
 
@@ -294,7 +306,7 @@ def leave_out_clipped(estimator, data, derivs) -> list:
 def quality_problems(checks: DataChecks) -> dict:
     """The data problems worth a reason in the verdict: clipping, quantisation, spikes, constant states,
     an offset left in place."""
-    out = {}
+    out = {} if checks.scale_problem is None else {"scale": checks.scale_problem}
     if checks.clipped:
         used = (
             f"{checks.excluded} samples around them were left out of the regression and the refinement "

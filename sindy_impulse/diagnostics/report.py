@@ -14,7 +14,7 @@ __all__ = ["FitDiagnostics", "VERDICTS"]
 #: The verdicts, from best to worst.
 VERDICTS = ("ok", "doubtful", "unreliable", "no dynamics")
 #: Reasons about the data only (a verdict with only these warns with a DataWarning).
-DATA_REASONS = frozenset({"clipping", "quantisation", "offset", "collinear", "spikes", "constant"})
+DATA_REASONS = frozenset({"clipping", "quantisation", "offset", "collinear", "spikes", "constant", "scale"})
 
 
 @dataclass(frozen=True)

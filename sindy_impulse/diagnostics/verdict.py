@@ -167,6 +167,8 @@ def judge(m: dict, checks: DataChecks, names) -> tuple[str, dict]:
     """
     reasons = _no_dynamics(m, checks)
     if reasons:
+        if checks.scale_problem is not None:  # the cause, and what to do
+            reasons["scale"] = checks.scale_problem
         return "no dynamics", reasons
     reasons = _unreliable(m, checks, names)
     if reasons:
