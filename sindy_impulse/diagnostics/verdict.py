@@ -6,8 +6,9 @@ Thresholds (fit error and noise are RMS values relative to each state's RMS abou
 ====================  =======================================================================  ============
 verdict               when                                                                      class
 ====================  =======================================================================  ============
-no dynamics           every coefficient is zero, or no state rings down (no spectral peak, no    NoDynamics-
-                      decay) and the simulation misses the data (fit error >=                   Warning
+no dynamics           every coefficient is zero; the simulation misses every state (fit error   NoDynamics-
+                      >= ``NO_DYNAMICS_ERROR``); or no state rings down (no spectral peak, no   Warning
+                      decay) and the simulation misses the data (fit error >=
                       ``UNRELIABLE_ERROR``) or the filter removed more than it kept (noise
                       ratio > 1 in every state): the record looks like noise
 unreliable            the simulation diverges or misses the data (fit error >=                  FitWarning
@@ -44,7 +45,8 @@ __all__ = [
 #: Fit error from which a model is unreliable (it explains under 75 % of the data's variance: 1 - 0.5**2);
 #: with data that do not ring down, the record is taken for noise.
 UNRELIABLE_ERROR = 0.5
-#: Fit error from which the term tests are not run (the model explains under half the variance).
+#: Fit error from which the term tests are not run (the model explains under half the variance); in every
+#: state, the verdict is "no dynamics".
 NO_DYNAMICS_ERROR = 0.7
 #: A fit error above this multiple of the noise ratio is more than the noise explains.
 ADEQUACY = 3.0
@@ -61,6 +63,16 @@ STATE_CONDITION_LIMIT = 1e3
 def _no_dynamics(m: dict, checks: DataChecks) -> dict:
     if m["zero_model"]:
         return {"no_dynamics": "every coefficient is zero (x' = 0): the data show no deterministic dynamics"}
+    best = float(np.min(m["fit_error"]))
+    copies = checks.state_condition >= STATE_CONDITION_LIMIT  # then the cause is known: "unreliable"
+    if np.isfinite(best) and best >= NO_DYNAMICS_ERROR and not copies:  # noise may look like a ring-down
+        return {
+            "no_dynamics": (
+                f"the model's simulation explains under half the variance of every state (fit error "
+                f"{best:.2g} or more of the RMS; x' = 0 gives 1): the record looks like noise, or the "
+                "library lacks its dynamics; check the sensor and the trigger, or try another library"
+            )
+        }
     rings = any(report.ringdown_found for report in checks.quality) or checks.peaks_hz.size > 0
     worst = float(np.max(m["fit_error"]))
     noisy = bool(np.min(m["noise_ratio"]) > 1.0)  # the filter removed more than it kept, in every state
