@@ -115,13 +115,14 @@ def _coefficient(kind: str, p: dict, record) -> dict:
     return dict(c2=(r - 1) * p["zeta"] * 8 * w0 / (d_hi**2 - r * d_lo**2))
 
 
-def record(kind: str, seed: int):
-    """The hammer test of row ``kind``, number ``seed``, and its drawn parameters.
+def record(kind: str, seed: int, **overrides):
+    """The hammer test of row ``kind``, number ``seed``, and its drawn parameters (``overrides`` replace
+    drawn ones, e.g. ``shift=0.03``).
 
     The kept amplitude range depends on the nonlinearity: the coefficient is a fixed point (at most eight
     passes, until the true shift over the kept band signal is within 1 % of the drawn one).
     """
-    p = draw(kind, seed)
+    p = {**draw(kind, seed), **overrides}
     rec = _make(p, seed)
     target = p["shift"] if kind == "cubic" else p["ratio"] - 1
     for _ in range(8 if kind != "linear" else 0):

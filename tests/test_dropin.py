@@ -281,3 +281,13 @@ def test_components_scikit_learn_cannot_clone_are_copied():
     copied = clone(est)
     assert copied.feature_library is not est.feature_library and copied.optimizer is not est.optimizer
     assert copied.set_params(sweep=False).sweep is False
+
+
+def test_grid_search_over_the_threshold_of_a_plain_mode_stlsq():
+    amplitudes = [1, -0.8, 0.6, 1.2]
+    xs = [damped_oscillator(x0=(a, 0.0), snr_db=40, random_state=i).x for i, a in enumerate(amplitudes)]
+    est = ImpulseSINDy(dt=0.01, optimizer=ps.STLSQ(), sweep=False, refine=False)
+    search = GridSearchCV(est, {"optimizer__threshold": [0.05, 0.5, 50.0]}, cv=KFold(2)).fit(xs)
+    scores = search.cv_results_["mean_test_score"]  # R^2 of the derivatives in plain mode
+    assert np.all(np.isfinite(scores)) and scores[2] < scores[0]  # threshold 50 removes every term
+    assert search.best_params_["optimizer__threshold"] in (0.05, 0.5)

@@ -352,8 +352,15 @@ def backbone(
     target = None if amplitudes is None else float(_check_amplitudes(amplitudes).min())
     min_periods = 2 * trim_periods + 8 * (smooth_periods or 4)
     y, dt = simulate_free_decay(model, coordinate, samples_per_period, max_periods, target, min_periods)
-    curve = instantaneous(
-        y, dt, band=None, trim_periods=trim_periods, smooth_periods=smooth_periods, min_snr=0.0
-    )
+    try:
+        curve = instantaneous(
+            y, dt, band=None, trim_periods=trim_periods, smooth_periods=smooth_periods, min_snr=0.0
+        )
+    except ValueError as err:
+        raise ValueError(
+            f"backbone: the model's free decay from the fitted initial state is not a decay ({err}); the "
+            "identified model is undamped or unstable there, so it has no backbone: check "
+            "modal_parameters(model) and refit (another library or a shorter record)"
+        ) from err
     result = Backbone(*bin_by_amplitude(curve, n_points), "model")
     return result if amplitudes is None else result.at(amplitudes)

@@ -151,6 +151,14 @@ def fit_band(
     )
 
 
+def _without_protection(model):
+    """The model with its optimizer's ``protected`` terms cleared: they name the terms of ``[y, dy]``
+    (:func:`default_estimator`), which delay coordinates or another library do not have."""
+    if "optimizer__protected" in model.get_params(deep=True):
+        model.set_params(optimizer__protected=None)
+    return model
+
+
 def fit_direct(pre, band_hz, template, *, index: int = 0):
     """Identify the only mode of a record without band-pass: a strongly damped or short ring-down whose
     filter transient would swallow it (the paper's single-sensor route: the offset-removed record from
@@ -164,7 +172,7 @@ def fit_direct(pre, band_hz, template, *, index: int = 0):
     t = pre.t0 + (pre.impact.ringdown_index + np.arange(y.size)) / pre.fs
     embedding = DelayEmbedding().fit(y)
     states, t_states = embedding.transform(y), embedding.transform_time(t)
-    model = fresh_copy(template)
+    model = _without_protection(fresh_copy(template))
     names = [str(n) for n in embedding.get_feature_names_out()]
     model.fit(states, t=t_states, feature_names=names)
     found, reason = _linear_mode(model, band_hz)
@@ -201,7 +209,7 @@ def fit_group(band, peak_bands, template, *, onset_time: float, index: int = 0) 
     n_states = 2 * len(peak_bands)
     tau = max(1, int(round(band.samples_per_period / 4)))  # a quarter period of the band's centre
     states, states_dot, t = group_states(band.y, band.t, n_states, tau)
-    model = fresh_copy(template)
+    model = _without_protection(fresh_copy(template))
     model.set_params(feature_library=ps.PolynomialLibrary(degree=1, include_bias=False), sweep=False)
     names = [f"y(t-{k}tau)" if k else "y" for k in range(n_states - 1, -1, -1)]
     x_dot = states_dot if getattr(model, "differentiation_method", None) is None else None
