@@ -23,7 +23,6 @@ from sindy_impulse.exceptions import (
     ModalWarning,
     NoDynamicsWarning,
     SindyImpulseWarning,
-    WorkBudgetWarning,
 )
 from sindy_impulse.simulation import CompiledModel, TermTable
 
@@ -286,11 +285,12 @@ def _numbers(**kw):
         ({"fit_error": np.array([0.1, 0.01])}, {}, "doubtful", "adequacy"),
         ({"terms": TermTests(unsupported=["x1' : x0^2"])}, {}, "doubtful", "support"),
         ({"terms": TermTests(missing=["x1' : x0^3"])}, {}, "doubtful", "missing"),
-        ({"terms": TermTests(uncertainty={"x1' : x0^2 x1": 0.12})}, {}, "doubtful", "uncertain"),
+        ({"terms": TermTests(uncertainty={"x1' : x0^2 x1": 0.06})}, {}, "doubtful", "uncertain"),
         ({"terms": TermTests(alternatives=[("x1' : x1^3", "x1' : x1|x1|")])}, {}, "doubtful", "ambiguous"),
         ({}, {"clipped": 12}, "doubtful", "clipping"),
         ({}, {"relative_step": 0.05}, "doubtful", "quantisation"),
-        ({"budget": 1.02}, {}, "doubtful", "budget"),
+        ({"budget": 1.02}, {}, "ok", None),  # alone, a note
+        ({"budget": 1.02, "fit_error": np.array([0.1, 0.01])}, {}, "doubtful", "budget"),
         (
             {"fit_error": np.array([0.1, 0.01]), "noise_ratio": np.zeros(2)},
             {"noise_known": False},
@@ -309,7 +309,6 @@ def test_data_only_reasons_warn_with_a_data_warning(clean):
     d = clean[0].diagnostics_
     assert replace(d, verdict="doubtful", reasons={"clipping": "clipped"}).warning_class() is DataWarning
     assert replace(d, verdict="doubtful", reasons={"support": "s"}).warning_class() is FitWarning
-    assert replace(d, verdict="doubtful", reasons={"budget": "b"}).warning_class() is WorkBudgetWarning
 
 
 # -- SINDyFeatures ------------------------------------------------------------------------------------------

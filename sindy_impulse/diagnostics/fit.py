@@ -82,6 +82,11 @@ def _notes(estimator, checks: DataChecks, fitted: Fitted) -> dict:
             f"rest level removed before the regression ({states}): the equations are written in the "
             "deviations from it; simulate and predict take the measured states"
         )
+    if (estimator.sweep or estimator.refine) and float(getattr(estimator, "budget_used_", 0.0)) >= 1.0:
+        notes["budget"] = (
+            "the simulation work budget ran out: the sweep or the refinement was cut short; the checks "
+            "judge the model it gave"
+        )
     if any(oscilations > AUTO_PERIODS for oscilations in _periods(fitted)):
         notes["segments"] = "long record: the fit error restarts the simulation every 8 periods"
     return notes

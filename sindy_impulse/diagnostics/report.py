@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..exceptions import DataWarning, FitWarning, NoDynamicsWarning, WorkBudgetWarning
+from ..exceptions import DataWarning, FitWarning, NoDynamicsWarning
 
 __all__ = ["FitDiagnostics", "VERDICTS"]
 
@@ -123,8 +123,6 @@ class FitDiagnostics:
             return None
         if self.verdict == "no dynamics":
             return NoDynamicsWarning
-        if set(self.reasons) == {"budget"}:
-            return WorkBudgetWarning
         return DataWarning if set(self.reasons) <= DATA_REASONS else FitWarning
 
     def warn(self, stacklevel: int = 2, skip: frozenset = frozenset()) -> None:

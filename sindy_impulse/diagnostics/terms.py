@@ -21,8 +21,9 @@ leaves systematic differences a flexible model could follow. The noise level is 
 (floored by what the filter removed and by ``NOISE_FLOOR``). The initial state of every simulated segment is
 refitted with the coefficients (a filtered first sample is off by about the noise, and a term that makes up
 for it would look needed). The relative standard error of each coefficient, ``sqrt((J'J)^-1)`` over its
-value, comes with them. The simulations are counted against a work budget (:data:`WORK_FRACTION` of a
-fit's).
+value times the correlation inflation of the model's residual (:func:`correlation_inflation`: white noise
+gives 1, a systematic misfit more), comes with them. The simulations are counted against a work budget
+(:data:`WORK_FRACTION` of a fit's).
 """
 
 from __future__ import annotations
@@ -130,14 +131,17 @@ class _Sensitivity:
         centred = np.vstack(fitted.filtered) - np.median(np.vstack(fitted.filtered), axis=0)
         scale = np.sqrt(np.mean(centred**2, axis=0))
         floor = np.maximum(np.asarray(noise_ratio, float), NOISE_FLOOR) * np.where(scale > 0, scale, 1.0)
-        self.sigma = np.ones_like(floor)
+        self.sigma, self.inflation = np.ones_like(floor), 1.0
         own = self.residual(self.base_model, self.coef)
         self.r0 = None
         if own is not None:
             own = own.reshape(-1, scale.size)
             self.sigma = np.maximum(floor, np.sqrt(np.mean(own**2, axis=0)))
+            inflation = correlation_inflation(own)
             if not raw:  # compared with filtered states: correlated errors count fewer independent samples
-                self.sigma = self.sigma * np.sqrt(correlation_inflation(own))
+                self.sigma = self.sigma * np.sqrt(inflation)
+            else:  # white noise plus what the model misses: the standard errors count the latter's samples
+                self.inflation = float(np.max(inflation))
             self.r0 = (own / self.sigma).ravel()
 
     def model(self, columns):
@@ -258,7 +262,7 @@ def _drops(fitted, s, active, gram, base):
     for n, (i, j) in enumerate(active):
         value = -s.coef[i, j] / s.steps[i, j]  # the coefficient in units of its step, removed
         stats[_name(fitted, i, j)] = gram.ssr(everything[everything != n], (n, value)) - base
-        uncertainty[_name(fitted, i, j)] = float(np.sqrt(max(cov[n], 0.0)) / abs(value))
+        uncertainty[_name(fitted, i, j)] = float(np.sqrt(max(cov[n], 0.0) * s.inflation) / abs(value))
     return stats, uncertainty
 
 
