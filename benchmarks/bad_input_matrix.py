@@ -280,6 +280,8 @@ def _features_and_plain():
     # PySINDy solves states too small for double precision (x' = 0): plain mode warns, it does not refuse
     yield _case("plain", "1e-200", {"scale": 1e-200}, _warn(match="rescale"), params=plain)
     yield _case("plain", "1e200", {"scale": 1e200}, _raise("ValueError", "rescale"), params=plain)
+    for n in (5, 10):  # too short for TVRegDiff: PySINDy's finite differences, with a warning
+        yield _case("plain", f"n={n}", {"n": n}, _warn("DataWarning", "finite differences"), params=plain)
 
 
 def _calls():

@@ -216,7 +216,8 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         data = as_trajectories(x, t, u, default_dt=1.0 if self.dt is None else self.dt, min_samples=3)
         self._resolve_components()
         if x_dot is None:
-            filtered, derivs = differentiate(self.differentiation_method_, data.x, data.t)
+            plain = not (self.sweep or self.refine)  # too short for the method: finite differences
+            filtered, derivs = differentiate(self.differentiation_method_, data.x, data.t, plain)
         else:  # known derivatives: the measured states are the filtered ones
             filtered, derivs = [xi.copy() for xi in data.x], check_derivatives(x_dot, data)
         level = screen_states(self, data, filtered)  # data checks; a ring-down's rest level (0: none)

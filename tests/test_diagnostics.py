@@ -137,6 +137,14 @@ def test_plain_mode_accepts_states_too_small_and_says_to_rescale():
     assert len(caught) == 1 and "rescale x" in str(caught[0].message)
 
 
+def test_plain_mode_fits_records_too_short_for_tvregdiff():
+    with pytest.warns(DataWarning, match="finite differences") as caught:
+        model = ImpulseSINDy(sweep=False, refine=False).fit(RING.x[:10], t=RING.t[:10])
+    assert model.diagnostics_.verdict != "ok" and caught[0].filename == __file__
+    with pytest.raises(ValueError, match="at least 13"):
+        ImpulseSINDy().fit(RING.x[:10], t=RING.t[:10])
+
+
 def test_clipped_samples_are_left_out_of_the_fit():
     ring = damped_oscillator(snr_db=40, random_state=10)
     x = np.clip(ring.x, -0.5 * np.abs(ring.x).max(axis=0), 0.5 * np.abs(ring.x).max(axis=0))
