@@ -220,6 +220,9 @@ def run_case(case: dict, tolerance: float = 0.1) -> dict:
             condition=float(d.condition_number),
             budget=float(d.budget_used),
             terms=int(model.complexity),
+            uncertainty=max(
+                [u for k, u in d.term_uncertainty.items() if k not in d.unsupported_terms], default=0.0
+            ),
         )
     except (ValueError, TypeError) as err:
         out.update(kind="refusal", error=f"{type(err).__name__}: {err}")

@@ -60,6 +60,8 @@ def _model_checks(fitted: Fitted, checks: DataChecks, notes: dict) -> dict:
         m["terms"] = _guarded(
             lambda: _terms(fitted, checks, notes), notes, "terms", "term tests", TermTests()
         )
+        if "terms" in notes:  # stopped or skipped: the model's own terms without a drop test
+            m["untested"] = int(np.count_nonzero(fitted.coef)) - len(m["terms"].statistics)
     frequency = _guarded(
         lambda: frequency_agreement(fitted, checks, residuals), notes, "frequency", "frequency check", None
     )
