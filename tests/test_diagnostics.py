@@ -293,7 +293,7 @@ def _numbers(**kw):
         ({"fit_error": np.array([0.1, 0.01])}, {}, "doubtful", "adequacy"),
         ({"terms": TermTests(unsupported=["x1' : x0^2"])}, {}, "doubtful", "support"),
         ({"terms": TermTests(missing=["x1' : x0^3"])}, {}, "doubtful", "missing"),
-        ({"terms": TermTests(uncertainty={"x1' : x0^2 x1": 0.04})}, {}, "doubtful", "uncertain"),
+        ({"terms": TermTests(uncertainty={"x1' : x0^2 x1": 0.05})}, {}, "doubtful", "uncertain"),
         ({"terms": TermTests(alternatives=[("x1' : x1^3", "x1' : x1|x1|")])}, {}, "doubtful", "ambiguous"),
         ({}, {"clipped": 12}, "doubtful", "clipping"),
         ({}, {"relative_step": 0.05}, "doubtful", "quantisation"),
