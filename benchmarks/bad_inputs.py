@@ -26,6 +26,14 @@ trajectories, simulation from far states, SINDyFeatures on noise, plain PySINDy 
 bad inputs (types, shapes, time vectors, parameters, unfitted models). The case definitions are in
 :mod:`bad_input_matrix` (the list) and :mod:`bad_input_cases` (data, actions, scikit-learn style calls);
 ``tests/test_bad_inputs.py`` runs a representative part of them.
+
+Figures (``python benchmarks/bad_inputs.py --jobs 2``, 2 shared cores, wall time 2 min, median case 0.2 s,
+longest 15 s; hard limit 120 s per case)::
+
+    418 cases: expected 416, warned 0, refused 2, silent wrong 0, crash 0, hang 0
+
+The 2 refusals are records of 10 and 20 samples with the default sweep (a clear ValueError: too few
+samples for TVRegDiff or for the library); in plain mode such records are fitted with a warning.
 """
 
 from __future__ import annotations

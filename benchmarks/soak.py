@@ -31,6 +31,25 @@ no-dynamics warning). The report gives the true-structure rate per SNR band, the
 without a warning (target <= 1 % of all cases) and of right answers with one (target <= 5 % of the
 right answers). Every fit runs in a worker process under a hard time limit (a hang is reported, the
 worker replaced); 0 crashes and 0 hangs are required.
+
+Figures (2 worker processes on 2 shared cores, 12 min per 1000 fits, median fit 0.7 s):
+
+``python benchmarks/soak.py --n 1000 --seed 1000`` (seeds 1000-1999, not used to choose any threshold)::
+
+    1000 cases: ok 1000, refusal 0, crash 0, hang 0
+    true structure / right   clean 160/177 (90.4 %) / 90.4 %     40-60 dB 307/366 (83.9 %) / 83.9 %
+                             25-40 dB 173/268 (64.6 %) / 61.6 %  15-25 dB 73/189 (38.6 %) / 33.9 %
+    verdict ok 677 (670 right, 7 wrong), doubtful 267 (23 right), unreliable 32 (3 right),
+            no dynamics 24 (0 right)
+    wrong without a warning 7/1000 (0.7 %): 5 weak x^2 v damping terms missed at 15-17 dB, 2 weak
+            quadratic/cubic coefficients 10-13 % off at 26-28 dB
+    warned although right 26/696 (3.7 %): 22 uncertain coefficient, 3 frequency, 1 spikes, 1 ambiguous
+
+``python benchmarks/soak.py --n 1000`` (seeds 0-999, on which ``UNCERTAINTY_LIMIT`` was chosen from the
+recorded uncertainties; run with 0.03): true structure clean 90.2 %, 40-60 dB 83.5 %, 25-40 dB 67.6 %,
+15-25 dB 37.4 %; wrong without a warning 6/1000 (0.6 %), warned although right 41/688 (6.0 %); the
+recorded uncertainties give 10 / 32 at 0.035. The structure rates are the identification's (the
+diagnostics do not change the model); 2-DOF chains with a cubic library are the weakest (35-44 %).
 """
 
 from __future__ import annotations
