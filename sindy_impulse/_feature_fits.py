@@ -53,6 +53,8 @@ def _fit_one(estimator, series, dt):
                 raise FloatingPointError("the reconstructed model diverges when simulated")
             if not np.any(coef):
                 raise ValueError("no dynamics found: every coefficient is zero")
+            if getattr(getattr(model, "diagnostics_", None), "verdict", None) == "no dynamics":  # noise
+                raise ValueError("no dynamics found: " + "; ".join(model.diagnostics_.reasons.values()))
             return coef.ravel(), None
         except Exception as err:  # noqa: BLE001 - a failed series must never abort the batch
             notes = "; ".join(dict.fromkeys(str(w.message) for w in caught))

@@ -21,8 +21,9 @@ from ._components import ComponentsMixin
 from ._fitted import FittedModelMixin, SweepPath, fresh_measure
 from ._params import HasMethods, Interval, Satisfies, validate_params
 from ._trajectories import as_trajectories, check_derivatives, refuse_unsupported
+from .diagnostics import at_rest_level, diagnose_fit, leave_out_clipped, screen_states
 from .differentiation import differentiate
-from .exceptions import DataWarning, NoDynamicsWarning, WorkBudgetWarning
+from .exceptions import DataWarning, NoDynamicsWarning
 from .feature_library.terms import library_terms
 from .optimizers import candidate_path
 from .refinement import refine
@@ -205,7 +206,9 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         (v)' = -64.02 x + -0.80 v +  1.00 f
         """
         with threadpool_limits(limits=1):  # small matrices: one BLAS thread is faster, and reproducible
-            return self._fit(x, t, x_dot, u, feature_names)
+            self._fit(x, t, x_dot, u, feature_names)
+            self.diagnostics_ = diagnose_fit(self, stacklevel=2)  # the verdict; warns once if not "ok"
+        return self
 
     def _fit(self, x, t, x_dot, u, feature_names):
         validate_params(self)
@@ -213,19 +216,22 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         data = as_trajectories(x, t, u, default_dt=1.0 if self.dt is None else self.dt, min_samples=3)
         self._resolve_components()
         if x_dot is None:
-            filtered, derivs = differentiate(self.differentiation_method_, data.x, data.t)
+            plain = not (self.sweep or self.refine)  # too short for the method: finite differences
+            filtered, derivs = differentiate(self.differentiation_method_, data.x, data.t, plain)
         else:  # known derivatives: the measured states are the filtered ones
             filtered, derivs = [xi.copy() for xi in data.x], check_derivatives(x_dot, data)
-        theta, y = self._regression(filtered, data, derivs)
+        level = screen_states(self, data, filtered)  # data checks; a ring-down's rest level (0: none)
+        derivs = leave_out_clipped(self, data, derivs)  # clipped samples out of the regression
+        theta, y = self._regression([f - level for f in filtered], data, derivs)
         self._record_data(data, filtered, feature_names, theta.shape[1])
         thresholds, candidates = candidate_path(self.optimizer_, theta, y, self.sweep)
         terms = library_terms(self.feature_library_, data.n_states + data.n_inputs)
-        reference = filtered[0] if len(filtered) == 1 else np.vstack(filtered)
         reference_u = None if data.u is None else np.vstack(data.u)
-        reference = Reference(np.vstack(filtered), reference_u, data.n_inputs)  # once for every model
+        reference = Reference(np.vstack(filtered) - level, reference_u, data.n_inputs)  # once for every model
 
         def compile_(coef):
-            return compile_model(coef, terms, reference, self.divergence_factor, reference_u, data.n_inputs)
+            model = compile_model(coef, terms, reference, self.divergence_factor, reference_u, data.n_inputs)
+            return at_rest_level(model, level)  # equations in x - level, states as measured
 
         measure = fresh_measure(self.error_measure, filtered)
         if not (self.sweep or self.refine):  # plain PySINDy: one model, no simulation
@@ -245,15 +251,7 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
             int(sum(f.size for f in filtered)),
             measure.floor,
         )
-        self.budget_used_ = budget.used
-        if budget.exhausted:
-            warnings.warn(
-                "the simulation work budget of the fit ran out (long record or large library): some dense "
-                "candidates were not simulated or the refinement stopped early; the model may be less "
-                "accurate (see sindy_impulse.simulation.WORK_BUDGET)",
-                WorkBudgetWarning,
-                stacklevel=3,
-            )
+        self.budget_used_ = budget.used  # a budget that ran out is a reason of the verdict (diagnostics_)
         return self._keep(candidates, thresholds, index, coef, compile_, measure, history, scores, score)
 
     def _regression(self, filtered, data, derivs):
@@ -292,7 +290,7 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
 
     def _refined(self, coef, score, compile_, measure, budget):
         """The candidate refined on the measure (paper section 2.5); never worse than unrefined."""
-        if not self.refine:
+        if not self.refine or self._screening.excluded:  # refining would fit the clipped stretches
             return coef, score, {"score": [], "coefficients": []}
         res = refine(compile_(coef), measure, self.bound_factor, self.refine_max_iter, budget=budget)
         if not res.score <= score:

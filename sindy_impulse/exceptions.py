@@ -14,7 +14,9 @@ DataWarning                    the input is doubtful: offset, clipping, quantisa
                                channels, too few periods or samples per period, pure noise
 FitWarning                     the fitted model is doubtful: poor fit, frequencies not in the data
 NoDynamicsWarning              no deterministic dynamics found (a ``FitWarning``)
-WorkBudgetWarning              the deterministic simulation budget ran out (a ``FitWarning``)
+WorkBudgetWarning              the deterministic simulation budget ran out (a ``FitWarning``; ``fit``
+                               reports it in ``diagnostics_.notes``, and in the warning of a verdict
+                               that is not "ok")
 DivergenceWarning              a simulation left the admissible range (rows after it are NaN)
 ModalWarning                   modal parameters asked of a model its linear part does not describe
 =============================  ==========================================================================

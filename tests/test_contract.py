@@ -893,10 +893,11 @@ def test_optimizer_failure_keeps_the_unrefined_model(monkeypatch):
 def test_work_budget_bounds_a_fit(monkeypatch):
     monkeypatch.setattr(budget_module, "WORK_BUDGET", 2e5)
     t, x, _ = damped_oscillator(snr_db=30, random_state=0)
-    with pytest.warns(RuntimeWarning, match="work budget of the fit ran out"):
-        model = ImpulseSINDy().fit(x, t=t)
-    # the work stops at the budget (overdrawn by one simulation at most), not after it
+    model = ImpulseSINDy().fit(x, t=t)
+    # the work stops at the budget (overdrawn by one simulation at most), not after it; the diagnostics say
+    # so (a warning only with a doubtful verdict: the checks judge the model the budget gave)
     assert 1.0 < model.budget_used_ <= 1.5
+    assert "work budget ran out" in model.diagnostics_.notes["budget"]
     assert np.isfinite(model.gamma_) and model.complexity > 0
 
 

@@ -66,6 +66,13 @@ def test_each_mode_carries_the_model_and_what_it_was_fitted_on(two_modes):
     assert mode.model.feature_names_ == ["y", "dy"]
 
 
+def test_each_mode_carries_the_diagnostics_of_its_identification(two_modes):
+    _, survey = two_modes
+    for mode in survey.modes:
+        assert mode.diagnostics is mode.model.diagnostics_
+        assert mode.diagnostics.verdict == "ok", mode.diagnostics.summary()
+
+
 def test_table_and_repr(two_modes):
     _, survey = two_modes
     rows = survey.table()

@@ -6,13 +6,36 @@ the diagnostics -- calls :func:`differentiate`, so they all see the data exactly
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
+import pysindy as ps
 from pysindy.utils import AxesArray
+
+from ..exceptions import DataWarning
 
 __all__ = ["differentiate"]
 
 
-def differentiate(method, trajectories, times) -> tuple[list[np.ndarray], list[np.ndarray]]:
+def _for_short_records(method, trajectories, stacklevel: int):
+    """``method``, or PySINDy's finite differences (with a DataWarning) when a trajectory is shorter than
+    ``method`` needs (plain PySINDy mode accepts what PySINDy accepts)."""
+    needed = getattr(method, "_min_samples", None)
+    shortest = min(x.shape[0] for x in trajectories)
+    if needed is None or shortest >= needed():
+        return method
+    warnings.warn(
+        f"{shortest} samples are too few for {type(method).__name__} (it needs {needed()}): the derivatives "
+        "are PySINDy's finite differences, unfiltered; use a longer record",
+        DataWarning,
+        stacklevel=stacklevel + 1,
+    )
+    return ps.FiniteDifference()
+
+
+def differentiate(
+    method, trajectories, times, short_fallback: bool = False
+) -> tuple[list[np.ndarray], list[np.ndarray]]:
     """Filtered states and derivatives of each trajectory.
 
     Parameters
@@ -22,6 +45,9 @@ def differentiate(method, trajectories, times) -> tuple[list[np.ndarray], list[n
         PySINDy and the paper's section 2.3 (the time-integrated regularized derivative).
     trajectories : list of ndarray (n_i, n_states)
     times : list of ndarray (n_i,)
+    short_fallback : bool, default=False
+        Use finite differences, with a warning, when a trajectory is too short for ``method`` (instead of
+        its ValueError): plain PySINDy mode.
 
     Returns
     -------
@@ -37,6 +63,8 @@ def differentiate(method, trajectories, times) -> tuple[list[np.ndarray], list[n
     >>> filtered[0].shape, derivs[0].shape
     ((401, 2), (401, 2))
     """
+    if short_fallback:
+        method = _for_short_records(method, trajectories, stacklevel=4)  # the caller of fit
     filtered, derivs = [], []
     for xi, ti in zip(trajectories, times):
         d = np.asarray(method(AxesArray(xi, {"ax_time": 0, "ax_coord": 1}), ti), dtype=float)

@@ -52,6 +52,8 @@ class Mode:
         Interquartile range of the hits' values (0 for one hit).
     coordinate_ : int
         The measured coordinate among the states (0: ``y``), read by :func:`analysis.backbone`.
+    diagnostics : FitDiagnostics
+        The verdict of the mode's identification, with its reasons (:attr:`model`'s ``diagnostics_``).
     """
 
     frequency_hz: float
@@ -75,6 +77,15 @@ class Mode:
     def damped_frequency_hz(self) -> float:
         """``frequency_hz * sqrt(1 - damping_ratio**2)``."""
         return self.frequency_hz * math.sqrt(max(1.0 - self.damping_ratio**2, 0.0))
+
+    @property
+    def diagnostics(self):
+        """The checks and verdict of the mode's identification (the model's
+        :class:`~sindy_impulse.diagnostics.FitDiagnostics`: fit error, terms, frequencies, data problems).
+
+        A doubtful or unreliable verdict has already warned during :func:`~sindy_impulse.identify_modes`.
+        """
+        return getattr(self.model, "diagnostics_", None)
 
     @cached_property
     def backbone(self):

@@ -1,0 +1,210 @@
+"""Checks of a fitted model against its data: simulation error, frequencies against the data's spectral
+peaks, conditioning of the selected terms (the terms themselves: :mod:`.terms`).
+
+Each function returns numbers; :mod:`.verdict` words them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from pysindy.utils import AxesArray
+
+from ..analysis.modal import MIN_LINEAR_SHARE, model_modes
+from ..preprocessing.spectrum import spectral_peaks
+from ..simulation.scoring import AUTO_PERIODS, Segmented, oscillation_count
+
+__all__ = [
+    "Fitted",
+    "segments",
+    "simulate_residuals",
+    "simulation_residuals",
+    "fit_error",
+    "regression",
+    "frequency_agreement",
+    "support_condition",
+]
+
+#: Peaks this far (dB) below the data's highest are not checked (weak harmonics, noise).
+STRONG_DB = 30.0
+#: Segment length (periods) of the restarted simulations of long records.
+SEGMENT_PERIODS = 8.0
+#: Segment length (periods) for records that do not ring down (sustained or chaotic oscillation: a
+#: simulation's phase, or its trajectory on a chaotic attractor, is lost within a few periods).
+SUSTAINED_PERIODS = 1.0
+
+
+class Fitted:
+    """What the checks read from a fitted estimator, as lists over trajectories (measured coordinates).
+
+    ``rings_down``: whether the data decay (then long simulations are informative); sets the segments.
+    """
+
+    def __init__(self, estimator, rings_down: bool = True):
+        def as_list(v):
+            return v if isinstance(v, list) else [v]
+
+        self.model = estimator.model_
+        self.filtered = [np.asarray(f, dtype=float) for f in as_list(estimator.x_filtered_)]
+        self.times = [np.asarray(t, dtype=float) for t in as_list(estimator.t_)]
+        u = getattr(estimator, "u_", None)
+        self.inputs = [None] * len(self.filtered) if u is None else [np.asarray(v, float) for v in as_list(u)]
+        self.coef = np.asarray(estimator.coef_, dtype=float)
+        self.estimator = estimator
+        self.segment_periods = SEGMENT_PERIODS if rings_down else SUSTAINED_PERIODS
+        self.starts = [_starts(ref, t, self.segment_periods) for ref, t in zip(self.filtered, self.times)]
+
+
+def _starts(reference: np.ndarray, t: np.ndarray, periods: float) -> np.ndarray:
+    """First sample of each simulated segment: one simulation for short ring-downs, restarts every
+    ``periods`` periods for long ones and for sustained oscillations."""
+    limit = AUTO_PERIODS if periods == SEGMENT_PERIODS else 2 * periods
+    if oscillation_count(reference) <= limit:
+        return np.zeros(1, dtype=np.int64)
+    return Segmented(segment_periods=periods).prepare(reference, t)[0]
+
+
+def segments(fitted: Fitted) -> list[np.ndarray]:
+    """Per trajectory, the first sample of each simulated segment (see :func:`simulate_residuals`)."""
+    return fitted.starts
+
+
+def simulate_residuals(model, fitted: Fitted, coef=None, start_offset=None) -> list[np.ndarray]:
+    """Per trajectory, ``model``'s simulation minus the filtered states (NaN where it diverged).
+
+    Ring-downs of more than ``AUTO_PERIODS`` periods are simulated in segments of ``SEGMENT_PERIODS``
+    periods, each from the filtered state at its start (phase drift over hundreds of periods is not an
+    error of the model's structure); data that do not ring down (a limit cycle, a chaotic attractor) in
+    segments of ``SUSTAINED_PERIODS``. ``coef`` replaces the model's active coefficients; ``start_offset``
+    (n_states,) is added to every segment's initial state.
+    """
+    extra = {} if coef is None else {"coef": coef}
+    out = []
+    for ref, t, u, starts in zip(fitted.filtered, fitted.times, fitted.inputs, segments(fitted)):
+        ends = np.append(starts[1:], ref.shape[0] - 1)
+        sim = np.full_like(ref, np.nan)
+        for a, b in zip(starts, ends):
+            inputs = None if u is None else u[a : b + 1]
+            x0 = ref[a] if start_offset is None else ref[a] + start_offset
+            sim[a : b + 1] = model.simulate(x0, t[a : b + 1], u=inputs, **extra)
+        out.append(sim - ref)
+    return out
+
+
+def simulation_residuals(fitted: Fitted) -> list[np.ndarray]:
+    """The fitted model's :func:`simulate_residuals`."""
+    return simulate_residuals(fitted.model, fitted)
+
+
+def fit_error(residuals, fitted: Fitted, level: np.ndarray) -> np.ndarray:
+    """Per state: RMS of the simulation's deviation over the RMS of the filtered state about its level
+    (inf where the simulation diverged)."""
+    r = np.vstack(residuals)
+    x = np.vstack(fitted.filtered) - level
+    den = np.sqrt(np.mean(x**2, axis=0))
+    err = np.sqrt(np.mean(r**2, axis=0))
+    err = np.where(np.all(np.isfinite(r), axis=0), err, np.inf)
+    return np.where(den > 0, err / np.where(den > 0, den, 1.0), np.where(err > 0, np.inf, 0.0))
+
+
+def _derivative(x: np.ndarray, t: np.ndarray, order: int) -> np.ndarray:
+    """Central differences of second or fourth order (uniform ``t``; second order otherwise), NaN ends."""
+    steps = np.diff(t)
+    if order == 2 or x.shape[0] < 5 or np.ptp(steps) > 1e-6 * np.mean(steps):
+        return np.gradient(x, t, axis=0)
+    out = np.full_like(x, np.nan)
+    out[2:-2] = (x[:-4] - 8 * x[1:-3] + 8 * x[3:-1] - x[4:]) / (12 * np.mean(steps))
+    return out
+
+
+def regression(fitted: Fitted, shift: np.ndarray, order: int = 2):
+    """Library matrix on the (shifted) filtered states and their derivatives by central differences."""
+    library = fitted.estimator.feature_library_
+    joined = [
+        f - shift if u is None else np.hstack([f - shift, u]) for f, u in zip(fitted.filtered, fitted.inputs)
+    ]
+    theta = library.transform([AxesArray(j, {"ax_time": 0, "ax_coord": 1}) for j in joined])
+    theta = np.vstack([np.asarray(th) for th in theta])
+    y = np.vstack([_derivative(f, t, order) for f, t in zip(fitted.filtered, fitted.times)])
+    return theta, y
+
+
+def _explained(base: np.ndarray, order: int = 3) -> np.ndarray:
+    """Frequencies a model's response may show: sums and differences of up to ``order`` of its own
+    frequencies (harmonics and intermodulation products of a nonlinear model)."""
+    base = np.unique(np.round(base, 9))[:6]
+    grids = np.meshgrid(*[np.arange(-order, order + 1)] * base.size, indexing="ij")
+    n = np.stack([g.ravel() for g in grids], axis=1)
+    n = n[(np.abs(n).sum(axis=1) <= order) & (np.abs(n).sum(axis=1) > 0)]
+    combos = n @ base
+    return np.unique(combos[combos > 0])
+
+
+def _response_peaks(fitted: Fitted, residuals) -> np.ndarray:
+    """Spectral peaks of the model's simulated response (first trajectory, every state)."""
+    sim = residuals[0] + fitted.filtered[0]
+    t = fitted.times[0]
+    if sim.shape[0] < 128 or not np.all(np.isfinite(sim)):
+        return np.empty(0)
+    fs = (t.size - 1) / float(t[-1] - t[0])
+    out = []
+    for j in range(sim.shape[1]):
+        y = sim[:, j] - np.mean(sim[int(0.75 * sim.shape[0]) :, j])
+        if np.ptp(y) > 0:
+            out.extend(spectral_peaks(y, fs, f_range=(2 * fs / y.size, 0.45 * fs)).frequency_hz.tolist())
+    return np.asarray(out)
+
+
+def frequency_agreement(fitted: Fitted, checks, residuals):
+    """The model's damped modal frequencies and how far the data's spectral peaks are from the model's.
+
+    The frequencies a model explains are its damped modal frequencies ``f_n sqrt(1 - zeta^2)``, the
+    spectral peaks of its simulated response (a weakly nonlinear model rings at amplitude-dependent
+    frequencies), and their sums and differences of up to third order (harmonics, intermodulation). Each
+    significant peak of the measured states (:class:`~sindy_impulse.diagnostics.data.DataChecks`) within
+    ``STRONG_DB`` of the highest must lie on one within the larger of 5 % and its half-power width, and
+    the highest on a modal frequency or a peak of the response. Skipped (NaN) when the model's linear
+    part does not describe it (:data:`~sindy_impulse.analysis.modal.MIN_LINEAR_SHARE`) or no peak stands
+    out of the noise.
+
+    Returns
+    -------
+    model_hz : ndarray
+    mismatch : float
+        Worst relative distance of a peak to the nearest frequency the model explains (NaN: skipped).
+    disagree : bool
+        A peak lies beyond its tolerance.
+    share : float
+        The model's linear share (:func:`~sindy_impulse.analysis.modal.linear_share`).
+    """
+    modes, share = model_modes(fitted.estimator)
+    model_hz = modes.frequencies_hz * np.sqrt(np.clip(1 - modes.damping_ratios**2, 0, None))
+    peaks = checks.peaks_hz
+    if peaks.size == 0 or not share >= MIN_LINEAR_SHARE:
+        return model_hz, float("nan"), False, share
+    response = _response_peaks(fitted, residuals)
+    own = np.concatenate([model_hz, response])
+    if own.size == 0:
+        return model_hz, float("inf"), True, share
+    explained = _explained(own)
+    tol = np.maximum(0.05, checks.peak_widths_hz / peaks)
+    top = int(np.argmax(checks.peak_heights_db))
+    strong = checks.peak_heights_db >= checks.peak_heights_db[top] - STRONG_DB
+    miss = np.array([np.min(np.abs(explained / f - 1)) for f in peaks])
+    fundamental = float(np.min(np.abs(own / peaks[top] - 1)))
+    disagree = bool(np.any((miss > tol) & strong) or fundamental > tol[top])
+    return model_hz, float(max(np.max(np.where(strong, miss, 0.0)), fundamental)), disagree, share
+
+
+def support_condition(fitted: Fitted, shift: np.ndarray) -> float:
+    """Condition number of the library columns of the model's terms (each scaled to unit norm)."""
+    active = np.flatnonzero(np.any(fitted.coef != 0, axis=0))
+    if active.size < 2:
+        return 1.0
+    theta, _ = regression(fitted, shift)
+    cols = theta[:, active]
+    cols = cols[np.all(np.isfinite(cols), axis=1)]
+    norms = np.linalg.norm(cols, axis=0)
+    if cols.shape[0] < active.size or not np.all(norms > 0):
+        return np.inf
+    singular = np.linalg.svd(cols / norms, compute_uv=False)
+    return float(singular[0] / singular[-1]) if singular[-1] > 0 else np.inf

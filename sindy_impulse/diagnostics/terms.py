@@ -1,0 +1,321 @@
+"""Which terms the data support: the model's neighbourhood, tested by linearised simulation.
+
+Around the fitted coefficients the simulation is linearised: ``r(b + d) ~ r0 + J d``, where ``r0`` is the
+model's simulation minus the measured states (each state in units of its noise level) and ``J`` the
+sensitivity of the simulation to each coefficient of the model and to each library term it lacks (finite
+differences: one simulation per coefficient). Every neighbouring support is then refitted by linear least
+squares on ``J`` (Gauss-Newton from the fitted model), and its least squared error compared with the
+model's own support refitted the same way:
+
+- **drop** a term (its coefficient forced to 0, the others refitted): a rise below :data:`SUPPORT_CHI2`
+  (the 0.1 % point of a chi-square with one degree of freedom) means the data do not need the term;
+- **add** a term: a fall beyond the 0.1 % point corrected for the number of terms tried (Bonferroni)
+  means the data ask for a term the model lacks;
+- **swap** a term for another of the same equation: a rise below :data:`SUPPORT_CHI2` (or a fall) means
+  another term explains the data as well, so the data cannot tell which is right (e.g. ``v|v|``, ``v^3``
+  and ``sgn(v)`` damping on a short or noisy ring-down).
+
+These are the likelihood-ratio tests of nonlinear least squares under white Gaussian measurement noise: the
+comparison is with the measured states, whose noise is white, not with the filtered ones, whose smoothing
+leaves systematic differences a flexible model could follow. The noise level is the model's own RMS error
+(floored by what the filter removed and by ``NOISE_FLOOR``). The initial state of every simulated segment is
+refitted with the coefficients (a filtered first sample is off by about the noise, and a term that makes up
+for it would look needed). The relative standard error of each coefficient, ``sqrt((J'J)^-1)`` over its
+value times the correlation inflation of the model's residual (:func:`correlation_inflation`: white noise
+gives 1, a systematic misfit more), comes with them. The simulations are counted against a work budget
+(:data:`WORK_FRACTION` of a fit's).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.stats import chi2
+
+from ..feature_library.terms import library_terms
+from ..simulation import WORK_BUDGET, WorkBudget, compile_model
+from .model import Fitted, regression, segments, simulate_residuals
+from .rest import at_rest_level
+
+__all__ = ["TermTests", "term_tests", "SUPPORT_CHI2", "FALSE_ALARM", "WORK_FRACTION"]
+
+#: 0.1 % point of a chi-square with one degree of freedom: a change smaller than this is within the noise.
+SUPPORT_CHI2 = float(chi2.isf(1e-3, 1))
+#: False-alarm probability of the add test over all the terms tried.
+FALSE_ALARM = 1e-3
+#: Floor of the noise level relative to each state's RMS (clean data: the filter's accuracy).
+NOISE_FLOOR = 1e-4
+#: Relative size of the finite-difference steps (of a term's typical share of its equation).
+STEP = 1e-4
+#: Simulation work of the tests, as a fraction of a fit's work budget.
+WORK_FRACTION = 0.25
+#: Library terms tried per equation by the add and swap tests (the most promising ones).
+MAX_CANDIDATES = 12
+
+
+@dataclass(frozen=True)
+class TermTests:
+    """Outcome of :func:`term_tests`.
+
+    Attributes
+    ----------
+    statistics : dict
+        ``{"x1' : x0": statistic}``: drop statistic of each term of the model.
+    unsupported : list of str
+        Terms whose drop statistic is below :data:`SUPPORT_CHI2`.
+    missing : list of str
+        Terms the data ask for (add statistic beyond the corrected threshold).
+    alternatives : list of (str, str)
+        ``(term, replacement)`` pairs that explain the data as well.
+    uncertainty : dict
+        ``{term: relative standard error}`` of each coefficient.
+    complete : bool
+        False when the work budget stopped the tests (the lists cover the terms tested).
+    """
+
+    statistics: dict = field(default_factory=dict)
+    unsupported: list = field(default_factory=list)
+    missing: list = field(default_factory=list)
+    alternatives: list = field(default_factory=list)
+    uncertainty: dict = field(default_factory=dict)
+    complete: bool = True
+
+
+def correlation_inflation(residual: np.ndarray, max_lag: int = 200) -> np.ndarray:
+    """Per column, ``1 + 2 sum(rho_k)``: how much correlation between neighbouring samples inflates the
+    variance of a least-squares statistic (the sum stops at the first lag whose correlation is below 0.05).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> white = rng.standard_normal((4000, 1))
+    >>> smooth = np.convolve(white[:, 0], np.ones(10) / 10, "same")[:, None]
+    >>> bool(correlation_inflation(white)[0] < 1.2), bool(correlation_inflation(smooth)[0] > 5)
+    (True, True)
+    """
+    r = residual - residual.mean(axis=0)
+    n = r.shape[0]
+    spectrum = np.fft.rfft(r, 2 * n, axis=0)
+    acf = np.fft.irfft(np.abs(spectrum) ** 2, axis=0)[: min(max_lag, n // 4) + 1]
+    acf = acf / np.where(acf[0] > 0, acf[0], 1.0)
+    out = np.ones(r.shape[1])
+    for j in range(r.shape[1]):
+        low = np.flatnonzero(acf[1:, j] < 0.05)
+        stop = low[0] if low.size else acf.shape[0] - 1
+        out[j] = 1.0 + 2.0 * float(np.sum(acf[1 : stop + 1, j]))
+    return out
+
+
+class _Sensitivity:
+    """Residual of the model (noise units) and its sensitivity to coefficients of the library."""
+
+    def __init__(self, fitted: Fitted, shift: np.ndarray, noise_ratio: np.ndarray, raw: list):
+        est = fitted.estimator
+        self.fitted, self.coef, self.shift = fitted, fitted.coef, shift
+        self.noise = [r - f for r, f in zip(raw, fitted.filtered)] if raw else [0.0] * len(fitted.filtered)
+        self.n_inputs = 0 if fitted.inputs[0] is None else fitted.inputs[0].shape[1]
+        self.terms = library_terms(est.feature_library_, self.coef.shape[0] + self.n_inputs)
+        self.reference = np.vstack(fitted.filtered) - shift
+        self.reference_u = None if self.n_inputs == 0 else np.vstack(fitted.inputs)
+        self.divergence = float(getattr(est, "divergence_factor", 100.0))
+        self.budget = WorkBudget(WORK_FRACTION * WORK_BUDGET)
+        self.theta, self.y = regression(fitted, shift)
+        rows = np.all(np.isfinite(self.theta), axis=1) & np.all(np.isfinite(self.y), axis=1)
+        self.theta, self.y = self.theta[rows], self.y[rows]
+        typical_y = np.sqrt(np.mean(self.y**2, axis=0))
+        typical_theta = np.sqrt(np.mean(self.theta**2, axis=0))
+        ratio = typical_y[:, None] / np.where(typical_theta > 0, typical_theta, np.inf)[None, :]
+        self.steps = STEP * np.where(ratio > 0, ratio, STEP)
+        self.base_model = self.model(np.flatnonzero(np.any(self.coef != 0, axis=0)))
+        centred = np.vstack(fitted.filtered) - np.median(np.vstack(fitted.filtered), axis=0)
+        scale = np.sqrt(np.mean(centred**2, axis=0))
+        floor = np.maximum(np.asarray(noise_ratio, float), NOISE_FLOOR) * np.where(scale > 0, scale, 1.0)
+        self.sigma, self.inflation = np.ones_like(floor), 1.0
+        own = self.residual(self.base_model, self.coef)
+        self.r0 = None
+        if own is not None:
+            own = own.reshape(-1, scale.size)
+            self.sigma = np.maximum(floor, np.sqrt(np.mean(own**2, axis=0)))
+            inflation = correlation_inflation(own)
+            if not raw:  # compared with filtered states: correlated errors count fewer independent samples
+                self.sigma = self.sigma * np.sqrt(inflation)
+            else:  # white noise plus what the model misses: the standard errors count the latter's samples
+                self.inflation = float(np.max(inflation))
+            self.r0 = (own / self.sigma).ravel()
+
+    def model(self, columns):
+        """A compiled model whose active terms are ``columns`` of the library (measured coordinates)."""
+        placeholder = np.zeros_like(self.coef)  # the model's coefficients, a tiny one where a term is new
+        placeholder[:, columns] = np.where(self.coef[:, columns] != 0, self.coef[:, columns], 1e-300)
+        inner = compile_model(
+            placeholder, self.terms, self.reference, self.divergence, self.reference_u, self.n_inputs
+        )
+        return at_rest_level(inner, self.shift)
+
+    @staticmethod
+    def _at(model, coef: np.ndarray) -> np.ndarray:
+        return np.ascontiguousarray(coef[:, model.active])
+
+    def residual(self, model, coef: np.ndarray, start_offset=None):
+        """Simulation minus measured states in noise units, flattened (None if it diverged)."""
+        res = simulate_residuals(model, self.fitted, self._at(model, coef), start_offset)
+        self.budget.charge_model(model)
+        r = np.vstack([ri - ni for ri, ni in zip(res, self.noise)])
+        return (r / self.sigma).ravel() if np.all(np.isfinite(r)) else None
+
+    def start_columns(self) -> list | None:
+        """Sensitivities to the initial state of every simulated segment (one simulation per state)."""
+        n_states = self.sigma.size
+        owner, offset = [], 0
+        for ref, starts in zip(self.fitted.filtered, segments(self.fitted)):
+            rows = np.searchsorted(starts, np.arange(ref.shape[0]), side="right") - 1
+            owner.append(offset + rows)
+            offset += len(starts)
+        owner = np.repeat(np.concatenate(owner), n_states)  # flattened (sample, state) order
+        out = []
+        for j in range(n_states):
+            delta = np.zeros(n_states)
+            delta[j] = 1e-2 * self.sigma[j]  # well inside the linear range
+            r = self.residual(self.base_model, self.coef, delta)
+            if r is None:
+                return None
+            out += [np.where(owner == k, r - self.r0, 0.0) for k in range(offset)]
+        return out
+
+    def column(self, i: int, j: int):
+        """Sensitivity of the residual to coefficient (i, j), per step (None if diverged or over budget)."""
+        if self.budget.exhausted:
+            return None
+        used = np.any(self.coef != 0, axis=0)
+        model = self.base_model if used[j] else self.model(np.flatnonzero(used | (np.arange(used.size) == j)))
+        trial = self.coef.copy()
+        trial[i, j] += self.steps[i, j]
+        r = self.residual(model, trial)
+        return None if r is None else r - self.r0
+
+    def candidates(self, support: np.ndarray) -> list:
+        """The library terms missing from each equation, the most promising first: at most
+        :data:`MAX_CANDIDATES` per equation, ranked by how much each would reduce the equation's
+        least-squares residual on the derivatives."""
+        out = []
+        for i in range(support.shape[0]):
+            cols = np.flatnonzero(support[i])
+            base = self.theta[:, cols]
+            resid = self.y[:, i]
+            if cols.size:
+                resid = resid - base @ np.linalg.lstsq(base, resid, rcond=None)[0]
+            gains = []
+            for k in np.flatnonzero(~support[i]):
+                col = self.theta[:, k]
+                if cols.size:
+                    col = col - base @ np.linalg.lstsq(base, col, rcond=None)[0]
+                norm = float(col @ col)
+                gains.append(((resid @ col) ** 2 / norm if norm > 0 else 0.0, int(k)))
+            out += [(i, k) for _, k in sorted(gains, reverse=True)[:MAX_CANDIDATES]]
+        return out
+
+
+class _Gram:
+    """Least squares of ``r0 + J d`` on subsets of the columns of ``J``, from its Gram matrix: each test
+    is then algebra on a matrix of the model's size, not on the samples."""
+
+    def __init__(self, r0: np.ndarray, columns: list):
+        self.J = np.column_stack(columns)
+        self.r0 = r0
+        self.G = self.J.T @ self.J
+        self.b = self.J.T @ r0
+        self.rr = float(r0 @ r0)
+
+    def extended(self, column: np.ndarray):
+        """Gram matrix and right-hand side with one more column (it is the last)."""
+        cross = self.J.T @ column
+        G = np.block([[self.G, cross[:, None]], [cross[None, :], np.array([[column @ column]])]])
+        return G, np.append(self.b, column @ self.r0)
+
+    def ssr(self, keep, fix=None, G=None, b=None) -> float:
+        """Least squared residual over the columns ``keep``; ``fix=(j, v)`` holds column ``j``'s
+        coefficient at ``v`` (it then is not in ``keep``)."""
+        G = self.G if G is None else G
+        b = self.b if b is None else b
+        rr = self.rr
+        if fix is not None:
+            j, v = fix
+            rr = rr + 2 * v * b[j] + v * v * G[j, j]
+            b = b + v * G[:, j]
+        keep = np.asarray(keep, dtype=int)
+        if keep.size == 0:
+            return float(rr)
+        x = np.linalg.lstsq(G[np.ix_(keep, keep)], b[keep], rcond=None)[0]
+        return float(rr - b[keep] @ x)
+
+
+def _name(fitted: Fitted, i: int, j: int) -> str:
+    return f"{fitted.estimator.feature_names_[i]}' : {fitted.estimator.get_feature_names()[j]}"
+
+
+def _drops(fitted, s, active, gram, base):
+    """Drop statistics and relative standard errors of the active coefficients (columns 0..n-1)."""
+    stats, uncertainty = {}, {}
+    cov = np.diag(np.linalg.pinv(gram.G))
+    everything = np.arange(gram.G.shape[0])
+    for n, (i, j) in enumerate(active):
+        value = -s.coef[i, j] / s.steps[i, j]  # the coefficient in units of its step, removed
+        stats[_name(fitted, i, j)] = gram.ssr(everything[everything != n], (n, value)) - base
+        uncertainty[_name(fitted, i, j)] = float(np.sqrt(max(cov[n], 0.0) * s.inflation) / abs(value))
+    return stats, uncertainty
+
+
+def _candidate_tests(fitted, s, support, active, gram, base):
+    """Add and swap tests of the promising library terms; ``(missing, alternatives, complete)``."""
+    candidates = s.candidates(support)
+    threshold = float(chi2.isf(FALSE_ALARM / max(len(candidates), 1), 1))
+    everything = np.arange(gram.G.shape[0] + 1)
+    missing, alternatives, complete = [], [], True
+    for i, k in candidates:
+        col = s.column(i, k)
+        if col is None:
+            complete = complete and not s.budget.exhausted
+            continue
+        G, b = gram.extended(col)
+        if base - gram.ssr(everything, G=G, b=b) > threshold:
+            missing.append(_name(fitted, i, k))
+        for j in np.flatnonzero(support[i]):
+            n = active.index((i, j))
+            value = -s.coef[i, j] / s.steps[i, j]
+            if gram.ssr(everything[everything != n], (n, value), G, b) - base < SUPPORT_CHI2:
+                alternatives.append((_name(fitted, i, j), _name(fitted, i, k)))
+    return missing, alternatives, complete
+
+
+def term_tests(fitted: Fitted, shift: np.ndarray, noise_ratio: np.ndarray, raw=None) -> TermTests | None:
+    """Drop, add and swap tests around the fitted model (None when its simulation diverges).
+
+    Parameters
+    ----------
+    fitted : Fitted
+    shift : ndarray (n_states,)
+        The rest level removed before the regression.
+    noise_ratio : ndarray (n_states,)
+        RMS of (measured - filtered) over each state's RMS.
+    raw : list of ndarray, optional
+        The measured states, per trajectory (the simulations are compared with them; without them, with
+        the filtered states).
+    """
+    support = fitted.coef != 0
+    if not support.any():
+        return TermTests()
+    s = _Sensitivity(fitted, shift, noise_ratio, raw)
+    if s.r0 is None:
+        return None
+    active = list(zip(*np.nonzero(support)))
+    cols = [s.column(*a) for a in active]
+    nuisance = s.start_columns()
+    if nuisance is None or any(c is None for c in cols):
+        return TermTests(complete=False)
+    gram = _Gram(s.r0, cols + nuisance)
+    base = gram.ssr(np.arange(gram.G.shape[0]))
+    stats, uncertainty = _drops(fitted, s, active, gram, base)
+    unsupported = [t for t, v in stats.items() if v < SUPPORT_CHI2]
+    missing, alternatives, complete = _candidate_tests(fitted, s, support, active, gram, base)
+    return TermTests(stats, unsupported, missing, alternatives, uncertainty, complete)

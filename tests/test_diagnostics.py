@@ -1,0 +1,333 @@
+"""diagnostics_: the verdict of every fit, its checks, the rest level, and modal parameters one can trust."""
+
+from __future__ import annotations
+
+import pickle
+import warnings
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from sindy_impulse import ImpulseSINDy, MechanicalLibrary, SINDyFeatures, damped_oscillator
+from sindy_impulse.analysis import modal_parameters
+from sindy_impulse.analysis.modal import MIN_LINEAR_SHARE, linear_share, rest_point
+from sindy_impulse.diagnostics import VERDICTS, FitDiagnostics, clipped_rows, diagnose_fit, rest_level
+from sindy_impulse.diagnostics.data import DataChecks
+from sindy_impulse.diagnostics.rest import RestLevel
+from sindy_impulse.diagnostics.terms import TermTests
+from sindy_impulse.diagnostics.verdict import judge
+from sindy_impulse.exceptions import (
+    DataWarning,
+    FitWarning,
+    ModalWarning,
+    NoDynamicsWarning,
+    SindyImpulseWarning,
+)
+from sindy_impulse.simulation import CompiledModel, TermTable
+
+F_TRUE, ZETA_TRUE = 8.0 / (2 * np.pi), 0.2
+RING = damped_oscillator()
+OFFSET = 5 * np.abs(RING.x).max(axis=0)  # 5x the amplitude of each state
+
+
+def _fit(x, t=RING.t, **params):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        model = ImpulseSINDy(**params).fit(x, t=t)
+    return model, [w for w in caught if issubclass(w.category, SindyImpulseWarning)]
+
+
+@pytest.fixture(scope="module")
+def clean():
+    return _fit(RING.x)
+
+
+@pytest.fixture(scope="module")
+def noise():
+    return _fit(np.random.default_rng(0).standard_normal((401, 2)))
+
+
+def test_clean_fit_is_ok_and_silent(clean):
+    model, caught = clean
+    d = model.diagnostics_
+    assert isinstance(d, FitDiagnostics) and d.verdict == "ok" and d.ok
+    assert caught == [] and d.reasons == {}
+    assert d.fit_error.shape == (2,) and np.max(d.fit_error) < 1e-4
+    assert d.unsupported_terms == [] and d.missing_terms == [] and d.alternative_terms == []
+    assert d.linear_share == pytest.approx(1.0) and d.condition_number < 10
+
+
+@pytest.mark.parametrize("snr", [40, 20])
+def test_noisy_right_model_is_ok(snr):
+    model, caught = _fit(damped_oscillator(snr_db=snr, random_state=1).x)
+    assert model.diagnostics_.verdict == "ok", model.diagnostics_.summary()
+    assert caught == []
+    assert abs(model.diagnostics_.snr_db - snr) < 3
+
+
+def test_noise_only_is_no_dynamics_with_one_warning(noise):
+    model, caught = noise
+    assert model.diagnostics_.verdict == "no dynamics"
+    assert len(caught) == 1 and caught[0].category is NoDynamicsWarning
+    assert "looks like noise" in str(caught[0].message)
+
+
+def test_warning_points_at_the_callers_fit(noise):
+    _, caught = noise
+    assert caught[0].filename == __file__
+
+
+def test_offset_is_removed_and_modal_parameters_are_right():
+    for snr in (None, 30):
+        x = damped_oscillator(snr_db=snr, random_state=2).x + OFFSET
+        model, _ = _fit(x)
+        assert model.diagnostics_.offset == pytest.approx(OFFSET, rel=0.01)
+        assert "offset" in model.diagnostics_.notes
+        f, zeta = modal_parameters(model)
+        assert abs(f[0] / F_TRUE - 1) < 0.01 and abs(zeta[0] / ZETA_TRUE - 1) < 0.01
+        names = model.get_feature_names()  # the true terms; a constant may model what is left of the offset
+        used = {names[j] for j in np.flatnonzero(np.any(model.coefficients() != 0, axis=0))}
+        assert used - {"1"} == {"x0", "x1"}
+
+
+def test_offset_model_takes_measured_states():
+    model, _ = _fit(RING.x + OFFSET)
+    np.testing.assert_allclose(model.simulate(RING.x[0] + OFFSET, RING.t), RING.x + OFFSET, atol=1e-3)
+    np.testing.assert_allclose(model.predict(RING.x + OFFSET), RING.x_dot, rtol=1e-3, atol=1e-2)
+
+
+def test_offset_is_kept_in_plain_mode_and_reported():
+    x = damped_oscillator(snr_db=40, random_state=3).x + OFFSET
+    model, caught = _fit(x, sweep=False, refine=False)
+    assert not np.any(model.diagnostics_.offset)
+    assert model.diagnostics_.verdict != "ok" and caught
+
+
+def test_collinear_channels_are_unreliable():
+    x = np.column_stack([RING.x[:, 0], RING.x[:, 0] + 1e-4 * np.random.default_rng(0).standard_normal(401)])
+    model, caught = _fit(x)
+    assert model.diagnostics_.verdict == "unreliable"
+    assert "collinear" in model.diagnostics_.reasons and len(caught) == 1
+
+
+def test_clipping_is_reported():
+    x = damped_oscillator(snr_db=40, random_state=4).x
+    x[:, 0] = np.clip(x[:, 0], -0.5, 0.5)
+    model, caught = _fit(x)
+    assert "clipping" in model.diagnostics_.reasons
+    assert model.diagnostics_.clipped_samples > 0
+    assert len(caught) == 1 and "clipped" in str(caught[0].message)
+
+
+def test_plain_mode_warns_and_never_raises():
+    model, caught = _fit(np.random.default_rng(5).standard_normal((401, 2)), sweep=False, refine=False)
+    assert model.diagnostics_.verdict in ("no dynamics", "unreliable") and caught
+
+
+@pytest.mark.parametrize("scale", [1e-200, 1e300])
+def test_magnitudes_beyond_double_precision_are_refused(scale):
+    with pytest.raises(ValueError, match="rescale x"):
+        ImpulseSINDy().fit(RING.x * scale, t=RING.t)
+
+
+def test_plain_mode_accepts_states_too_small_and_says_to_rescale():
+    model, caught = _fit(RING.x * 1e-200, sweep=False, refine=False)
+    assert "scale" in model.diagnostics_.reasons
+    assert len(caught) == 1 and "rescale x" in str(caught[0].message)
+
+
+def test_plain_mode_fits_records_too_short_for_tvregdiff():
+    with pytest.warns(DataWarning, match="finite differences") as caught:
+        model = ImpulseSINDy(sweep=False, refine=False).fit(RING.x[:10], t=RING.t[:10])
+    assert model.diagnostics_.verdict != "ok" and caught[0].filename == __file__
+    with pytest.raises(ValueError, match="at least 13"):
+        ImpulseSINDy().fit(RING.x[:10], t=RING.t[:10])
+
+
+def test_clipped_samples_are_left_out_of_the_fit():
+    ring = damped_oscillator(snr_db=40, random_state=10)
+    x = np.clip(ring.x, -0.5 * np.abs(ring.x).max(axis=0), 0.5 * np.abs(ring.x).max(axis=0))
+    model, caught = _fit(x)
+    names = model.get_feature_names()
+    assert model.diagnostics_.reasons["clipping"].count("left out of the regression") == 1
+    assert len(caught) == 1 and "clipped" in str(caught[0].message)
+    assert np.count_nonzero(model.coefficients()) == 3
+    np.testing.assert_allclose(
+        model.coefficients()[1, [names.index("x0"), names.index("x1")]], [-64, -3.2], rtol=0.05
+    )
+
+
+def test_scaled_data_give_the_same_model():
+    model, caught = _fit(RING.x * 1e-120)
+    np.testing.assert_allclose(model.coefficients()[1, 1:3], [-64.0, -3.2], rtol=1e-3)
+    assert caught == []
+
+
+def test_spurious_term_is_flagged():
+    from pysindy import STLSQ
+
+    x = damped_oscillator(snr_db=30, random_state=6).x
+    model, caught = _fit(x, optimizer=STLSQ(threshold=1e-3), sweep=False, refine=False)
+    d = model.diagnostics_
+    assert np.count_nonzero(model.coefficients()) > 3
+    assert d.unsupported_terms and d.verdict == "doubtful"
+    assert caught and caught[0].category is FitWarning
+
+
+def test_fitted_estimator_pickles_with_its_diagnostics():
+    model, _ = _fit(RING.x + OFFSET)
+    again = pickle.loads(pickle.dumps(model))
+    assert again.diagnostics_.verdict == model.diagnostics_.verdict
+    np.testing.assert_allclose(
+        again.simulate(RING.x[0] + OFFSET, RING.t[:50]), RING.x[:50] + OFFSET, atol=1e-3
+    )
+
+
+def test_diagnose_fit_can_be_rerun_without_warning(noise):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        d = diagnose_fit(noise[0], warn=False)
+    assert d.verdict == "no dynamics"
+
+
+# -- modal parameters ---------------------------------------------------------------------------------------
+def test_modal_warning_for_dominant_nonlinearity():
+    t, x, x_dot = damped_oscillator(k_nl=200.0)
+    model = ImpulseSINDy().fit(x, t=t, x_dot=x_dot)
+    assert linear_share(model) < MIN_LINEAR_SHARE
+    with pytest.warns(ModalWarning, match="linear part explains"):
+        f, _ = modal_parameters(model)
+    assert f[0] == pytest.approx(F_TRUE, rel=1e-3)  # the small-amplitude limit, still returned
+
+
+def test_no_modal_warning_for_weak_nonlinearity():
+    t, x, x_dot = damped_oscillator(k_nl=5.0)
+    model = ImpulseSINDy().fit(x, t=t, x_dot=x_dot)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ModalWarning)
+        modal_parameters(model)
+
+
+def test_modal_warning_for_friction():
+    from scipy.integrate import solve_ivp
+
+    def rhs(_t, y):
+        return [y[1], -64 * y[0] - 0.5 * y[1] - 3.0 * np.tanh(y[1] / 0.05)]
+
+    x = solve_ivp(rhs, (0, 4), [1.0, 0.0], t_eval=RING.t, method="LSODA", rtol=1e-9, atol=1e-11).y.T
+    model = ImpulseSINDy(feature_library=MechanicalLibrary(degree=1)).fit(x, t=RING.t)
+    assert linear_share(model) < 0
+    with pytest.warns(ModalWarning):
+        modal_parameters(model)
+
+
+def test_rest_point_of_a_constant_term_model():
+    terms = TermTable.polynomial([[0, 0], [1, 0], [0, 1], [3, 0]])
+    model = CompiledModel([[0.0, 0.0, 1.0, 0.0], [320.0, -64.0, -3.2, 0.0]], terms)
+    np.testing.assert_allclose(rest_point(model), [5.0, 0.0], atol=1e-9)
+    f, zeta = modal_parameters(model)
+    assert f[0] == pytest.approx(F_TRUE) and zeta[0] == pytest.approx(ZETA_TRUE)
+
+
+# -- pieces -------------------------------------------------------------------------------------------------
+def test_rest_level_needs_a_ring_down_and_a_sure_offset():
+    t = np.arange(2000) * 0.01
+    sine = np.column_stack([np.sin(3 * t), np.cos(3 * t)]) + 4.0  # no decay: a mean, not a rest level
+    assert not rest_level([sine], [t]).removed.any()
+    assert rest_level([sine], [t]).sure.all()
+    short = damped_oscillator(c=0.1, t_end=1.0).x  # a quarter period of tail: no sure level
+    assert not rest_level([short], [np.arange(101) * 0.01]).removed.any()
+
+
+def test_clipped_rows_widen_the_clipped_runs():
+    x = np.column_stack([np.clip(np.sin(np.arange(200) / 5), -2, 0.9), np.cos(np.arange(200) / 5)])
+    mask = clipped_rows([x], widen=0)[0]
+    assert mask.sum() > 0 and np.all(x[mask, 0] >= 0.9 - 1e-12)
+    assert clipped_rows([x], widen=3)[0].sum() > mask.sum()
+
+
+def _checks(**kw):
+    rest = RestLevel(np.zeros(2), np.zeros(2), np.zeros(2, bool), np.zeros(2, bool), np.ones(2, bool))
+    base = dict(
+        rest=rest,
+        quality=[],
+        clipped=0,
+        relative_step=0.0,
+        noise_ratio=np.array([0.01, 0.01]),
+        state_condition=1.0,
+        collinear=(0, 1, 0.0),
+        peaks_hz=np.array([1.27]),
+    )
+    base.update(kw)
+    return DataChecks(**base)
+
+
+def _numbers(**kw):
+    base = dict(
+        zero_model=False,
+        fit_error=np.array([0.01, 0.01]),
+        noise_ratio=np.array([0.01, 0.01]),
+        disagree=False,
+        model_hz=np.array([1.27]),
+        condition=10.0,
+        terms=TermTests(),
+    )
+    base.update(kw)
+    return base
+
+
+@pytest.mark.parametrize(
+    "numbers, checks, verdict, reason",
+    [
+        ({}, {}, "ok", None),
+        ({"zero_model": True}, {}, "no dynamics", "no_dynamics"),
+        ({"fit_error": np.array([0.6, 0.6])}, {"peaks_hz": np.empty(0)}, "no dynamics", "no_dynamics"),
+        ({"noise_ratio": np.array([3.0, 2.0])}, {"peaks_hz": np.empty(0)}, "no dynamics", "no_dynamics"),
+        ({"fit_error": np.array([0.9, 0.3])}, {}, "unreliable", "fit_error"),
+        ({"fit_error": np.array([0.9, 0.8])}, {}, "no dynamics", "no_dynamics"),
+        ({"fit_error": np.array([np.inf, 0.1])}, {}, "unreliable", "divergence"),
+        ({"disagree": True}, {}, "unreliable", "frequency"),
+        ({"condition": 1e9}, {}, "unreliable", "conditioning"),
+        ({}, {"state_condition": 1e4}, "unreliable", "collinear"),
+        ({"fit_error": np.array([0.1, 0.01])}, {}, "doubtful", "adequacy"),
+        ({"terms": TermTests(unsupported=["x1' : x0^2"])}, {}, "doubtful", "support"),
+        ({"terms": TermTests(missing=["x1' : x0^3"])}, {}, "doubtful", "missing"),
+        ({"terms": TermTests(uncertainty={"x1' : x0^2 x1": 0.05})}, {}, "doubtful", "uncertain"),
+        ({"terms": TermTests(alternatives=[("x1' : x1^3", "x1' : x1|x1|")])}, {}, "doubtful", "ambiguous"),
+        ({}, {"clipped": 12}, "doubtful", "clipping"),
+        ({}, {"relative_step": 0.05}, "doubtful", "quantisation"),
+        ({"budget": 1.02}, {}, "ok", None),  # alone, a note
+        ({"untested": 40}, {}, "doubtful", "untested"),
+        ({"budget": 1.02, "fit_error": np.array([0.1, 0.01])}, {}, "doubtful", "budget"),
+        (
+            {"fit_error": np.array([0.1, 0.01]), "noise_ratio": np.zeros(2)},
+            {"noise_known": False},
+            "ok",
+            None,
+        ),
+    ],
+)
+def test_verdict_rules(numbers, checks, verdict, reason):
+    got, reasons = judge(_numbers(**numbers), _checks(**checks), ["x0", "x1"])
+    assert got == verdict and got in VERDICTS
+    assert (reason is None and not reasons) or reason in reasons
+
+
+def test_data_only_reasons_warn_with_a_data_warning(clean):
+    d = clean[0].diagnostics_
+    assert replace(d, verdict="doubtful", reasons={"clipping": "clipped"}).warning_class() is DataWarning
+    assert replace(d, verdict="doubtful", reasons={"support": "s"}).warning_class() is FitWarning
+
+
+# -- SINDyFeatures ------------------------------------------------------------------------------------------
+def test_features_flag_noise_series():
+    rng = np.random.default_rng(0)
+    rings = [damped_oscillator(k=k, snr_db=40, random_state=i).x[:, 0] for i, k in enumerate([49, 81])]
+    series = rings + [rng.standard_normal(401) for _ in range(3)]
+    features = SINDyFeatures(dt=0.01)
+    with pytest.warns(FitWarning, match="3 of 5 reconstructions failed"):
+        X = features.fit_transform(series)
+    assert sorted(features.failures_) == [2, 3, 4]
+    assert all("no dynamics" in message for message in features.failures_.values())
+    assert np.isnan(X[2:]).all() and np.isfinite(X[:2]).all()
