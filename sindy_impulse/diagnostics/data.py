@@ -12,8 +12,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..preprocessing.peaks import spectral_peaks
 from ..preprocessing.quality import LIMITS, check_quality, clipping_mask
-from ..preprocessing.spectrum import spectral_peaks
 from .rest import RestLevel, rest_level
 
 __all__ = ["DataChecks", "screen_states", "check_magnitude", "clipped_rows", "MAGNITUDE_RANGE"]

@@ -10,7 +10,7 @@ import numpy as np
 from pysindy.utils import AxesArray
 
 from ..analysis.modal import MIN_LINEAR_SHARE, model_modes
-from ..preprocessing.spectrum import spectral_peaks
+from ..preprocessing.peaks import spectral_peaks
 from ..simulation.scoring import AUTO_PERIODS, Segmented, oscillation_count
 
 __all__ = [
