@@ -147,7 +147,7 @@ def _quality(trajectories, times) -> tuple:
                 continue
             ring = y - np.mean(y[int(0.75 * y.size) :])
             try:
-                found = spectral_peaks(ring, fs, f_range=(2 * fs / y.size, 0.45 * fs))
+                found = spectral_peaks(ring, fs, f_range=(2 * fs / y.size, 0.45 * fs), refine=False)
                 report = check_quality(y, fs, peaks=found)
             except (ValueError, ArithmeticError, np.linalg.LinAlgError):  # odd records: skip the state
                 continue

@@ -219,3 +219,23 @@ def fit_peaks(y, fs: float, spectrum: Spectrum, lo: float, hi: float, threshold_
         extra = np.concatenate([extra[keep], np.zeros(new_f.size)])
         tried = np.concatenate([tried, new_f])
     return _result(spectrum, fit, heights, keep, residual_spectrum)
+
+
+def spectrum_peaks(spectrum: Spectrum, lo: float, hi: float, threshold_db: float,
+                   prominence_db: float = 3.0) -> ModeCandidates:
+    """The spectrum's significant peaks as mode candidates, without the damped-sinusoid test of
+    :func:`fit_peaks` (decay rates from the half-power widths): a quick look at where a signal's energy is,
+    for checks that run on every fit (:mod:`sindy_impulse.diagnostics`).
+
+    Examples
+    --------
+    >>> t = np.arange(4000) / 2000
+    >>> s = ringdown_spectrum(np.exp(-2.0 * t) * np.cos(2 * np.pi * 100.3 * t), 2000.0)
+    >>> spectrum_peaks(s, 1.0, 900.0, 13.0).frequency_hz.round(1).tolist()
+    [100.3]
+    """
+    idx, height = candidate_peaks(spectrum, lo, hi, threshold_db, prominence_db)
+    f = refined_frequency(spectrum, idx)
+    width = np.array([half_power_width(spectrum, i) for i in idx])
+    decay = _start_decay(width, spectrum.resolution_hz)
+    return ModeCandidates(f, decay, decay / np.hypot(2 * np.pi * f, decay), height, spectrum)

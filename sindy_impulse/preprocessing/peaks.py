@@ -22,7 +22,7 @@ import numpy as np
 from .._params import Interval, check_param
 from ..exceptions import DataWarning
 from ._record import check_fs, check_signal_1d
-from .detection import fit_peaks
+from .detection import fit_peaks, spectrum_peaks
 from .partition import band_groups, peak_bands
 from .spectrum import (
     Spectrum,
@@ -132,7 +132,7 @@ def _strongest(found, n_modes: int, threshold_db: float):
 
 def spectral_peaks(y, fs: float, *, n_modes: int | None = None, bands=None, threshold_db: float | None = None,
                    prominence_db: float = 3.0, f_range=None, width_factor: float = 5.0,
-                   min_half_width: float = 0.1) -> SpectralPeaks:
+                   min_half_width: float = 0.1, refine: bool = True) -> SpectralPeaks:
     """The modes of a ring-down as spectral peaks, and a band for each (see the module).
 
     Parameters
@@ -154,6 +154,10 @@ def spectral_peaks(y, fs: float, *, n_modes: int | None = None, bands=None, thre
         Frequencies searched; default from 3 periods over the record to 0.45 ``fs``.
     width_factor, min_half_width : float
         See :func:`~.partition.peak_bands`.
+    refine : bool, default=True
+        Test and refine the peaks as damped sinusoids (:func:`~.detection.fit_peaks`: no floor raised by a
+        ringing mode, no leak between close modes). False: the spectrum's significant peaks only
+        (:func:`~.detection.spectrum_peaks`), much cheaper on long records.
 
     Returns
     -------
@@ -183,7 +187,10 @@ def spectral_peaks(y, fs: float, *, n_modes: int | None = None, bands=None, thre
     lo, hi = search_range(spectrum, f_range)
     if threshold_db is None:
         threshold_db = detection_threshold_db(max(int((hi - lo) / spectrum.resolution_hz), 1))
-    found = fit_peaks(arr, rate, spectrum, lo, hi, threshold_db, prominence_db)
+    if refine:
+        found = fit_peaks(arr, rate, spectrum, lo, hi, threshold_db, prominence_db)
+    else:
+        found = spectrum_peaks(spectrum, lo, hi, threshold_db, prominence_db)
     freq, decay, zeta, height = found.frequency_hz, found.decay_rate, found.damping_ratio, found.height_db
     if n_modes is not None:
         freq, decay, zeta, height = _strongest(found, n_modes, threshold_db)
