@@ -14,6 +14,7 @@ import numpy as np
 
 from ..preprocessing.peaks import spectral_peaks
 from ..preprocessing.quality import LIMITS, check_quality, clipping_mask
+from ..simulation.scoring import compare_stride
 from .rest import RestLevel, rest_level
 
 __all__ = ["DataChecks", "screen_states", "check_magnitude", "clipped_rows", "MAGNITUDE_RANGE"]
@@ -137,14 +138,16 @@ def _quality(trajectories, times) -> tuple:
     for k, (x, t) in enumerate(zip(trajectories[:MAX_CHECKED], times[:MAX_CHECKED])):
         if x.shape[0] < MIN_QUALITY_SAMPLES:
             continue
-        fs = (x.shape[0] - 1) / float(t[-1] - t[0])
+        stride = compare_stride(x)  # spectra at <= 200 samples per period: long records stay cheap
+        fs = (x.shape[0] - 1) / float(t[-1] - t[0]) / stride
         for j in range(x.shape[1]):
             y = x[:, j]
             if not np.ptp(y) > 0:
                 continue
+            clipped += int(clipping_mask(y).sum())  # every sample (a run of equal samples)
             if k > 0:
-                clipped += int(clipping_mask(y).sum())
                 continue
+            y = y[::stride]
             ring = y - np.mean(y[int(0.75 * y.size) :])
             try:
                 found = spectral_peaks(ring, fs, f_range=(2 * fs / y.size, 0.45 * fs), refine=False)
@@ -152,7 +155,6 @@ def _quality(trajectories, times) -> tuple:
             except (ValueError, ArithmeticError, np.linalg.LinAlgError):  # odd records: skip the state
                 continue
             reports.append(report)
-            clipped += int(report.clipped.sum())
             step = max(step, report.relative_step)
             peaks.extend(found.frequency_hz.tolist())
             widths.extend(found.half_power_width_hz.tolist())

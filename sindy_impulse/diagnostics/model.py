@@ -11,7 +11,7 @@ from pysindy.utils import AxesArray
 
 from ..analysis.modal import MIN_LINEAR_SHARE, model_modes
 from ..preprocessing.peaks import spectral_peaks
-from ..simulation.scoring import AUTO_PERIODS, Segmented, oscillation_count
+from ..simulation.scoring import AUTO_PERIODS, Segmented, compare_stride, oscillation_count
 
 __all__ = [
     "Fitted",
@@ -116,15 +116,17 @@ def _derivative(x: np.ndarray, t: np.ndarray, order: int) -> np.ndarray:
     return out
 
 
-def regression(fitted: Fitted, shift: np.ndarray, order: int = 2):
-    """Library matrix on the (shifted) filtered states and their derivatives by central differences."""
+def regression(fitted: Fitted, shift: np.ndarray, order: int = 2, stride: int = 1):
+    """Library matrix on the (shifted) filtered states and their derivatives by central differences, at
+    every ``stride``-th sample."""
     library = fitted.estimator.feature_library_
     joined = [
-        f - shift if u is None else np.hstack([f - shift, u]) for f, u in zip(fitted.filtered, fitted.inputs)
+        (f - shift if u is None else np.hstack([f - shift, u]))[::stride]
+        for f, u in zip(fitted.filtered, fitted.inputs)
     ]
     theta = library.transform([AxesArray(j, {"ax_time": 0, "ax_coord": 1}) for j in joined])
     theta = np.vstack([np.asarray(th) for th in theta])
-    y = np.vstack([_derivative(f, t, order) for f, t in zip(fitted.filtered, fitted.times)])
+    y = np.vstack([_derivative(f, t, order)[::stride] for f, t in zip(fitted.filtered, fitted.times)])
     return theta, y
 
 
@@ -145,7 +147,9 @@ def _response_peaks(fitted: Fitted, residuals) -> np.ndarray:
     t = fitted.times[0]
     if sim.shape[0] < 128 or not np.all(np.isfinite(sim)):
         return np.empty(0)
-    fs = (t.size - 1) / float(t[-1] - t[0])
+    stride = compare_stride(sim)  # at most 200 samples per period: long records stay cheap
+    sim = sim[::stride]
+    fs = (t.size - 1) / float(t[-1] - t[0]) / stride
     out = []
     for j in range(sim.shape[1]):
         y = sim[:, j] - np.mean(sim[int(0.75 * sim.shape[0]) :, j])
@@ -201,7 +205,7 @@ def support_condition(fitted: Fitted, shift: np.ndarray) -> float:
     active = np.flatnonzero(np.any(fitted.coef != 0, axis=0))
     if active.size < 2:
         return 1.0
-    theta, _ = regression(fitted, shift)
+    theta, _ = regression(fitted, shift, stride=compare_stride(fitted.filtered[0]))  # cheap on long records
     cols = theta[:, active]
     cols = cols[np.all(np.isfinite(cols), axis=1)]
     norms = np.linalg.norm(cols, axis=0)

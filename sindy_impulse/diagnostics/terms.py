@@ -35,6 +35,7 @@ from scipy.stats import chi2
 
 from ..feature_library.terms import library_terms
 from ..simulation import WORK_BUDGET, WorkBudget, compile_model
+from ..simulation.scoring import compare_stride
 from .model import Fitted, regression, segments, simulate_residuals
 from .rest import at_rest_level
 
@@ -114,13 +115,15 @@ class _Sensitivity:
         est = fitted.estimator
         self.fitted, self.coef, self.shift = fitted, fitted.coef, shift
         self.noise = [r - f for r, f in zip(raw, fitted.filtered)] if raw else [0.0] * len(fitted.filtered)
+        # residuals compared at <= 200 samples per period, as the error measures do: long records stay cheap
+        self.stride = compare_stride(fitted.filtered[0])
         self.n_inputs = 0 if fitted.inputs[0] is None else fitted.inputs[0].shape[1]
         self.terms = library_terms(est.feature_library_, self.coef.shape[0] + self.n_inputs)
         self.reference = np.vstack(fitted.filtered) - shift
         self.reference_u = None if self.n_inputs == 0 else np.vstack(fitted.inputs)
         self.divergence = float(getattr(est, "divergence_factor", 100.0))
         self.budget = WorkBudget(WORK_FRACTION * WORK_BUDGET)
-        self.theta, self.y = regression(fitted, shift)
+        self.theta, self.y = regression(fitted, shift, stride=self.stride)
         rows = np.all(np.isfinite(self.theta), axis=1) & np.all(np.isfinite(self.y), axis=1)
         self.theta, self.y = self.theta[rows], self.y[rows]
         typical_y = np.sqrt(np.mean(self.y**2, axis=0))
@@ -161,7 +164,7 @@ class _Sensitivity:
         """Simulation minus measured states in noise units, flattened (None if it diverged)."""
         res = simulate_residuals(model, self.fitted, self._at(model, coef), start_offset)
         self.budget.charge_model(model)
-        r = np.vstack([ri - ni for ri, ni in zip(res, self.noise)])
+        r = np.vstack([(ri - ni)[:: self.stride] for ri, ni in zip(res, self.noise)])
         return (r / self.sigma).ravel() if np.all(np.isfinite(r)) else None
 
     def start_columns(self) -> list | None:
@@ -169,7 +172,7 @@ class _Sensitivity:
         n_states = self.sigma.size
         owner, offset = [], 0
         for ref, starts in zip(self.fitted.filtered, segments(self.fitted)):
-            rows = np.searchsorted(starts, np.arange(ref.shape[0]), side="right") - 1
+            rows = np.searchsorted(starts, np.arange(ref.shape[0])[:: self.stride], side="right") - 1
             owner.append(offset + rows)
             offset += len(starts)
         owner = np.repeat(np.concatenate(owner), n_states)  # flattened (sample, state) order
