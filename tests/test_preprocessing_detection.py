@@ -125,3 +125,16 @@ def test_band_groups_leave_lightly_damped_neighbours_apart():
     groups, bands = band_groups(f, zeta * 2 * np.pi * f, 2 * zeta * f, FS)
     assert groups == [] and bands == []
     assert peak_bands(f, 2 * zeta * f, FS)[0][1] == pytest.approx(np.sqrt(150.0 * 154.5))
+
+
+def test_spectral_peaks_without_refit_finds_the_same_modes_of_a_clean_record():
+    from sindy_impulse.preprocessing import spectral_peaks
+
+    t = np.arange(8000) / 4000
+    y = sum(np.exp(-2 * np.pi * 0.005 * f * t) * np.sin(2 * np.pi * f * t) for f in (150, 420))
+    y = y + 1e-3 * np.random.default_rng(0).standard_normal(t.size)
+    quick = spectral_peaks(y, 4000.0, refine=False)
+    full = spectral_peaks(y, 4000.0)
+    assert np.allclose(quick.frequency_hz, full.frequency_hz, rtol=1e-3)
+    with pytest.raises(ValueError, match="refine"):
+        spectral_peaks(y, 4000.0, refine="yes")

@@ -181,6 +181,7 @@ def spectral_peaks(y, fs: float, *, n_modes: int | None = None, bands=None, thre
     check_param("prominence_db", prominence_db, [Interval(Real, 0, None)], "spectral_peaks")
     check_param("width_factor", width_factor, [Interval(Real, 0, None)], "spectral_peaks")
     check_param("min_half_width", min_half_width, [Interval(Real, 0, 1, "neither")], "spectral_peaks")
+    check_param("refine", refine, ["boolean"], "spectral_peaks")
     spectrum = ringdown_spectrum(arr, rate)
     if bands is not None:
         return _given_bands(spectrum, _check_bands(bands, rate), n_modes)
