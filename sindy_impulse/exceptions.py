@@ -14,9 +14,9 @@ DataWarning                    the input is doubtful: offset, clipping, quantisa
                                channels, too few periods or samples per period, pure noise
 FitWarning                     the fitted model is doubtful: poor fit, frequencies not in the data
 NoDynamicsWarning              no deterministic dynamics found (a ``FitWarning``)
-WorkBudgetWarning              the deterministic simulation budget ran out (a ``FitWarning``; ``fit``
-                               reports it in ``diagnostics_.notes``, and in the warning of a verdict
-                               that is not "ok")
+WorkBudgetWarning              not emitted any more (kept so that existing filters still import): a
+                               budget that ran out is a note in ``diagnostics_.notes``, and a reason
+                               in the FitWarning of a verdict that is not "ok"
 DivergenceWarning              a simulation left the admissible range (rows after it are NaN)
 ModalWarning                   modal parameters asked of a model its linear part does not describe
 =============================  ==========================================================================
@@ -84,7 +84,8 @@ class NoDynamicsWarning(FitWarning):
 
 
 class WorkBudgetWarning(FitWarning):
-    """The deterministic simulation work budget of a fit ran out: the model may be less accurate."""
+    """The deterministic simulation work budget of a fit ran out (no longer emitted: ``fit`` records it in
+    ``diagnostics_.notes["budget"]`` and names it in the FitWarning of a doubtful verdict)."""
 
 
 class DivergenceWarning(SindyImpulseWarning, RuntimeWarning):
