@@ -31,3 +31,33 @@ def test_well_separated_modes_keep_their_own_bands():
         survey = identify_modes(rec.y, fs=rec.fs)
     assert len(survey) == 2 and all(m.band_hz[1] / m.band_hz[0] < 1.5 for m in survey)
     assert np.allclose(sorted(m.frequency_hz for m in survey), [120.0, 410.0], rtol=3e-3)
+
+
+def _survey(**kwargs):
+    rec = impact_record(**kwargs)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return rec, identify_modes(rec.y, fs=rec.fs)
+
+
+@pytest.mark.parametrize(
+    "case",
+    [
+        # a 1.4 %-damped mode 9 % above a lightly damped one and 27 % below another (bench_modes record 83)
+        dict(frequencies_hz=[160.42, 182.26, 198.65, 251.68], damping_ratios=[0.0063, 0.001, 0.0144, 0.0037],
+             fs=2048.0, duration=3.45, sensor="displacement", snr_db=48.0, random_state=11),
+        # a 2.7 %-damped mode 5 % below a lightly damped one (record 113's middle mode)
+        dict(frequencies_hz=[723.1, 873.08, 918.91], damping_ratios=[0.0049, 0.0273, 0.007],
+             fs=10000.0, duration=3.7, sensor="velocity", snr_db=40.0, random_state=12),
+    ],
+)
+def test_strongly_damped_mode_between_lightly_damped_ones_is_found_on_the_deflated_record(case):
+    # its own band is too narrow (the transient swallows it): its neighbours are removed from the record
+    # and it is identified in a wide band
+    rec, survey = _survey(pre_trigger=0.05, offset=1.0, **case)
+    assert len(survey) == len(case["frequencies_hz"])
+    for mode, f, z in zip(survey.modes, case["frequencies_hz"], case["damping_ratios"]):
+        assert mode.frequency_hz == pytest.approx(f, rel=3e-3)
+        assert mode.damping_ratio == pytest.approx(z, rel=0.1)
+    strong = survey.modes[int(np.argmax(case["damping_ratios"]))]
+    assert strong.band_hz[1] / strong.band_hz[0] > 1.2  # the wide band of the deflated record

@@ -24,6 +24,7 @@ from .._params import HasMethods, Interval, Options, check_param
 from .._validation import check_signal
 from ..exceptions import DataWarning, NoDynamicsWarning
 from ..preprocessing import extract_band, preprocess
+from ..preprocessing.deflation import deflated_band
 from ._fit import default_estimator, fit_band, fit_direct, fit_group
 from ._hits import merge_hits
 from .result import ModalSurvey, Mode, Rejected
@@ -128,6 +129,7 @@ def _survey_record(index, record, t, fs, force, options, template, sensor, chann
             modes.append(out)
         else:
             rejected.append(out if isinstance(out, Rejected) else Rejected(tuple(skipped), why, index))
+    modes, rejected = _deflated(pre, modes, rejected, template, index, options["samples_per_period"])
     return modes, rejected, pre, notes
 
 
@@ -158,6 +160,40 @@ def _grouped(pre, own: dict, template, index: int) -> dict:
             if b not in own or _disagreement(out, f, zeta) < _disagreement(own[b], f, zeta):
                 found[b] = out
     return found
+
+
+#: A mode within this :func:`_disagreement` of its peak's damped sinusoid is not fitted again on the
+#: deflated record.
+_AGREES = 0.1
+
+
+def _deflated(pre, modes: list, rejected: list, template, index: int, samples_per_period: float):
+    """Peaks without a mode close to their fitted damped sinusoid (:func:`_disagreement` over ``_AGREES``)
+    fitted again on the record with the other peaks removed
+    (:func:`~sindy_impulse.preprocessing.deflation.deflated_band`: a wide band, so a short filter
+    transient, for a strongly damped mode next to lightly damped ones). That mode replaces the peak's
+    (the modes nearest the peak in frequency) when it agrees with the peak's sinusoid within
+    ``_AGREEMENT`` and better; the peak's rejections are then dropped."""
+    f, zeta = pre.peaks.frequency_hz, pre.peaks.damping_ratio
+    if len(f) < 2:
+        return modes, rejected
+    nearest = [int(np.argmin(np.abs(np.log(f / m.damped_frequency_hz)))) for m in modes]
+    for i in range(len(f)):
+        mine = [m for m, k in zip(modes, nearest) if k == i]
+        best = min((_disagreement(m, f[i], zeta[i]) for m in mine), default=np.inf)
+        if best <= _AGREES:
+            continue
+        try:
+            band = deflated_band(pre, i, samples_per_period=samples_per_period)
+        except ValueError:  # too few periods above the noise: the peak keeps what it had
+            continue
+        out = fit_band(band, template, onset_time=pre.impact.onset_time, index=index)
+        if not isinstance(out, Mode) or not _disagreement(out, f[i], zeta[i]) < min(best, _AGREEMENT):
+            continue
+        keep = [j for j, m in enumerate(modes) if all(m is not x for x in mine)]
+        modes, nearest = [modes[j] for j in keep] + [out], [nearest[j] for j in keep] + [i]
+        rejected = [r for r in rejected if tuple(r.band_hz) != tuple(pre.peaks.band_hz[i])]
+    return modes, rejected
 
 
 def _joint(pre, skipped: tuple, template, index: int):

@@ -23,7 +23,7 @@ from threadpoolctl import threadpool_limits
 from .._validation import check_array
 from ._record import check_fs, check_signal_1d
 
-__all__ = ["DampedSinusoids", "fit_damped_sinusoids"]
+__all__ = ["DampedSinusoids", "fit_damped_sinusoids", "fit_amplitudes"]
 
 #: Levenberg-Marquardt iterations at most, and the relative decrease of the cost that ends them.
 _MAX_ITERATIONS, _RTOL = 60, 1e-10
@@ -196,4 +196,45 @@ def fit_damped_sinusoids(y, fs: float, frequency_hz, decay_rate, *, frequency_to
         phase=np.arctan2(-b, a),
         constant=float(c),
         residual=-res,
+    )
+
+
+def fit_amplitudes(y, fs: float, frequency_hz, decay_rate) -> DampedSinusoids:
+    """Amplitudes, phases and the constant of damped sinusoids with given frequencies and decay rates: the
+    linear least-squares part of :func:`fit_damped_sinusoids`, the poles held fixed.
+
+    Parameters
+    ----------
+    y : array-like (n,)
+        The ring-down from its first sample.
+    fs : float
+        Sampling rate (Hz).
+    frequency_hz, decay_rate : array-like (k,)
+        Damped frequencies (Hz) and decay rates (1/s, clipped at 0) of the components.
+
+    Returns
+    -------
+    DampedSinusoids
+
+    Examples
+    --------
+    >>> t = np.arange(2000) / 1000
+    >>> y = 2 * np.exp(-3 * t) * np.cos(2 * np.pi * 40 * t + 0.5) + 0.2 * np.sin(2 * np.pi * 90 * t)
+    >>> fit = fit_amplitudes(y, 1000.0, [40.0, 90.0], [3.0, 0.0])
+    >>> fit.amplitude.round(6).tolist(), fit.phase.round(6).tolist()
+    ([2.0, 0.2], [0.5, -1.570796])
+    """
+    arr, fs = check_signal_1d(y, "y"), check_fs(fs)
+    f0, sigma, _ = _check_starts(frequency_hz, decay_rate, 1.0)
+    omega = 2.0 * np.pi * f0
+    tau = np.arange(arr.size) / fs
+    _, _, a, b, c = _split(_linear_amplitudes(arr, tau, sigma, omega), f0.size)
+    cos, sin = _basis(tau, sigma, omega)
+    return DampedSinusoids(
+        frequency_hz=f0,
+        decay_rate=sigma,
+        amplitude=np.hypot(a, b),
+        phase=np.arctan2(-b, a),
+        constant=float(c),
+        residual=arr - c - cos @ a - sin @ b,
     )
