@@ -165,3 +165,49 @@ def test_a_batch_stepped_together_scores_as_one_by_one():
     np.testing.assert_array_equal(together, [a[0][0] for a in alone])
     np.testing.assert_array_equal(rows, [a[1][0] for a in alone])
     assert together[-1] == np.inf
+
+
+def _rk4_reference(rhs, x0, t, substeps):
+    """Plain numpy RK4 with the kernels' sub-steps (the reference of the compiled paths)."""
+    out = [np.asarray(x0, dtype=float)]
+    for s in range(1, len(t)):
+        h, x = (t[s] - t[s - 1]) / substeps, out[-1]
+        for _ in range(substeps):
+            k1 = rhs(x)
+            k2 = rhs(x + 0.5 * h * k1)
+            k3 = rhs(x + 0.5 * h * k2)
+            k4 = rhs(x + h * k3)
+            x = x + h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+        out.append(x)
+    return np.array(out)
+
+
+@pytest.mark.parametrize(
+    "entries",
+    [
+        # every term of both equations: constant, linear, quadratic, cubic
+        {(0, "1"): 0.01, (0, "x0"): 0.1, (0, "x1"): 1.0, (0, "x0^2"): 0.2, (0, "x0 x1"): -0.1,
+         (0, "x1^2"): 0.02, (0, "x0^3"): -0.3, (0, "x0^2 x1"): 0.1, (0, "x0 x1^2"): -0.02,
+         (0, "x1^3"): 0.001, (1, "1"): -0.2, (1, "x0"): -64.0, (1, "x1"): -3.2, (1, "x0^2"): 3.0,
+         (1, "x0 x1"): 0.4, (1, "x1^2"): -0.05, (1, "x0^3"): -10.0, (1, "x0^2 x1"): -2.0,
+         (1, "x0 x1^2"): 0.03, (1, "x1^3"): -0.001},
+        # only some: a cubic term in one equation, a quadratic one in the other
+        {(0, "x1"): 1.0, (0, "x0^2"): 0.3, (1, "x0"): -64.0, (1, "x1"): -3.2, (1, "x0 x1^2"): -0.5},
+    ],
+)
+def test_two_state_cubic_models_are_integrated_as_rk4_on_their_equations(entries):
+    # the two-state cubic path (monomials in registers) against numpy RK4 on the library's terms
+    t, x, _ = damped_oscillator()
+    model, coef, lib = _poly_model(entries, x)
+    assert not model.is_linear
+    steps = model.substeps(t)
+    ref = _rk4_reference(lambda z: (lib.transform(z[None]) @ coef.T)[0], x[0], t, steps)
+    sim = model.simulate(x[0], t)
+    assert np.all(np.isfinite(sim))
+    np.testing.assert_allclose(sim, ref, rtol=0, atol=1e-10 * np.max(np.abs(ref)))
+    # the gradient batch of the refinement steps the same arithmetic
+    starts, weights = np.zeros(1, np.int64), np.ones((1, 2))
+    batch = np.repeat(coef[None, :, np.any(coef != 0, axis=0)], 4, axis=0)
+    together, _ = model.weighted_l1(x, t, starts, weights, coefs=batch)
+    alone, _ = model.weighted_l1(x, t, starts, weights, coefs=batch[:1])
+    np.testing.assert_array_equal(together, np.full(4, alone[0]))
