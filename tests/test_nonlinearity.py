@@ -206,3 +206,22 @@ def test_errors(duffing):
         nonlinearity_test(model, ring.x, ring.t, coordinate=5)
     with pytest.raises(ValueError, match="entries"):
         nonlinearity_test(model, ring.x, ring.t[:10])
+
+
+@pytest.mark.parametrize(
+    ("seen", "expected"),
+    [
+        (0.2, 6.0),  # the data agree
+        (-0.07, 6.0),  # the other way, but less than half the model's change: the data's scatter
+        (-0.2, 0.0),  # the other way by more than half of it: contradicted
+        (float("nan"), 6.0),  # no data backbone: not checked
+    ],
+)
+def test_a_damping_change_counts_unless_the_data_clearly_show_it_the_other_way(seen, expected):
+    from types import SimpleNamespace
+
+    from sindy_impulse.analysis._nonlinear_fit import amplitude_ratio
+
+    model = SimpleNamespace(frequency_shift=0.0, damping_ratio_shift=0.3)
+    data = SimpleNamespace(frequency_shift=0.0, damping_ratio_shift=seen)
+    assert amplitude_ratio(model, data, 1e-3, 0.05) == pytest.approx(expected)

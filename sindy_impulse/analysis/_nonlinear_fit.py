@@ -184,8 +184,16 @@ def alternatives(test: Comparison, coef, terms, search: bool, n_search: int):
     return (lin_coef, g_lin), best, linear_cols
 
 
+#: Share of the model's shift the data must show the other way (besides the resolution) to contradict
+#: it: the data's Hilbert backbone scatters, its damping-ratio change over the decay of a linear record
+#: reaching 0.04 (median) to 0.15 (90 %) in ``benchmarks/bench_nonlinearity.py`` (short, strongly damped
+#: decays), where the model's backbone of an amplitude-dependent damper shows 0.12-0.36.
+CONTRADICTION_SHARE = 0.5
+
+
 def amplitude_ratio(model_curve, data_curve, frequency_resolution, damping_resolution) -> float:
-    """``max(|shift| / resolution)`` over frequency and damping, unless the data show it the other way."""
+    """``max(|shift| / resolution)`` over frequency and damping, unless the data show it the other way
+    (by at least the resolution and :data:`CONTRADICTION_SHARE` of the model's shift)."""
     if model_curve is None:
         return np.inf
     ratios = [0.0]
@@ -193,7 +201,8 @@ def amplitude_ratio(model_curve, data_curve, frequency_resolution, damping_resol
     for name, resolution in pairs:
         shift = getattr(model_curve, name)
         seen = np.nan if data_curve is None else getattr(data_curve, name)
-        contradicted = np.isfinite(seen) and seen * shift < 0 and abs(seen) >= resolution
+        contradicted = (np.isfinite(seen) and seen * shift < 0
+                        and abs(seen) >= max(resolution, CONTRADICTION_SHARE * abs(shift)))
         if np.isfinite(shift) and not contradicted:
             ratios.append(abs(shift) / resolution)
     return float(max(ratios))

@@ -18,7 +18,7 @@ with the estimator's own steps (see :mod:`._nonlinear_fit`):
    smallest and the largest amplitude; ``amplitude_dependence`` is the larger of
    ``|frequency shift| / frequency_resolution`` and ``|damping-ratio change| / damping_resolution``. The
    data's own backbone (:func:`~sindy_impulse.analysis.hilbert_backbone`) checks the direction: a change
-   the data show the other way by more than the resolution does not count.
+   the data show the other way by more than the resolution and half the model's change does not count.
 
 ``statistic = min(significance, amplitude_dependence)`` and the system is nonlinear when it exceeds
 ``threshold = 1``: the nonlinear terms must both be needed and change the frequency or the damping with
@@ -110,7 +110,8 @@ class NonlinearityResult:
         units of what the data cannot resolve.
     amplitude_dependence : float
         ``max(|frequency_shift| / frequency_resolution, |damping_ratio_shift| / damping_resolution)``, each
-        counted unless the data backbone shows it the other way; ``inf`` when the model's backbone could
+        counted unless the data backbone shows it the other way (by the resolution and half the model's
+        shift); ``inf`` when the model's backbone could
         not be computed (the decision rests on the significance).
     gamma_linear, gamma_nonlinear : float
         The error measure (``measure``) of the refined linear model and of the refined nonlinear

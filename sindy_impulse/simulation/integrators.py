@@ -36,6 +36,7 @@ import math
 import numpy as np
 
 from .._jit import jit, kernel
+from .cubic2 import CUBIC2, cubic2_coefficients, rk4_interval_cubic2
 
 __all__ = [
     "integrate",
@@ -53,9 +54,6 @@ MAX_SUBSTEPS = 256
 NO_INPUT = np.empty((0, 0))
 #: The empty propagator batch (a model integrated stage by stage).
 NO_PROPAGATOR = np.empty((0, 0, 0))
-#: Dense coefficients of a two-state polynomial model of degree <= 3 and which of its parts are present
-#: (:func:`_cubic2_coefficients`).
-CUBIC2 = 24
 
 
 def scratch_size(n_z: int, n_values: int) -> int:
@@ -63,7 +61,7 @@ def scratch_size(n_z: int, n_values: int) -> int:
 
     Layout: the stage accumulator, the state at a step's start, the current state and a stage's
     derivative (``n_z`` each), then the term values (the constant 1, the inputs of a stage, the other
-    monomials and terms), then the dense coefficients of a two-state cubic model (:data:`CUBIC2`).
+    monomials and terms), then the dense coefficients of a two-state cubic model (:mod:`.cubic2`).
     """
     return 4 * n_z + n_values + CUBIC2
 
@@ -86,7 +84,7 @@ def integrate(ref, t, starts, weights, substeps, prog, vals, props, bound, u, wo
     dense = work[work.shape[0] - CUBIC2 :]
     store = out.shape[0] > 0
     for b in range(vals.shape[0]):
-        cubic2 = props.shape[0] == 0 and _cubic2_coefficients(prog, vals[b], n, n_z, dense)
+        cubic2 = props.shape[0] == 0 and cubic2_coefficients(prog, vals[b], n, n_z, dense)
         total = 0.0
         done = 0
         for k in range(starts.shape[0]):
@@ -106,7 +104,7 @@ def integrate(ref, t, starts, weights, substeps, prog, vals, props, bound, u, wo
                             d += props[b, i, q] * x_old[q]
                         x[i] = d
                 elif cubic2:
-                    _rk4_interval_cubic2(x, t, s, substeps, dense)
+                    rk4_interval_cubic2(x, t, s, substeps, dense)
                 else:
                     _rk4_interval(x, t, s, substeps, prog, vals[b], u, work)
                 done += 1
@@ -175,72 +173,6 @@ def _rk4_interval(x, t, s, substeps, prog, vals, u, work):
             x[i] = x_old[i] + h / 6.0 * acc[i]
 
 
-@jit(_nrt=False)
-def _cubic2_coefficients(prog, vals, n, n_z, dense) -> bool:
-    """Fill ``dense`` with the coefficients of a two-state polynomial model of degree <= 3 without inputs
-    (per equation: 1, x0, x1, x0^2, x0 x1, x1^2, x0^3, x0^2 x1, x0 x1^2, x1^3; then per equation whether
-    a quadratic and a cubic term are present, non-zero if so); False for another model.
-
-    Such a model (the paper's, every mode of :func:`~sindy_impulse.identify_modes`) is integrated by
-    :func:`_rk4_interval_cubic2`, its monomials in registers instead of the product tree in memory.
-    """
-    parent, var, fcode, fslot, finput, fparam, eq_ptr, slot = prog
-    if n != 2 or n_z != 2 or fcode.shape[0] > 0:
-        return False
-    for k in range(CUBIC2):
-        dense[k] = 0.0
-    for i in range(2):
-        for p in range(eq_ptr[i], eq_ptr[i + 1]):
-            q, a, c = slot[p], 0, 0  # the powers of x0 and x1 of the term, by the product tree
-            while q > n_z:
-                a += var[q] == 0
-                c += var[q] == 1
-                q = parent[q]
-            a += q == 1
-            c += q == 2
-            d = a + c
-            if d > 3:
-                return False
-            dense[10 * i + d * (d + 1) // 2 + c] += vals[p]
-    for i in range(2):  # quadratic and cubic parts present, per equation
-        for k in range(3, 6):
-            dense[20 + 2 * i] += dense[10 * i + k] != 0.0
-        for k in range(6, 10):
-            dense[21 + 2 * i] += dense[10 * i + k] != 0.0
-    return True
-
-
-@jit(_nrt=False, inline="always")
-def _cubic2_rhs(p, q, c, o, quadratic, cubic):
-    """One equation of a :func:`_cubic2_coefficients` model (coefficients ``c[o : o + 10]``): its
-    quadratic and cubic parts only where present (the same branches at every call), in nested form."""
-    value = c[o] + (c[o + 1] * p + c[o + 2] * q)
-    if quadratic:
-        value += p * (c[o + 3] * p + c[o + 4] * q) + c[o + 5] * (q * q)
-    if cubic:
-        value += (p * p) * (c[o + 6] * p + c[o + 7] * q) + (q * q) * (c[o + 8] * p + c[o + 9] * q)
-    return value
-
-
-@jit(_nrt=False)
-def _rk4_interval_cubic2(x, t, s, substeps, c):
-    """:func:`_rk4_interval` for a two-state cubic model (``c``: :func:`_cubic2_coefficients`)."""
-    h = (t[s] - t[s - 1]) / substeps
-    q0, c0, q1, c1 = c[20] != 0.0, c[21] != 0.0, c[22] != 0.0, c[23] != 0.0
-    p, q = x[0], x[1]
-    for _ in range(substeps):
-        k1p, k1q = _cubic2_rhs(p, q, c, 0, q0, c0), _cubic2_rhs(p, q, c, 10, q1, c1)
-        y0, y1 = p + 0.5 * h * k1p, q + 0.5 * h * k1q
-        k2p, k2q = _cubic2_rhs(y0, y1, c, 0, q0, c0), _cubic2_rhs(y0, y1, c, 10, q1, c1)
-        y0, y1 = p + 0.5 * h * k2p, q + 0.5 * h * k2q
-        k3p, k3q = _cubic2_rhs(y0, y1, c, 0, q0, c0), _cubic2_rhs(y0, y1, c, 10, q1, c1)
-        y0, y1 = p + h * k3p, q + h * k3q
-        k4p, k4q = _cubic2_rhs(y0, y1, c, 0, q0, c0), _cubic2_rhs(y0, y1, c, 10, q1, c1)
-        p += h / 6.0 * (((k1p + 2.0 * k2p) + 2.0 * k3p) + k4p)
-        q += h / 6.0 * (((k1q + 2.0 * k2q) + 2.0 * k3q) + k4q)
-    x[0], x[1] = p, q
-
-
 @kernel
 def integrate_batch(ref, t, starts, weights, substeps, prog, vals, bound, u, work, errors, rows):
     """:func:`integrate`'s weighted error for a batch of models stepped together, stage by stage.
@@ -248,7 +180,7 @@ def integrate_batch(ref, t, starts, weights, substeps, prog, vals, bound, u, wor
     One model's RK4 stages wait on memory; several models interleaved fill the wait (the gradient of the
     refinement scores one model per coefficient). The arithmetic of each model is :func:`integrate`'s, in
     the same order: the same errors and work. ``work`` is (scratch rows, n_models). Two-state cubic
-    models (:func:`_cubic2_coefficients`) are stepped one after the other, as :func:`integrate` does.
+    models (:func:`.cubic2.cubic2_coefficients`) are stepped one after the other, as :func:`integrate` does.
     """
     n = ref.shape[1]
     n_z = n + u.shape[1]
@@ -258,7 +190,7 @@ def integrate_batch(ref, t, starts, weights, substeps, prog, vals, bound, u, wor
     for b in range(vals.shape[0]):
         errors[b] = 0.0
         rows[b] = 0
-        cubic2 = cubic2 and _cubic2_coefficients(prog, vals[b], n, n_z, dense[:, b])
+        cubic2 = cubic2 and cubic2_coefficients(prog, vals[b], n, n_z, dense[:, b])
     for k in range(starts.shape[0]):
         s0 = starts[k]
         s1 = starts[k + 1] if k + 1 < starts.shape[0] else t.shape[0] - 1
@@ -269,7 +201,7 @@ def integrate_batch(ref, t, starts, weights, substeps, prog, vals, bound, u, wor
             if cubic2:
                 for b in range(vals.shape[0]):
                     if errors[b] != np.inf:
-                        _rk4_interval_cubic2(x[:, b], t, s, substeps, dense[:, b])
+                        rk4_interval_cubic2(x[:, b], t, s, substeps, dense[:, b])
             else:
                 _rk4_interval_batch(x, t, s, substeps, prog, vals, u, work)
             alive = 0
