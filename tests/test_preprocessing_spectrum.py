@@ -110,3 +110,13 @@ def test_bad_given_band_is_refused(band):
 def test_peak_bands_clip_at_nyquist():
     (lo, hi), = peak_bands([2400.0], [5.0], 5000.0)
     assert hi < 2500.0 and lo == pytest.approx(2400.0 / 1.1)
+
+
+@pytest.mark.parametrize(("n", "pad"), [(60, 1), (100, 4), (201, 8)])
+def test_noise_floor_of_a_spectrum_too_short_for_a_window_is_its_lower_quartile(n, pad):
+    from sindy_impulse.preprocessing import noise_floor
+
+    psd = np.random.default_rng(0).exponential(2.0, n)
+    floor = noise_floor(psd, pad_factor=pad)
+    assert floor.shape == (n,) and np.all(floor == floor[0])
+    assert 0.2 < floor[0] < 2.0  # the lower quartile of an exponential of mean 2 is 0.58

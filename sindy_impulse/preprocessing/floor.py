@@ -81,7 +81,8 @@ def noise_floor(psd, *, pad_factor: int = 1, exclude=None) -> np.ndarray:
     (the gating's bias, measured on white noise). Windows are symmetric in log frequency, hold at least
     128 resolution bins and weigh each bin by ``1 / f``, so a power-law floor (pink, brown noise) is
     followed without bias; near 0 Hz, where a window cannot be symmetric, the log PSD's trend in log
-    frequency is removed first. A window with too few rough bins is widened up to two octaves each side.
+    frequency is removed first. A window with too few rough bins is widened up to two octaves each side;
+    a spectrum too short for any window (under 64 independent bins) gets the lower quartile of its bins.
     Under the skirts of strong, lightly damped modes no noise shows: there
     the floor is interpolated (in log frequency) between the nearest windows where it does, or held at
     their level beyond them. A spectrum without any rough stretch gets its lower quartile (the valleys).
@@ -118,4 +119,6 @@ def noise_floor(psd, *, pad_factor: int = 1, exclude=None) -> np.ndarray:
     if not seen.any():
         level = _running_level(log_p, grid, pad_factor, np.ones(n, bool), 0.25)
         seen = np.isfinite(level)
+    if not seen.any():  # fewer independent bins than one window holds: the lower quartile of them all
+        return np.full(n, np.exp(np.quantile(log_p[_DC_BINS * step :: step], 0.25)))
     return np.exp(np.interp(np.arange(n), grid[seen], level[seen]))
