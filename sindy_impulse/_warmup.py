@@ -32,6 +32,7 @@ __all__ = ["start", "wait", "build", "main", "GROUPS", "KERNEL_FILES", "WAIT_SEC
 KERNEL_FILES = (
     "_jit.py",
     "simulation/integrators.py",
+    "simulation/cubic2.py",
     "differentiation/_banded.py",
     "differentiation/_spline.py",
     "differentiation/_smoother.py",

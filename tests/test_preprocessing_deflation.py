@@ -50,3 +50,9 @@ def test_deflated_band_checks_its_arguments():
         deflated_band(pre, 3)
     with pytest.raises(ValueError, match="widen"):
         deflated_band(pre, 1, widen=0.5)
+
+
+def test_deflated_band_needs_fitted_peaks():
+    pre = preprocess(_record(), fs=FS, bands=[(95.0, 102.5), (102.5, 108.5), (108.5, 116.0)])
+    with pytest.raises(ValueError, match="damped sinusoids"):
+        deflated_band(pre, 1)

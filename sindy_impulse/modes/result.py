@@ -40,7 +40,8 @@ class Mode:
         Signal-to-noise ratio of the band at its first kept sample.
     shape : ndarray of complex or None
         Per channel, the amplitude ratio and phase of the mode relative to the reference channel (several
-        sensors only).
+        sensors only; None for a mode identified jointly with its neighbours or on the record with its
+        neighbours subtracted, whose other channels still hold those neighbours).
     residue : float or None
         Driving-point residue ``amplitude * omega_d / (omega_n**p * impulse)`` (``p`` 0, 1, 2 for
         displacement, velocity, acceleration sensors) when the force and the sensor kind are given.

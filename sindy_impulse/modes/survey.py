@@ -7,7 +7,9 @@ TVRegDiff, the threshold sweep scored on the simulation error -- segment-wise fo
 bounded refinement); the mode's frequency and damping ratio come from the identified model's linear part.
 Peaks too close for their damping (``Preprocessed.groups``) are also fitted jointly in their group's band
 (:func:`._fit.fit_group`); a joint mode that agrees with its peak's fitted damped sinusoid replaces the
-peak's own-band result when that gave no mode or one that agrees less.
+peak's own-band result when that gave no mode or one that agrees less. A peak still without a mode that
+agrees with its sinusoid is fitted once more on the record with the other peaks' sinusoids subtracted, in a
+wide band (:func:`~sindy_impulse.preprocessing.deflation.deflated_band`; :func:`_deflated`).
 Repeated hits of one structure are matched by frequency and combined by the paper's consensus (section
 3.3.2).
 """
@@ -178,7 +180,7 @@ def _deflated(pre, modes: list, rejected: list, template, index: int, samples_pe
     if len(f) < 2:
         return modes, rejected
     nearest = [int(np.argmin(np.abs(np.log(f / m.damped_frequency_hz)))) for m in modes]
-    for i in range(len(f)):
+    for i in np.flatnonzero(np.isfinite(zeta)):  # (bands given by the user: no sinusoid to agree with)
         mine = [m for m, k in zip(modes, nearest) if k == i]
         best = min((_disagreement(m, f[i], zeta[i]) for m in mine), default=np.inf)
         if best <= _AGREES:

@@ -99,6 +99,11 @@ def deflated_band(
     start = pre.impact.ringdown_index
     ring = pre.y[start:]
     frequency, decay = pre.peaks.frequency_hz, _decay_rates(pre)
+    if not np.all(np.isfinite(decay)):
+        raise ValueError(
+            "deflated_band needs the peaks fitted as damped sinusoids (preprocess without bands=): "
+            f"the decay rates are {np.round(decay, 4).tolist()}"
+        )
     window = max(n_efolds / max(decay[peak], 1e-12), _MIN_WINDOW_PERIODS / frequency.min())
     n = int(min(ring.size, np.ceil(window * pre.fs)))
     fit = fit_amplitudes(ring[:n], pre.fs, frequency, decay)

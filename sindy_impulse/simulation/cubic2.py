@@ -20,7 +20,7 @@ __all__ = ["CUBIC2", "cubic2_coefficients", "rk4_interval_cubic2"]
 
 #: Dense coefficients of a two-state polynomial model of degree <= 3 and which of its parts are present
 #: (:func:`cubic2_coefficients`): scratch floats the kernels reserve for it.
-CUBIC2 = 24
+CUBIC2 = 26
 
 
 @jit(_nrt=False)
@@ -50,23 +50,24 @@ def cubic2_coefficients(prog, vals, n, n_z, dense) -> bool:
             if d > 3:
                 return False
             dense[10 * i + d * (d + 1) // 2 + c] += vals[p]
-    for i in range(2):  # quadratic and cubic parts present, per equation
-        for k in range(3, 6):
-            dense[20 + 2 * i] += dense[10 * i + k] != 0.0
-        for k in range(6, 10):
-            dense[21 + 2 * i] += dense[10 * i + k] != 0.0
+    for i in range(2):  # per equation: quadratic terms, cubic terms with x0^2, with x1^2 present
+        for k in range(3, 10):
+            dense[20 + 3 * i + (0 if k < 6 else (1 if k < 8 else 2))] += dense[10 * i + k] != 0.0
     return True
 
 
 @jit(_nrt=False, inline="always")
-def _cubic2_rhs(p, q, c, o, quadratic, cubic):
+def _cubic2_rhs(p, q, c, o, quadratic, cubic_p, cubic_q):
     """One equation of a :func:`cubic2_coefficients` model (coefficients ``c[o : o + 10]``): its
-    quadratic and cubic parts only where present (the same branches at every call), in nested form."""
+    quadratic terms and its cubic terms with ``x0^2`` and with ``x1^2`` only where present (the same
+    branches at every call), in nested form."""
     value = c[o] + (c[o + 1] * p + c[o + 2] * q)
     if quadratic:
         value += p * (c[o + 3] * p + c[o + 4] * q) + c[o + 5] * (q * q)
-    if cubic:
-        value += (p * p) * (c[o + 6] * p + c[o + 7] * q) + (q * q) * (c[o + 8] * p + c[o + 9] * q)
+    if cubic_p:
+        value += (p * p) * (c[o + 6] * p + c[o + 7] * q)
+    if cubic_q:
+        value += (q * q) * (c[o + 8] * p + c[o + 9] * q)
     return value
 
 
@@ -74,16 +75,17 @@ def _cubic2_rhs(p, q, c, o, quadratic, cubic):
 def rk4_interval_cubic2(x, t, s, substeps, c):
     """:func:`.integrators._rk4_interval` for a two-state cubic model (``c``: :func:`cubic2_coefficients`)."""
     h = (t[s] - t[s - 1]) / substeps
-    q0, c0, q1, c1 = c[20] != 0.0, c[21] != 0.0, c[22] != 0.0, c[23] != 0.0
+    a0, b0, d0 = c[20] != 0.0, c[21] != 0.0, c[22] != 0.0
+    a1, b1, d1 = c[23] != 0.0, c[24] != 0.0, c[25] != 0.0
     p, q = x[0], x[1]
     for _ in range(substeps):
-        k1p, k1q = _cubic2_rhs(p, q, c, 0, q0, c0), _cubic2_rhs(p, q, c, 10, q1, c1)
+        k1p, k1q = _cubic2_rhs(p, q, c, 0, a0, b0, d0), _cubic2_rhs(p, q, c, 10, a1, b1, d1)
         y0, y1 = p + 0.5 * h * k1p, q + 0.5 * h * k1q
-        k2p, k2q = _cubic2_rhs(y0, y1, c, 0, q0, c0), _cubic2_rhs(y0, y1, c, 10, q1, c1)
+        k2p, k2q = _cubic2_rhs(y0, y1, c, 0, a0, b0, d0), _cubic2_rhs(y0, y1, c, 10, a1, b1, d1)
         y0, y1 = p + 0.5 * h * k2p, q + 0.5 * h * k2q
-        k3p, k3q = _cubic2_rhs(y0, y1, c, 0, q0, c0), _cubic2_rhs(y0, y1, c, 10, q1, c1)
+        k3p, k3q = _cubic2_rhs(y0, y1, c, 0, a0, b0, d0), _cubic2_rhs(y0, y1, c, 10, a1, b1, d1)
         y0, y1 = p + h * k3p, q + h * k3q
-        k4p, k4q = _cubic2_rhs(y0, y1, c, 0, q0, c0), _cubic2_rhs(y0, y1, c, 10, q1, c1)
+        k4p, k4q = _cubic2_rhs(y0, y1, c, 0, a0, b0, d0), _cubic2_rhs(y0, y1, c, 10, a1, b1, d1)
         p += h / 6.0 * (((k1p + 2.0 * k2p) + 2.0 * k3p) + k4p)
         q += h / 6.0 * (((k1q + 2.0 * k2q) + 2.0 * k3q) + k4q)
     x[0], x[1] = p, q
