@@ -50,8 +50,8 @@ FALSE_ALARM = 1e-3
 NOISE_FLOOR = 1e-4
 #: Relative size of the finite-difference steps (of a term's typical share of its equation).
 STEP = 1e-4
-#: Simulation work of the tests, as a fraction of a fit's work budget.
-WORK_FRACTION = 0.25
+#: Simulation work of the tests, as a fraction of a fit's work budget (2.5e7 term evaluations).
+WORK_FRACTION = 0.125
 #: Library terms tried per equation by the add and swap tests (the most promising ones).
 MAX_CANDIDATES = 12
 
