@@ -19,6 +19,7 @@ from sindy_impulse import ImpulseSINDy, SINDyFeatures, damped_oscillator, identi
 from sindy_impulse.analysis import esprit
 from sindy_impulse.simulation import integrators
 from sindy_impulse.simulation.compile import _FIRST, _NO_WEIGHTS
+from sindy_impulse.simulation.cubic2 import dense_coefficients, integrate_cubic2
 from sindy_impulse.simulation.program import pack, propagators
 
 
@@ -37,7 +38,8 @@ def _pysindy_simulate_time(model: ImpulseSINDy, x0, t) -> float:
 
 
 def _kernel_call(model, t, force_stages: bool = False):
-    """The bare kernel call of ``model.simulate(x0, t)`` (arrays prepared once)."""
+    """The bare kernel call of ``model.simulate(x0, t)`` (arrays prepared once): ``integrate_cubic2`` for
+    a two-state cubic model, as ``CompiledModel`` does."""
     steps = model.substeps(t)
     prog, vals = pack(model.program, model.coef[None])
     dt = float(t[1] - t[0])
@@ -46,12 +48,19 @@ def _kernel_call(model, t, force_stages: bool = False):
     x0 = np.array([[1.0, 0.0]])
     out, errors, rows = np.empty((len(t), 2)), np.empty(1), np.empty(1, dtype=np.int64)
     bound = model.bound * 10
+    if model._dense_positions is not None:
+        dense = dense_coefficients(model.coef[None], model._dense_positions)
 
-    def call():
-        integrators.integrate(
-            x0, t, _FIRST, _NO_WEIGHTS, steps, prog, vals, props, bound, integrators.NO_INPUT,
-            model._scratch, out, errors, rows,
-        )  # fmt: skip
+        def call():
+            integrate_cubic2(x0, t, _FIRST, _NO_WEIGHTS, steps, props, dense, bound, model._scratch, out,
+                             errors, rows)
+    else:
+
+        def call():
+            integrators.integrate(
+                x0, t, _FIRST, _NO_WEIGHTS, steps, prog, vals, props, bound, integrators.NO_INPUT,
+                model._scratch, out, errors, rows,
+            )  # fmt: skip
 
     return call, steps
 

@@ -169,15 +169,20 @@ def build(group: str, mark=lambda entry: None) -> None:
         basis.evaluate(np.ones(basis.n_coef))
         mark(_spline._evaluate)
         return
-    from .simulation import CompiledModel, TermTable, integrators
+    from .simulation import CompiledModel, TermTable, cubic2, integrators
 
-    model = CompiledModel([[0.0, 1.0], [-1.0, -0.1]], TermTable.polynomial([[1, 0], [0, 1]]), [[1.0, 1.0]])
-    model.simulate([1.0, 0.0], np.linspace(0.0, 1.0, 5))
-    mark(integrators.integrate)
-    cubic = TermTable.polynomial([[1, 0], [2, 1]])
-    nonlinear = CompiledModel([[0.0, 1.0], [-1.0, -0.1]], cubic, [[1.0, 1.0]])
     grid = np.linspace(0.0, 1.0, 5)
-    nonlinear.weighted_l1(np.ones((5, 2)), grid, [0], np.ones((1, 2)), np.ones((3, 2, 2)))
+    # two-state cubic models (the paper's first fit needs only this kernel): linear and nonlinear
+    linear = CompiledModel([[0.0, 1.0], [-1.0, -0.1]], TermTable.polynomial([[1, 0], [0, 1]]), [[1.0, 1.0]])
+    linear.simulate([1.0, 0.0], grid)
+    mark(cubic2.integrate_cubic2)
+    # three states: the general kernel, then the refinement's batch kernel
+    terms = TermTable.polynomial([[1, 0, 0], [0, 0, 1], [2, 1, 0]])
+    coef = [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [-1.0, -0.1, 0.01]]
+    nonlinear = CompiledModel(coef, terms, [[1.0, 1.0, 1.0]])
+    nonlinear.simulate([1.0, 0.0, 0.0], grid)
+    mark(integrators.integrate)
+    nonlinear.weighted_l1(np.ones((5, 3)), grid, [0], np.ones((1, 3)), np.ones((3, 3, 3)))
     mark(integrators.integrate_batch)
 
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import integrators as kernels
+from .cubic2 import dense_coefficients, dense_positions, integrate_cubic2, is_cubic2
 from .integrators import scratch_size
 from .program import build_program, pack, propagators, term_values
 from .sparse import STEP_SCALE, Reference, _as_inputs, _SparseModel
@@ -80,6 +81,8 @@ class CompiledModel(_SparseModel):
         self.program = build_program(self.terms, self.n_states)
         self._scratch = np.empty(scratch_size(terms.n_inputs, self.program.n_values))
         self._own = None  # (grid key, packed arrays) of the model's own coefficients
+        # a two-state cubic model is stepped with its monomials in registers (cubic2.integrate_cubic2)
+        self._dense_positions = dense_positions(self.terms) if is_cubic2(self.terms, self.n_states) else None
 
     def __getstate__(self):
         state = self.__dict__.copy()
@@ -103,13 +106,18 @@ class CompiledModel(_SparseModel):
         return term_values(self.program, Z) @ np.asarray(coef, dtype=float).T
 
     def _packed(self, c, dt, steps):
-        """The kernel program, coefficient rows and propagators of a batch (the model's own: cached)."""
+        """The kernel program, coefficient rows, propagators and dense rows of a batch (the model's own:
+        cached)."""
         own = c is None
         if own and self._own is not None and self._own[0] == (dt, steps):
             return self._own[1]
         batch = self.coef[None] if own else c
         prog, vals = pack(self.program, batch)
-        packed = (prog, vals, propagators(self.program, batch, dt, steps))
+        props = propagators(self.program, batch, dt, steps)
+        dense = None  # a two-state cubic model: its dense rows (stepped by integrate_cubic2)
+        if self._dense_positions is not None:
+            dense = dense_coefficients(batch, self._dense_positions)
+        packed = (prog, vals, props, dense)
         if own:
             self._own = ((dt, steps), packed)
         return packed
@@ -117,7 +125,7 @@ class CompiledModel(_SparseModel):
     def _integrate(self, ref, t, starts, weights, c, u, substeps, out):
         """Run the kernel (see :func:`integrators.integrate`); returns ``(errors, rows)``."""
         steps = self.substeps(t) if substeps is None else int(substeps)
-        prog, vals, props = self._packed(c, self._grid(t)[1], steps)
+        prog, vals, props, dense = self._packed(c, self._grid(t)[1], steps)
         bound = np.maximum(self.bound, 10 * np.max(np.abs(ref[starts]), axis=0))
         errors = np.empty(vals.shape[0])
         rows = np.empty(vals.shape[0], dtype=np.int64)
@@ -125,7 +133,10 @@ class CompiledModel(_SparseModel):
         # read-only arrays (e.g. memory-mapped data) would compile another kernel: copy them
         arrays = (ref, t, starts, weights, uu)
         ref, t, starts, weights, uu = (a if a.flags.writeable else a.copy() for a in arrays)
-        if vals.shape[0] > 2 and props.size == 0 and out.size == 0:  # models stepped together
+        if dense is not None:
+            scratch = self._scratch
+            integrate_cubic2(ref, t, starts, weights, steps, props, dense, bound, scratch, out, errors, rows)
+        elif vals.shape[0] > 2 and props.size == 0 and out.size == 0:  # models stepped together
             work = np.empty((self._scratch.shape[0], vals.shape[0]))
             kernels.integrate_batch(ref, t, starts, weights, steps, prog, vals, bound, uu, work, errors, rows)
         else:

@@ -3,62 +3,73 @@ with its monomials in registers.
 
 The general kernel (:mod:`.integrators`) evaluates a model's terms through its product tree in memory,
 which costs 4-6x a hand-written RK4 of the same model. For two states and a cubic library the ten
-monomials of each equation are few enough to write out: :func:`cubic2_coefficients` turns a packed model
-into dense coefficients (per equation: 1, x0, x1, x0^2, x0 x1, x1^2, x0^3, x0^2 x1, x0 x1^2, x1^3) and
-flags of the parts present; :func:`rk4_interval_cubic2` steps it, computing the quadratic and cubic parts
-only where present. Measured (``benchmarks/run.py``, a 4-term Duffing model, 401 samples, 5 sub-steps):
-1.5x a minimal hand-written numba RK4, against 4-6x through the product tree. Its results equal RK4 on
-the model's equations to rounding (``tests/test_simulation.py``), not bit for bit the product tree's
-(the sums run in another order).
+monomials of each equation are few enough to write out: :func:`dense_coefficients` turns a batch of
+coefficient matrices into dense rows (per equation: 1, x0, x1, x0^2, x0 x1, x1^2, x0^3, x0^2 x1, x0 x1^2,
+x1^3) and flags of the parts present, in numpy; :func:`rk4_interval_cubic2` steps a model, computing the
+quadratic and cubic parts only where present. :func:`integrate_cubic2` is the kernel of these models (and
+of linear two-state ones, by their propagator): :func:`.integrators.integrate`'s loop without the product
+tree, kept apart so that it compiles fast (1.2 s; the general kernel takes 1.1 s more): the first fit of
+the paper's case after installation waits for it and TVRegDiff's kernels only.
+
+Measured (``benchmarks/run.py``, a 4-term Duffing model, 401 samples, 5 sub-steps): 1.25-1.3x a minimal
+hand-written numba RK4, against 4-6x through the product tree. Its results equal RK4 on the model's
+equations to rounding (``tests/test_simulation.py``), not bit for bit the product tree's (the sums run in
+another order).
 """
 
 from __future__ import annotations
 
-from .._jit import jit
+import numpy as np
 
-__all__ = ["CUBIC2", "cubic2_coefficients", "rk4_interval_cubic2"]
+from .._jit import jit, kernel
+from .terms import PLAIN, TermTable
 
-#: Dense coefficients of a two-state polynomial model of degree <= 3 and which of its parts are present
-#: (:func:`cubic2_coefficients`): scratch floats the kernels reserve for it.
+__all__ = ["CUBIC2", "dense_coefficients", "dense_positions", "is_cubic2", "integrate_cubic2"]
+
+#: Length of a model's dense row: ten coefficients per equation, then per equation whether it has quadratic
+#: terms, cubic terms with ``x0^2``, cubic terms with ``x1^2`` (non-zero if so).
 CUBIC2 = 26
 
 
-@jit(_nrt=False)
-def cubic2_coefficients(prog, vals, n, n_z, dense) -> bool:
-    """Fill ``dense`` with the coefficients of a two-state polynomial model of degree <= 3 without inputs
-    (per equation: 1, x0, x1, x0^2, x0 x1, x1^2, x0^3, x0^2 x1, x0 x1^2, x1^3; then per equation whether
-    a quadratic and a cubic term are present, non-zero if so); False for another model.
+def is_cubic2(terms: TermTable, n_states: int) -> bool:
+    """Whether a model's active terms are a two-state polynomial of degree <= 3 without inputs (the models
+    :func:`rk4_interval_cubic2` steps)."""
+    return (
+        n_states == 2
+        and terms.n_inputs == 2
+        and bool(np.all(terms.func == PLAIN))
+        and bool(np.all(terms.powers.sum(axis=1) <= 3))
+    )
 
-    Such a model (the paper's, every mode of :func:`~sindy_impulse.identify_modes`) is integrated by
-    :func:`rk4_interval_cubic2`, its monomials in registers instead of the product tree in memory.
+
+def dense_positions(terms: TermTable) -> np.ndarray:
+    """Position of each term of a :func:`is_cubic2` model in an equation's dense row.
+
+    Examples
+    --------
+    >>> dense_positions(TermTable.polynomial([[0, 1], [1, 0], [3, 0], [1, 2]])).tolist()
+    [2, 1, 6, 8]
     """
-    parent, var, fcode, fslot, finput, fparam, eq_ptr, slot = prog
-    if n != 2 or n_z != 2 or fcode.shape[0] > 0:
-        return False
-    for k in range(CUBIC2):
-        dense[k] = 0.0
+    degree = terms.powers.sum(axis=1)
+    return (degree * (degree + 1) // 2 + terms.powers[:, 1]).astype(np.int64)
+
+
+def dense_coefficients(coefs: np.ndarray, positions: np.ndarray) -> np.ndarray:
+    """Dense rows (n_models, :data:`CUBIC2`) of a batch of active-coefficient matrices (n_models, 2,
+    n_terms) whose terms sit at ``positions`` (:func:`dense_positions`)."""
+    dense = np.zeros((coefs.shape[0], CUBIC2))
     for i in range(2):
-        for p in range(eq_ptr[i], eq_ptr[i + 1]):
-            q, a, c = slot[p], 0, 0  # the powers of x0 and x1 of the term, by the product tree
-            while q > n_z:
-                a += var[q] == 0
-                c += var[q] == 1
-                q = parent[q]
-            a += q == 1
-            c += q == 2
-            d = a + c
-            if d > 3:
-                return False
-            dense[10 * i + d * (d + 1) // 2 + c] += vals[p]
-    for i in range(2):  # per equation: quadratic terms, cubic terms with x0^2, with x1^2 present
-        for k in range(3, 10):
-            dense[20 + 3 * i + (0 if k < 6 else (1 if k < 8 else 2))] += dense[10 * i + k] != 0.0
-    return True
+        dense[:, 10 * i + positions] = coefs[:, i, :]
+        present = dense[:, 10 * i : 10 * i + 10] != 0.0
+        dense[:, 20 + 3 * i] = present[:, 3:6].any(axis=1)
+        dense[:, 21 + 3 * i] = present[:, 6:8].any(axis=1)
+        dense[:, 22 + 3 * i] = present[:, 8:10].any(axis=1)
+    return dense
 
 
-@jit(_nrt=False, inline="always")
+@jit(_nrt=False)
 def _cubic2_rhs(p, q, c, o, quadratic, cubic_p, cubic_q):
-    """One equation of a :func:`cubic2_coefficients` model (coefficients ``c[o : o + 10]``): its
+    """One equation of a :func:`dense_coefficients` row (coefficients ``c[o : o + 10]``): its
     quadratic terms and its cubic terms with ``x0^2`` and with ``x1^2`` only where present (the same
     branches at every call), in nested form."""
     value = c[o] + (c[o + 1] * p + c[o + 2] * q)
@@ -73,19 +84,67 @@ def _cubic2_rhs(p, q, c, o, quadratic, cubic_p, cubic_q):
 
 @jit(_nrt=False)
 def rk4_interval_cubic2(x, t, s, substeps, c):
-    """:func:`.integrators._rk4_interval` for a two-state cubic model (``c``: :func:`cubic2_coefficients`)."""
+    """:func:`.integrators._rk4_interval` for a two-state cubic model (``c``: a row of
+    :func:`dense_coefficients`)."""
     h = (t[s] - t[s - 1]) / substeps
     a0, b0, d0 = c[20] != 0.0, c[21] != 0.0, c[22] != 0.0
     a1, b1, d1 = c[23] != 0.0, c[24] != 0.0, c[25] != 0.0
     p, q = x[0], x[1]
     for _ in range(substeps):
-        k1p, k1q = _cubic2_rhs(p, q, c, 0, a0, b0, d0), _cubic2_rhs(p, q, c, 10, a1, b1, d1)
-        y0, y1 = p + 0.5 * h * k1p, q + 0.5 * h * k1q
-        k2p, k2q = _cubic2_rhs(y0, y1, c, 0, a0, b0, d0), _cubic2_rhs(y0, y1, c, 10, a1, b1, d1)
-        y0, y1 = p + 0.5 * h * k2p, q + 0.5 * h * k2q
-        k3p, k3q = _cubic2_rhs(y0, y1, c, 0, a0, b0, d0), _cubic2_rhs(y0, y1, c, 10, a1, b1, d1)
-        y0, y1 = p + h * k3p, q + h * k3q
-        k4p, k4q = _cubic2_rhs(y0, y1, c, 0, a0, b0, d0), _cubic2_rhs(y0, y1, c, 10, a1, b1, d1)
-        p += h / 6.0 * (((k1p + 2.0 * k2p) + 2.0 * k3p) + k4p)
-        q += h / 6.0 * (((k1q + 2.0 * k2q) + 2.0 * k3q) + k4q)
+        y0, y1, acc0, acc1 = p, q, 0.0, 0.0
+        for stage in range(4):  # the classical stages: weights 1, 2, 2, 1; steps h/2, h/2, h
+            k0, k1 = _cubic2_rhs(y0, y1, c, 0, a0, b0, d0), _cubic2_rhs(y0, y1, c, 10, a1, b1, d1)
+            weight = 1.0 if (stage == 0 or stage == 3) else 2.0
+            acc0, acc1 = acc0 + weight * k0, acc1 + weight * k1
+            step = h if stage == 2 else 0.5 * h
+            y0, y1 = p + step * k0, q + step * k1
+        p, q = p + h / 6.0 * acc0, q + h / 6.0 * acc1
     x[0], x[1] = p, q
+
+
+@kernel
+def integrate_cubic2(ref, t, starts, weights, substeps, props, dense, bound, work, out, errors, rows):
+    """:func:`.integrators.integrate` for two-state cubic models: model ``b`` is stepped by its propagator
+    ``props[b]`` if ``props`` is not empty (a linear model), else by its dense row ``dense[b]``
+    (:func:`rk4_interval_cubic2`). The same loop as ``integrate`` (segments, divergence, stored
+    trajectory or weighted error), written again without the general model's code so that it compiles
+    fast (see the module). ``work`` holds at least 4 floats.
+    """
+    x, x_old = work[0:2], work[2:4]
+    store = out.shape[0] > 0
+    for b in range(max(props.shape[0], dense.shape[0])):
+        total = 0.0
+        done = 0
+        for k in range(starts.shape[0]):
+            s0 = starts[k]
+            s1 = starts[k + 1] if k + 1 < starts.shape[0] else t.shape[0] - 1
+            for i in range(2):
+                x[i] = ref[s0, i]
+                if store:
+                    out[s0, i] = x[i]
+            for s in range(s0 + 1, s1 + 1):
+                if props.shape[0] > 0:  # RK4's map over the interval
+                    x_old[0], x_old[1] = x[0], x[1]
+                    for i in range(2):
+                        d = props[b, i, 2] if props.shape[2] > 2 else 0.0
+                        x[i] = d + props[b, i, 0] * x_old[0] + props[b, i, 1] * x_old[1]
+                else:
+                    rk4_interval_cubic2(x, t, s, substeps, dense[b])
+                done += 1
+                for i in range(2):
+                    if not (abs(x[i]) <= bound[i]):  # diverged (also true for NaN)
+                        total = np.inf
+                        for r in range(s, out.shape[0]):
+                            for q in range(2):
+                                out[r, q] = np.nan
+                        break
+                    if store:
+                        out[s, i] = x[i]
+                    else:
+                        total += weights[k, i] * abs(x[i] - ref[s, i])
+                if total == np.inf:
+                    break
+            if total == np.inf:
+                break
+        errors[b] = total
+        rows[b] = done

@@ -36,7 +36,6 @@ import math
 import numpy as np
 
 from .._jit import jit, kernel
-from .cubic2 import CUBIC2, cubic2_coefficients, rk4_interval_cubic2
 
 __all__ = [
     "integrate",
@@ -61,9 +60,9 @@ def scratch_size(n_z: int, n_values: int) -> int:
 
     Layout: the stage accumulator, the state at a step's start, the current state and a stage's
     derivative (``n_z`` each), then the term values (the constant 1, the inputs of a stage, the other
-    monomials and terms), then the dense coefficients of a two-state cubic model (:mod:`.cubic2`).
+    monomials and terms).
     """
-    return 4 * n_z + n_values + CUBIC2
+    return 4 * n_z + n_values
 
 
 @kernel
@@ -75,16 +74,15 @@ def integrate(ref, t, starts, weights, substeps, prog, vals, props, bound, u, wo
     if ``props`` is not empty). With an empty ``out`` each sample's error ``|x - ref|`` of state ``j`` is
     weighted by ``weights[k, j]`` and summed into ``errors[b]`` (``inf`` once a segment diverged); else
     the trajectory of the (single) model is written into ``out``, NaN after a divergence. ``rows[b]`` is
-    the number of grid intervals simulated (the work done).
+    the number of grid intervals simulated (the work done). Two-state cubic models take
+    :func:`.cubic2.integrate_cubic2`.
     """
     n = ref.shape[1]
     n_z = n + u.shape[1]
     x_old = work[n_z : n_z + n]
     x = work[2 * n_z : 2 * n_z + n]
-    dense = work[work.shape[0] - CUBIC2 :]
     store = out.shape[0] > 0
     for b in range(vals.shape[0]):
-        cubic2 = props.shape[0] == 0 and cubic2_coefficients(prog, vals[b], n, n_z, dense)
         total = 0.0
         done = 0
         for k in range(starts.shape[0]):
@@ -103,8 +101,6 @@ def integrate(ref, t, starts, weights, substeps, prog, vals, props, bound, u, wo
                         for q in range(n):
                             d += props[b, i, q] * x_old[q]
                         x[i] = d
-                elif cubic2:
-                    rk4_interval_cubic2(x, t, s, substeps, dense)
                 else:
                     _rk4_interval(x, t, s, substeps, prog, vals[b], u, work)
                 done += 1
@@ -179,18 +175,15 @@ def integrate_batch(ref, t, starts, weights, substeps, prog, vals, bound, u, wor
 
     One model's RK4 stages wait on memory; several models interleaved fill the wait (the gradient of the
     refinement scores one model per coefficient). The arithmetic of each model is :func:`integrate`'s, in
-    the same order: the same errors and work. ``work`` is (scratch rows, n_models). Two-state cubic
-    models (:func:`.cubic2.cubic2_coefficients`) are stepped one after the other, as :func:`integrate` does.
+    the same order: the same errors and work. ``work`` is (scratch rows, n_models). Not for two-state cubic
+    models (:func:`.cubic2.integrate_cubic2` steps those faster, one after the other).
     """
     n = ref.shape[1]
     n_z = n + u.shape[1]
     x = work[2 * n_z : 2 * n_z + n]
-    dense = work[work.shape[0] - CUBIC2 :]
-    cubic2 = True
     for b in range(vals.shape[0]):
         errors[b] = 0.0
         rows[b] = 0
-        cubic2 = cubic2 and cubic2_coefficients(prog, vals[b], n, n_z, dense[:, b])
     for k in range(starts.shape[0]):
         s0 = starts[k]
         s1 = starts[k + 1] if k + 1 < starts.shape[0] else t.shape[0] - 1
@@ -198,12 +191,7 @@ def integrate_batch(ref, t, starts, weights, substeps, prog, vals, bound, u, wor
             for b in range(vals.shape[0]):
                 x[i, b] = ref[s0, i]
         for s in range(s0 + 1, s1 + 1):
-            if cubic2:
-                for b in range(vals.shape[0]):
-                    if errors[b] != np.inf:
-                        rk4_interval_cubic2(x[:, b], t, s, substeps, dense[:, b])
-            else:
-                _rk4_interval_batch(x, t, s, substeps, prog, vals, u, work)
+            _rk4_interval_batch(x, t, s, substeps, prog, vals, u, work)
             alive = 0
             for b in range(vals.shape[0]):
                 if errors[b] == np.inf:
