@@ -9,7 +9,7 @@ __all__ = ["WorkBudget", "WORK_BUDGET", "OutOfBudget"]
 #: term evaluations per RK4 step (see ``CompiledModel.work``). About 4-10 s on one core through the
 #: general kernel, less for two-state polynomial models (:mod:`.cubic2`). Measured: at half this budget
 #: the refinement of a cubic-spring record with five correlated terms stopped before converging, so the
-#: same record rounded to 8 significant digits moved a coefficient by 16 %; at this budget by 1.7e-4
+#: same record rounded to 8 significant digits moved a coefficient by 16 %; at this budget by 4.4e-3
 #: (``benchmarks/bench_nonlinearity.py``, rounding table).
 WORK_BUDGET = 2e8
 
