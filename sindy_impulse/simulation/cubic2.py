@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import jit, kernel
+from .integrators import account, propagate
 from .terms import PLAIN, TermTable
 
 __all__ = ["CUBIC2", "dense_coefficients", "dense_positions", "is_cubic2", "integrate_cubic2"]
@@ -106,9 +107,9 @@ def rk4_interval_cubic2(x, t, s, substeps, c):
 def integrate_cubic2(ref, t, starts, weights, substeps, props, dense, bound, work, out, errors, rows):
     """:func:`.integrators.integrate` for two-state cubic models: model ``b`` is stepped by its propagator
     ``props[b]`` if ``props`` is not empty (a linear model), else by its dense row ``dense[b]``
-    (:func:`rk4_interval_cubic2`). The same loop as ``integrate`` (segments, divergence, stored
-    trajectory or weighted error), written again without the general model's code so that it compiles
-    fast (see the module). ``work`` holds at least 4 floats.
+    (:func:`rk4_interval_cubic2`). The loop of ``integrate`` (segments; the same propagator step and
+    the same accounting of divergence, stored trajectory or weighted error), without the general
+    model's code so that it compiles fast (see the module). ``work`` holds at least 4 floats.
     """
     x, x_old = work[0:2], work[2:4]
     store = out.shape[0] > 0
@@ -124,24 +125,11 @@ def integrate_cubic2(ref, t, starts, weights, substeps, props, dense, bound, wor
                     out[s0, i] = x[i]
             for s in range(s0 + 1, s1 + 1):
                 if props.shape[0] > 0:  # RK4's map over the interval
-                    x_old[0], x_old[1] = x[0], x[1]
-                    for i in range(2):
-                        d = props[b, i, 2] if props.shape[2] > 2 else 0.0
-                        x[i] = d + props[b, i, 0] * x_old[0] + props[b, i, 1] * x_old[1]
+                    propagate(x, x_old, props, b)
                 else:
                     rk4_interval_cubic2(x, t, s, substeps, dense[b])
                 done += 1
-                for i in range(2):
-                    if not (abs(x[i]) <= bound[i]):  # diverged (also true for NaN)
-                        total = np.inf
-                        for r in range(s, out.shape[0]):
-                            for q in range(2):
-                                out[r, q] = np.nan
-                        break
-                    if store:
-                        out[s, i] = x[i]
-                    else:
-                        total += weights[k, i] * abs(x[i] - ref[s, i])
+                total = account(x, s, k, ref, weights, bound, out, total)
                 if total == np.inf:
                     break
             if total == np.inf:

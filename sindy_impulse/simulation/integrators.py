@@ -94,33 +94,47 @@ def integrate(ref, t, starts, weights, substeps, prog, vals, props, bound, u, wo
                     out[s0, i] = x[i]
             for s in range(s0 + 1, s1 + 1):
                 if props.shape[0] > 0:  # RK4's map over the interval
-                    for i in range(n):
-                        x_old[i] = x[i]
-                    for i in range(n):
-                        d = props[b, i, n] if props.shape[2] > n else 0.0
-                        for q in range(n):
-                            d += props[b, i, q] * x_old[q]
-                        x[i] = d
+                    propagate(x, x_old, props, b)
                 else:
                     _rk4_interval(x, t, s, substeps, prog, vals[b], u, work)
                 done += 1
-                for i in range(n):
-                    if not (abs(x[i]) <= bound[i]):  # diverged (also true for NaN)
-                        total = np.inf
-                        for r in range(s, out.shape[0]):  # (loops, not slicing: less code to compile)
-                            for q in range(n):
-                                out[r, q] = np.nan
-                        break
-                    if store:
-                        out[s, i] = x[i]
-                    else:
-                        total += weights[k, i] * abs(x[i] - ref[s, i])
+                total = account(x, s, k, ref, weights, bound, out, total)
                 if total == np.inf:
                     break
             if total == np.inf:
                 break
         errors[b] = total
         rows[b] = done
+
+
+@jit(_nrt=False)
+def propagate(x, x_old, props, b):
+    """One grid interval of a linear model: ``x <- props[b] @ [x, 1]`` (RK4's map, see the module)."""
+    n = x.shape[0]
+    for i in range(n):
+        x_old[i] = x[i]
+    for i in range(n):
+        d = props[b, i, n] if props.shape[2] > n else 0.0
+        for q in range(n):
+            d += props[b, i, q] * x_old[q]
+        x[i] = d
+
+
+@jit(_nrt=False)
+def account(x, s, k, ref, weights, bound, out, total):
+    """The state ``x`` at sample ``s`` of segment ``k``: stored in ``out`` (if not empty) or its weighted
+    error added to ``total``; ``inf`` (and NaN rows from ``s`` on) once it left the bounds."""
+    for i in range(x.shape[0]):
+        if not (abs(x[i]) <= bound[i]):  # diverged (also true for NaN)
+            for r in range(s, out.shape[0]):  # (loops, not slicing: less code to compile)
+                for q in range(x.shape[0]):
+                    out[r, q] = np.nan
+            return np.inf
+        if out.shape[0] > 0:
+            out[s, i] = x[i]
+        else:
+            total += weights[k, i] * abs(x[i] - ref[s, i])
+    return total
 
 
 # The RK4 interval runs without numba's reference counting (``_nrt=False``): with it, every call passing
