@@ -78,10 +78,28 @@ def _run(model, state, c, n_states, dt, chunk, limit, min_samples, spp, target):
     return pieces, "limit"
 
 
+def _lead_factor(y: np.ndarray, period: int, lead_periods: float) -> float:
+    """How much the data's amplitude falls over its first ``lead_periods`` periods (1 if too short)."""
+    k = int(round(lead_periods * period))
+    if lead_periods <= 0 or y.size < k + 2 * period:
+        return 1.0
+    later = _amplitude(y[k : k + 2 * period])
+    return max(1.0, _amplitude(y[: 2 * period]) / later) if later > 0 else 1.0
+
+
 def simulate_free_decay(
-    model, coordinate, samples_per_period: float, max_periods: float, target: float | None, min_periods: float
-) -> tuple[np.ndarray, float]:
-    """The simulated measured coordinate and its time step (module docstring)."""
+    model,
+    coordinate,
+    samples_per_period: float,
+    max_periods: float,
+    target: float | None,
+    min_periods: float,
+    lead_periods: float = 0.0,
+) -> tuple[np.ndarray, float, float]:
+    """The simulated measured coordinate, its time step and the data's initial amplitude (module
+    docstring). With ``lead_periods``, the simulation starts from the initial state scaled up by what the
+    data lose over that many periods, so that an estimator trimming its first periods still covers the
+    data's largest amplitudes (falls back to the initial state when that run does not decay)."""
     xs, ts = _trajectories(model)
     n_states = xs[0].shape[1]
     c = resolve_coordinate(model, coordinate, n_states)
@@ -98,9 +116,16 @@ def simulate_free_decay(
         target = max(_amplitude(x_data[-2 * period :, c]), 1e-6 * _amplitude(x_data[: 2 * period, c]))
     chunk = int(max((t_data[-1] - t_data[0]) / (4 * dt), min_periods * spp))
     limit = int(max_periods * spp)
+    period = int(np.ceil(1 / (f * dt_data)))
+    start = _amplitude(x_data[: 2 * period, c])
+    lead = _lead_factor(x_data[:, c], period, lead_periods)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # a divergence is reported below
-        pieces, status = _run(model, x_data[0], c, n_states, dt, chunk, limit, min_periods * spp, spp, target)
+        pieces, status = _run(model, lead * x_data[0], c, n_states, dt, chunk, limit, min_periods * spp, spp,
+                              target)
+        if lead > 1.0 and status != "decayed":  # the model does not decay from there: from the data's state
+            pieces, status = _run(model, x_data[0], c, n_states, dt, chunk, limit, min_periods * spp, spp,
+                                  target)
     if status == "diverged":
         warnings.warn(
             f"the model's free decay diverged after {sum(map(len, pieces)) / spp:.0f} periods; the backbone "
@@ -116,7 +141,7 @@ def simulate_free_decay(
             FitWarning,
             stacklevel=3,
         )
-    return _cut_below(np.concatenate(pieces), spp, target / np.e, min_periods), dt
+    return _cut_below(np.concatenate(pieces), spp, target / np.e, min_periods), dt, start
 
 
 def _cut_below(y: np.ndarray, spp: int, level: float, min_periods: float) -> np.ndarray:
