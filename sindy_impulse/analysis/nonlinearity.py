@@ -32,9 +32,10 @@ does not change the verdict. Coefficients are reported in the data's units (abou
 
 Measured (``benchmarks/bench_nonlinearity.py``: single-mode accelerometer hammer tests through band-pass
 and derivative states, SNR 30-60 dB, 10-96 cycles kept, damping ratio 0.3-2 %, 100 records per row):
-false alarms on 2 of 100 linear records; "nonlinear" on 98 of 100 with a cubic spring (frequency shift
-0.35-1 % over the decay) and on 98 of 100 with a damping growing with amplitude (x 1.5-2.5 over the decay,
-frequency shift 0); the same verdict on every record scaled by 1e-6 and 1e6 with an offset (300 of 300).
+false alarms on 2 of 100 linear records; "nonlinear" on 100 of 100 with a cubic spring (frequency shift
+0.35-1 % over the decay) and on 100 of 100 with a damping growing with amplitude (x 1.5-2.5 over the
+decay, frequency shift 0); the same verdict on every record scaled by 1e-6 and 1e6 with an offset (300 of
+300).
 """
 
 from __future__ import annotations
