@@ -132,6 +132,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--records", type=int, default=30, help="records per row (default 30)")
     parser.add_argument("--jobs", type=int, default=1, help="worker processes")
+    parser.add_argument("--misses", action="store_true", help="list the records the mode backbone misses")
     args = parser.parse_args()
     jobs = [(kind, seed) for kind in ("cubic", "damping") for seed in range(args.records)]
     if args.jobs > 1:
@@ -152,6 +153,12 @@ def main() -> None:
                 f"{cells[2]:>16s}"
             )
     print("pass marks: models 0.2 % / 10 % / 10 %; hilbert 0.5 % / 20 % / 25 %")
+    if args.misses:
+        for r in rows:
+            if not np.all(np.array(r["mode"]) <= np.array(MARKS["mode"])):
+                cells = " / ".join(f"{100 * v:.3g} %" for v in r["mode"])
+                print(f"  miss {r['kind']} seed {r['seed']}: mode {cells}, compared amplitudes "
+                      f"{r['range'][0]:.3g}-{r['range'][1]:.3g}")
 
 
 if __name__ == "__main__":

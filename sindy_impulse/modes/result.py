@@ -90,9 +90,19 @@ class Mode:
 
     @cached_property
     def backbone(self):
-        """Backbone curve of the model (:func:`sindy_impulse.analysis.backbone`), computed once."""
+        """Backbone curve of the mode (:func:`sindy_impulse.analysis.backbone`), computed once.
+
+        The backbone of :attr:`model`; but when the test for nonlinearity (:attr:`nonlinearity`) calls the
+        mode nonlinear through a term the model does not have (its ``source`` is ``"search"``: the
+        selection kept a linear damper or spring that the data's amplitude dependence contradicts), the
+        backbone of the test's nonlinear alternative, which carries that term (its ``backbone_model``), so
+        that the curve shows the amplitude dependence the verdict rests on.
+        """
         from ..analysis import backbone
 
+        test = self.nonlinearity
+        if test.nonlinear and test.source == "search" and test.backbone_model is not None:
+            return test.backbone_model
         return backbone(self.model, coordinate=self.coordinate_)
 
     @cached_property

@@ -9,7 +9,9 @@ Peaks too close for their damping (``Preprocessed.groups``) are also fitted join
 (:func:`._fit.fit_group`); a joint mode that agrees with its peak's fitted damped sinusoid replaces the
 peak's own-band result when that gave no mode or one that agrees less. A peak still without a mode that
 agrees with its sinusoid is fitted once more on the record with the other peaks' sinusoids subtracted, in a
-wide band (:func:`~sindy_impulse.preprocessing.deflation.deflated_band`; :func:`_deflated`).
+wide band (:func:`~sindy_impulse.preprocessing.deflation.deflated_band`; :func:`_deflated`). A group of
+close peaks that one nonlinear oscillator reproduces better is one nonlinear mode, and a mode at 2 or 3
+times a nonlinear mode's backbone frequencies is its harmonic (:mod:`._nonlinear`).
 Repeated hits of one structure are matched by frequency and combined by the paper's consensus (section
 3.3.2).
 """
@@ -29,6 +31,7 @@ from ..preprocessing import extract_band, preprocess
 from ..preprocessing.deflation import deflated_band
 from ._fit import default_estimator, fit_band, fit_direct, fit_group
 from ._hits import merge_hits
+from ._nonlinear import merge_chirps, name_harmonics
 from .result import ModalSurvey, Mode, Rejected
 
 __all__ = ["identify_modes"]
@@ -132,7 +135,12 @@ def _survey_record(index, record, t, fs, force, options, template, sensor, chann
         else:
             rejected.append(out if isinstance(out, Rejected) else Rejected(tuple(skipped), why, index))
     modes, rejected = _deflated(pre, modes, rejected, template, index, options["samples_per_period"])
-    return modes, rejected, pre, notes
+    fit_options = dict(template=template, onset_time=pre.impact.onset_time, record=record, channel=ref,
+                       impulse=impulse, sensor=sensor, index=index)
+    modes, rejected, merged = merge_chirps(pre, modes, rejected, fit_options,
+                                           lambda band: _first_periods(band, max_periods))
+    modes, rejected, harmonics = name_harmonics(modes, rejected)
+    return modes, rejected, pre, notes + merged + harmonics
 
 
 #: Largest disagreement (:func:`_disagreement`) of a jointly fitted mode with its peak's damped sinusoid.

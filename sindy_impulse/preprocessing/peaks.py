@@ -23,7 +23,7 @@ from .._params import Interval, check_param
 from ..exceptions import DataWarning
 from ._record import check_fs, check_signal_1d
 from .detection import fit_peaks, spectrum_peaks
-from .partition import band_groups, peak_bands
+from .partition import WIDTH_FACTOR, band_groups, peak_bands
 from .spectrum import (
     Spectrum,
     detection_threshold_db,
@@ -131,7 +131,7 @@ def _strongest(found, n_modes: int, threshold_db: float):
 
 
 def spectral_peaks(y, fs: float, *, n_modes: int | None = None, bands=None, threshold_db: float | None = None,
-                   prominence_db: float = 3.0, f_range=None, width_factor: float = 5.0,
+                   prominence_db: float = 3.0, f_range=None, width_factor: float = WIDTH_FACTOR,
                    min_half_width: float = 0.1, refine: bool = True) -> SpectralPeaks:
     """The modes of a ring-down as spectral peaks, and a band for each (see the module).
 
@@ -172,7 +172,7 @@ def spectral_peaks(y, fs: float, *, n_modes: int | None = None, bands=None, thre
     >>> peaks.frequency_hz.round(1).tolist(), peaks.damping_ratio.round(4).tolist()
     ([150.0, 420.0], [0.005, 0.005])
     >>> [tuple(round(e) for e in b) for b in peaks.band_hz]
-    [(136, 165), (382, 462)]
+    [(134, 168), (375, 470)]
     """
     rate = check_fs(fs)
     arr = check_signal_1d(y, "y")

@@ -1,0 +1,116 @@
+"""A strongly nonlinear mode in identify_modes: one mode (not split peaks), its harmonic named."""
+
+import types
+import warnings
+
+import numpy as np
+import pytest
+
+from sindy_impulse import identify_modes, impact_record
+from sindy_impulse.modes import _nonlinear, survey
+from sindy_impulse.modes.result import Mode
+from sindy_impulse.preprocessing import spectral_peaks
+from sindy_impulse.preprocessing.filters import transient_samples
+
+# Two hammer tests of a hardening mode whose frequency falls by about 3 % along the decay (the records of
+# benchmarks/bench_model_backbone.py, cubic row, seeds 7 and 15): the spectrum shows two close peaks and the
+# third harmonic.
+DUFFING = [
+    dict(f0=158.62537118062534, zeta=0.0037097025593240017, fs=4853.687975314075, duration=0.7354855392824855,
+         snr_db=35.672931998913825, k3=1.070541445488249e17, seed=7),
+    dict(f0=88.16860609071708, zeta=0.003735293088836931, fs=2759.6416516225804, duration=1.3232223105197762,
+         snr_db=54.56804324306581, k3=3297662829939444.5, seed=15),
+]
+
+
+def _record(case):
+    return impact_record(case["f0"], case["zeta"], [1.0], fs=case["fs"], duration=case["duration"],
+                         snr_db=case["snr_db"], cubic_stiffness=case["k3"], random_state=case["seed"])
+
+
+def _survey(rec):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return identify_modes(rec.y, fs=rec.fs, force=rec.force)
+
+
+@pytest.mark.parametrize("case", DUFFING, ids=["158Hz", "88Hz"])
+def test_split_peaks_of_a_nonlinear_mode_are_one_mode_and_its_harmonic_is_named(case):
+    rec = _record(case)
+    found = _survey(rec)
+    assert len(found.modes) == 1, found
+    mode = found.modes[0]
+    assert abs(mode.frequency_hz / case["f0"] - 1) < 0.003
+    assert abs(mode.damping_ratio / case["zeta"] - 1) < 0.1
+    assert _nonlinear.has_nonlinear_terms(mode.model)
+    assert any("y^3" in eq for eq in mode.model.equations())
+    assert any("harmonic 3" in r.reason for r in found.rejected)
+    assert any("one nonlinear mode" in note for note in found.notes)
+    f = mode.backbone.frequency_hz
+    assert f.max() / f.min() - 1 > 0.015  # the backbone shows the hardening
+
+
+def test_without_the_merge_the_nonlinear_mode_is_split(monkeypatch):
+    """The check above fails without the step: two linear modes and a 'mode' at the third harmonic."""
+    monkeypatch.setattr(survey, "merge_chirps", lambda pre, modes, rejected, *a: (modes, rejected, []))
+    found = _survey(_record(DUFFING[0]))
+    assert len(found.modes) >= 2
+
+
+def test_close_linear_modes_are_not_merged():
+    """Two close linear modes fitted jointly (a group) beat: no single oscillator reproduces them."""
+    f, zeta = [534.7, 616.8], [0.0196, 0.0246]
+    rec = impact_record(f, zeta, [1.0, 0.8], fs=5000.0, duration=0.8, sensor="displacement", snr_db=45,
+                        pre_trigger=0.05, random_state=1)
+    found = _survey(rec)
+    assert found.preprocessing[0].groups  # the case the merge looks at
+    assert len(found.modes) == 2
+    assert not any("one nonlinear mode" in note for note in found.notes)
+    assert not any("harmonic" in r.reason for r in found.rejected)
+
+
+def test_harmonic_is_named_only_near_twice_or_three_times_the_backbone():
+    f = np.array([100.0, 100.4])
+    mode = types.SimpleNamespace(frequency_hz=100.0, record=0, model=object(), band_hz=(90, 110))
+    near = types.SimpleNamespace(frequency_hz=301.0, record=0, model=object(), band_hz=(280, 320))
+    far = types.SimpleNamespace(frequency_hz=305.0, record=0, model=object(), band_hz=(285, 325))
+    original = (_nonlinear.has_nonlinear_terms, _nonlinear._backbone_range)
+    try:
+        _nonlinear.has_nonlinear_terms = lambda model: model is mode.model
+        _nonlinear._backbone_range = lambda m: (float(f.min()), float(f.max()))
+        modes, rejected, notes = _nonlinear.name_harmonics([mode, near, far], [])
+    finally:
+        _nonlinear.has_nonlinear_terms, _nonlinear._backbone_range = original
+    assert modes == [mode, far]
+    assert len(rejected) == 1 and "harmonic 3" in rejected[0].reason and len(notes) == 1
+
+
+def test_own_bands_keep_the_transient_loss_small_at_any_damping():
+    """12 half-power widths: an isolated 1-2 %-damped mode loses about 0.5 neper to the band's filter
+    transient (5 widths: 1.2 neper)."""
+    fs = 5000.0
+    t = np.arange(10000) / fs
+    for zeta in (0.003, 0.01, 0.02):
+        y = np.exp(-2 * np.pi * zeta * 150 * t) * np.sin(2 * np.pi * 150 * t)
+        y = y + 1e-4 * np.random.default_rng(0).standard_normal(t.size)
+        band = spectral_peaks(y, fs).band_hz[0]
+        loss = 2 * np.pi * zeta * 150 * transient_samples(fs, band) / fs
+        assert loss < 0.65, (zeta, band, loss)
+
+
+def _mode_with_test(**test):
+    mode = Mode(frequency_hz=10.0, damping_ratio=0.01, band_hz=(8, 12), amplitude=1.0, fit_error=0.01,
+                model=None, states=np.zeros((4, 2)), t=np.arange(4.0))
+    mode.__dict__["nonlinearity"] = types.SimpleNamespace(**test)
+    return mode
+
+
+def test_mode_backbone_uses_the_tests_alternative_when_the_model_lacks_the_term(monkeypatch):
+    import sindy_impulse.analysis as analysis
+
+    curve = object()
+    searched = _mode_with_test(nonlinear=True, source="search", backbone_model=curve)
+    assert searched.backbone is curve
+    monkeypatch.setattr(analysis, "backbone", lambda model, **kw: "own")
+    assert _mode_with_test(nonlinear=True, source="model", backbone_model=curve).backbone == "own"
+    assert _mode_with_test(nonlinear=False, source="search", backbone_model=curve).backbone == "own"
