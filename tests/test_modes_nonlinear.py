@@ -114,3 +114,34 @@ def test_mode_backbone_uses_the_tests_alternative_when_the_model_lacks_the_term(
     monkeypatch.setattr(analysis, "backbone", lambda model, **kw: "own")
     assert _mode_with_test(nonlinear=True, source="model", backbone_model=curve).backbone == "own"
     assert _mode_with_test(nonlinear=False, source="search", backbone_model=curve).backbone == "own"
+
+
+# A mode with an x^2 x' damper (damping ratio 2.2x higher at the start; bench_model_backbone.py, damping row,
+# seed 18): the broad peak of its third harmonic (15 % "damping") is grouped with it.
+DAMPER = dict(f0=85.79060934499395, zeta=0.00924857622186462, fs=2895.526117765121,
+              duration=1.3599001983714711, snr_db=50.35088397773171, c2=24894765317601.613, seed=18)
+
+
+def _damper_survey():
+    c = DAMPER
+    rec = impact_record(c["f0"], c["zeta"], [1.0], fs=c["fs"], duration=c["duration"], snr_db=c["snr_db"],
+                        damping_amplitude=c["c2"], random_state=c["seed"])
+    return _survey(rec)
+
+
+def test_nonlinear_mode_keeps_its_own_band_when_grouped_with_its_harmonic():
+    found = _damper_survey()
+    assert found.preprocessing[0].groups  # grouped with the harmonic's broad peak
+    assert len(found.modes) == 1
+    mode = found.modes[0]
+    assert mode.states.shape[1] == 2 and _nonlinear.has_nonlinear_terms(mode.model)
+    assert abs(mode.frequency_hz / DAMPER["f0"] - 1) < 0.003
+    assert abs(mode.damping_ratio / DAMPER["zeta"] - 1) < 0.1
+    z = mode.backbone.damping_ratio
+    assert z.max() / z.min() > 1.3  # the amplitude-dependent damping shows
+
+
+def test_without_the_rule_the_grouped_nonlinear_mode_becomes_a_linear_joint_model(monkeypatch):
+    monkeypatch.setattr(survey, "has_nonlinear_terms", lambda model: False)
+    mode = _damper_survey().modes[0]
+    assert mode.states.shape[1] == 4 and not _nonlinear.has_nonlinear_terms(mode.model)

@@ -31,7 +31,7 @@ from ..preprocessing import extract_band, preprocess
 from ..preprocessing.deflation import deflated_band
 from ._fit import default_estimator, fit_band, fit_direct, fit_group
 from ._hits import merge_hits
-from ._nonlinear import merge_chirps, name_harmonics
+from ._nonlinear import has_nonlinear_terms, merge_chirps, name_harmonics
 from .result import ModalSurvey, Mode, Rejected
 
 __all__ = ["identify_modes"]
@@ -158,7 +158,9 @@ def _grouped(pre, own: dict, template, index: int) -> dict:
     """Peaks of each group too close for their damping (``pre.groups``) fitted jointly in the group's band
     (:func:`._fit.fit_group`): {own band: Mode} where the joint mode agrees with the peak's fitted damped
     sinusoid (``pre.peaks``; :func:`_disagreement` at most ``_AGREEMENT``) and better than the mode of its
-    own band (``own``: {own band: Mode}), or the own band gave none."""
+    own band (``own``: {own band: Mode}), or the own band gave none. An own-band mode with nonlinear terms
+    that fits its band better than the joint model stays (e.g. a nonlinear mode grouped with the broad
+    peak of its own third harmonic)."""
     found = {}
     for group, band in pre.groups:
         members = [tuple(pre.peaks.band_hz[i]) for i in group]
@@ -167,6 +169,8 @@ def _grouped(pre, own: dict, template, index: int) -> dict:
             f, zeta = pre.peaks.frequency_hz[i], pre.peaks.damping_ratio[i]
             if not isinstance(out, Mode) or not _disagreement(out, f, zeta) <= _AGREEMENT:
                 continue
+            if b in own and has_nonlinear_terms(own[b].model) and own[b].fit_error < out.fit_error:
+                continue  # a nonlinear mode (its sinusoid is a poor yardstick) better fitted in its own band
             if b not in own or _disagreement(out, f, zeta) < _disagreement(own[b], f, zeta):
                 found[b] = out
     return found
