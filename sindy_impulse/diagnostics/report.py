@@ -32,7 +32,7 @@ class FitDiagnostics:
         ``{check: sentence}``: what was done or seen that is not a problem (e.g. an offset removed).
     fit_error : ndarray (n_states,)
         RMS of the model's simulation minus the filtered states, over the RMS of the filtered states about
-        their rest level (segment-restarted for records over ``AUTO_PERIODS`` = 100 periods; inf: diverged).
+        their rest level (segment-restarted for records over 30 periods; inf: diverged).
     noise_ratio : ndarray (n_states,)
         RMS of the measured minus the filtered states over the same RMS: the noise the filter removed.
     snr_db : float

@@ -51,14 +51,7 @@ __all__ = [
 ]
 
 #: Records with more periods than this are scored by ``"segmented"`` when ``error_measure="auto"``.
-#: Up to 100 periods the paper's Gamma (absolute errors from one simulation, which weigh the large
-#: amplitudes as white measurement noise does) pins an amplitude-dependent term down better: on the
-#: 38-105-period hammer tests of ``benchmarks/bench_model_backbone.py`` the modes' backbones met all
-#: marks in 18/20 (``x^2 x'`` damper) and 20/20 (cubic spring) records against 14/20 and 19/20 with the
-#: segment-wise measure from 30 periods (it weighs every amplitude level alike, so the noisy small ones
-#: as much as the large ones where the nonlinear term acts). Beyond, phase drift from the first sample
-#: dominates Gamma on long real records (issue 13: over 375 periods, damping 1.8-12x too high).
-AUTO_PERIODS = 100
+AUTO_PERIODS = 30
 #: Most samples per period of a record's dominant oscillation at which the built-in measures compare a
 #: simulation with the reference. A more finely sampled record is compared at every ``stride``-th sample,
 #: each compared sample standing for ``stride`` samples; the simulation still takes the steps the model's
