@@ -75,7 +75,8 @@ def _errors(curve, truth, grid, kind):
 
 
 def _curve(make):
-    """``make()``, or None when the model has no backbone (its free decay does not decay)."""
+    """``make()``, or None when there is no backbone (a model whose free decay does not decay, or a band
+    signal too short for the Hilbert analysis: counted as a failure)."""
     try:
         return make()
     except ValueError:
@@ -113,7 +114,7 @@ def run_one(job) -> dict:
             "mode, tested": _curve(lambda: _tested(mode)) if mode is not None else None,
             "mechanical": _backbone_or_none(model),
             "mech., tested": test.backbone_model if test.nonlinear else _backbone_or_none(model),
-            "hilbert": hilbert_backbone(signal.y, signal.t),
+            "hilbert": _curve(lambda: hilbert_backbone(signal.y, signal.t)),
             "constant": _backbone_or_none(linear),
         }
     # the amplitudes both backbones cover (each trims its ends: Hilbert end effects), middle 80 % of them;
