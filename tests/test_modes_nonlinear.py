@@ -145,3 +145,38 @@ def test_without_the_rule_the_grouped_nonlinear_mode_becomes_a_linear_joint_mode
     monkeypatch.setattr(survey, "has_nonlinear_terms", lambda model: False)
     mode = _damper_survey().modes[0]
     assert mode.states.shape[1] == 4 and not _nonlinear.has_nonlinear_terms(mode.model)
+
+
+# A strongly damped mode with an x^2 x' damper (bench_model_backbone.py, damping row, seed 25): the spike
+# of the hammer's contact in the first samples led the damped-sinusoid fit of the only peak astray.
+SPIKE = dict(f0=50.07271493204269, zeta=0.016274373945438, fs=2948.005380192316, duration=2.3299448976354378,
+             snr_db=53.128245856781824, c2=122559699166733.03, seed=25)
+
+
+def _spike_survey():
+    c = SPIKE
+    rec = impact_record(c["f0"], c["zeta"], [1.0], fs=c["fs"], duration=c["duration"], snr_db=c["snr_db"],
+                        damping_amplitude=c["c2"], random_state=c["seed"])
+    return _survey(rec)
+
+
+def test_mode_hidden_by_the_contact_spike_is_found_on_a_second_look():
+    found = _spike_survey()
+    assert len(found.modes) == 1
+    mode = found.modes[0]
+    assert abs(mode.frequency_hz / SPIKE["f0"] - 1) < 0.003
+    assert abs(mode.damping_ratio / SPIKE["zeta"] - 1) < 0.1
+
+
+def test_without_the_second_look_the_record_has_no_mode(monkeypatch):
+    import sindy_impulse.preprocessing.peaks as peaks
+
+    monkeypatch.setattr(peaks, "fit_peaks_after_spike", lambda *a, **k: None)
+    assert _spike_survey().modes == []
+
+
+def test_candidate_frequency_tolerance_keeps_it_positive():
+    from sindy_impulse.preprocessing.detection import _tolerances
+
+    tol = _tolerances(np.array([1.96, 80.0]), np.array([127.0, 143.0]), 0.48)
+    assert np.all(tol <= 0.5 * np.array([1.96, 80.0]))

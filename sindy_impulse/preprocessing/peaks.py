@@ -22,7 +22,7 @@ import numpy as np
 from .._params import Interval, check_param
 from ..exceptions import DataWarning
 from ._record import check_fs, check_signal_1d
-from .detection import fit_peaks, spectrum_peaks
+from .detection import fit_peaks, fit_peaks_after_spike, spectrum_peaks
 from .partition import WIDTH_FACTOR, band_groups, peak_bands
 from .spectrum import (
     Spectrum,
@@ -190,6 +190,8 @@ def spectral_peaks(y, fs: float, *, n_modes: int | None = None, bands=None, thre
         threshold_db = detection_threshold_db(max(int((hi - lo) / spectrum.resolution_hz), 1))
     if refine:
         found = fit_peaks(arr, rate, spectrum, lo, hi, threshold_db, prominence_db)
+        if found.frequency_hz.size == 0:  # a contact spike may have hidden a strongly damped mode
+            found = fit_peaks_after_spike(arr, rate, threshold_db, prominence_db, f_range) or found
     else:
         found = spectrum_peaks(spectrum, lo, hi, threshold_db, prominence_db)
     freq, decay, zeta, height = found.frequency_hz, found.decay_rate, found.damping_ratio, found.height_db
