@@ -13,8 +13,9 @@ cubic row before this step).
   band, the peaks are one nonlinear mode: it replaces them. Two linear modes that close beat, which no
   single two-state oscillator can reproduce, so they keep their joint fit.
 - :func:`name_harmonics`: a mode whose frequency is 2 or 3 times a frequency the backbone of a nonlinear
-  mode passes through (within :data:`HARMONIC_TOLERANCE`) is that mode's harmonic: it is moved to the
-  rejected peaks with that reason.
+  mode passes through (within :data:`HARMONIC_TOLERANCE`, or within the candidate's own half-power band,
+  ``2 zeta``, if wider: a harmonic of an amplitude-dependent damper decays fast and is fitted 0.7 % off
+  3 f) is that mode's harmonic: it is moved to the rejected peaks with that reason.
 """
 
 from __future__ import annotations
@@ -95,8 +96,9 @@ def name_harmonics(modes: list, rejected: list) -> tuple:
         span = _backbone_range(mode)
         if span is None or all(m is not mode for m in modes):
             continue
-        lo, hi = span[0] * (1 - HARMONIC_TOLERANCE), span[1] * (1 + HARMONIC_TOLERANCE)
         for other in [m for m in modes if m is not mode and m.record == mode.record]:
+            margin = max(HARMONIC_TOLERANCE, 2 * other.damping_ratio)  # or within its half-power band
+            lo, hi = span[0] * (1 - margin), span[1] * (1 + margin)
             order = next((k for k in (2, 3) if lo <= other.frequency_hz / k <= hi), None)
             if order is None:
                 continue
