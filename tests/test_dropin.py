@@ -116,6 +116,10 @@ def test_fallback_and_composite_libraries_fit_predict_simulate_score(ring, mode,
 def test_any_optimizer_in_the_sweep_and_refinement(ring, make):
     t, x, _ = ring
     optimizer = make()
+    # PySINDy's ensembles draw from numpy's global generator: seeded, so the test does not depend on what
+    # ran before it (the library ensemble keeps too few terms in every model for 2 of 12 seeds, and the
+    # fit then refuses with "every candidate model diverged": a clear error, not this test's subject)
+    np.random.seed(0)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         model = _fd(optimizer=optimizer, feature_library=ps.PolynomialLibrary(degree=2)).fit(x, t=t)
