@@ -163,7 +163,7 @@ class Comparison:
 def alternatives(test: Comparison, coef, terms, search: bool, n_search: int):
     """The linear fit and the best nonlinear alternative: ``(lin_coef, g_lin), (source, coef, g)``."""
     degree = terms.powers.sum(axis=1)
-    linear_cols = (terms.func == PLAIN) & (degree <= 1)
+    linear_cols = terms.linear
     lin_support = (coef != 0) & linear_cols[None, :]
     if not lin_support.any():  # a model without linear part: all linear terms of the library
         lin_support = np.broadcast_to(linear_cols & (degree == 1), coef.shape).copy()

@@ -25,7 +25,6 @@ import warnings
 import numpy as np
 
 from ..feature_library.terms import term_table
-from ..simulation.terms import PLAIN
 from ._fit import fit_band
 from .result import Mode, Rejected
 
@@ -43,8 +42,7 @@ def has_nonlinear_terms(model) -> bool:
         terms = term_table(library, coef.shape[0])
     except (AttributeError, TypeError, ValueError):
         return False
-    linear = (terms.func == PLAIN) & (terms.powers.sum(axis=1) <= 1)
-    return bool(np.any(coef[:, ~linear]))
+    return bool(np.any(coef[:, ~terms.linear]))
 
 
 def merge_chirps(pre, modes: list, rejected: list, fit_options: dict, first_periods) -> tuple:
@@ -93,8 +91,10 @@ def name_harmonics(modes: list, rejected: list) -> tuple:
     ``(modes, rejected, notes)``."""
     notes = []
     for mode in [m for m in modes if has_nonlinear_terms(m.model)]:
+        if all(m is not mode for m in modes):  # already named a harmonic of another mode
+            continue
         span = _backbone_range(mode)
-        if span is None or all(m is not mode for m in modes):
+        if span is None:
             continue
         for other in [m for m in modes if m is not mode and m.record == mode.record]:
             margin = max(HARMONIC_TOLERANCE, 2 * other.damping_ratio)  # or within its half-power band

@@ -30,8 +30,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from scipy import signal
-from scipy.signal import find_peaks
+from scipy.signal import find_peaks, hilbert
 
 from .floor import noise_floor
 from .sinusoids import DampedSinusoids, fit_damped_sinusoids
@@ -240,7 +239,7 @@ def fit_peaks_after_spike(y, fs: float, threshold_db: float, prominence_db: floa
     8 of 50 hammer tests of ``benchmarks/bench_model_backbone.py``'s damper row; skipping 2-7 samples found
     the mode in all 8). A second look at nearly the same data adds little to the false-alarm rate.
     """
-    envelope = np.abs(signal.hilbert(y))
+    envelope = np.abs(hilbert(y))
     early = envelope[: max(len(y) // 10, 1)].max()
     start = int(np.argmax(envelope < early / np.e))
     if not 0 < start <= _SPIKE_SHARE * len(y):

@@ -77,6 +77,15 @@ class TermTable:
         )
 
     @property
+    def linear(self) -> np.ndarray:
+        """Mask of the terms that are a constant or one input itself (no product, no extra factor).
+
+        >>> TermTable.polynomial([[0, 0], [1, 0], [0, 1], [1, 1]]).linear.tolist()
+        [True, True, True, False]
+        """
+        return (self.func == PLAIN) & (self.powers.sum(axis=1) <= 1)
+
+    @property
     def n_features(self) -> int:
         return self.powers.shape[0]
 
