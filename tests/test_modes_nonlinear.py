@@ -195,3 +195,40 @@ def test_harmonic_of_a_damper_mode_is_named_within_its_half_power_band():
     found = _survey(rec)
     assert len(found.modes) == 1
     assert any("harmonic 3" in r.reason for r in found.rejected)
+
+
+# An x^2 x' damper (bench_model_backbone.py, damping row, seed 0): the own-band mode disagrees with the
+# peak's damped sinusoid (as an amplitude-dependent mode does), so the peak is fitted again on the deflated
+# record, in a band that was narrower than its own (10 % of f against 21 %): a longer filter transient cut
+# off the largest amplitudes, and that linear model replaced the own band's.
+WIDE = dict(f0=34.54832705117374, zeta=0.006437144663300511, fs=1039.162139629273,
+            duration=3.3769121872054013, snr_db=48.03867618713298, c2=50617324256.16316, seed=0)
+
+
+def _wide_survey():
+    c = WIDE
+    rec = impact_record(c["f0"], c["zeta"], [1.0], fs=c["fs"], duration=c["duration"], snr_db=c["snr_db"],
+                        damping_amplitude=c["c2"], random_state=c["seed"])
+    found = _survey(rec)
+    assert len(found.modes) == 1
+    return found, found.modes[0]
+
+
+def test_the_deflated_refit_never_narrows_the_peaks_band():
+    found, mode = _wide_survey()
+    pre = found.preprocessing[0]
+    own = pre.peaks.band_hz[0]
+    assert mode.band_hz[0] <= own[0] * (1 + 1e-9) and mode.band_hz[1] >= own[1] * (1 - 1e-9)
+    assert np.nanmax(mode.backbone.amplitude) > 0.8 * pre.bands[0].envelope.max()  # the largest amplitudes
+    assert mode.backbone.damping_ratio_shift > 0.3  # true change over that range: about 0.37
+
+
+def test_with_the_narrower_deflated_band_the_largest_amplitudes_are_lost(monkeypatch):
+    from sindy_impulse.preprocessing.deflation import deflated_band
+
+    def narrow(pre, i, min_width=0.1, **options):  # the deflation's own width, whatever the survey asks
+        return deflated_band(pre, i, **options)
+
+    monkeypatch.setattr(survey, "deflated_band", narrow)
+    found, mode = _wide_survey()
+    assert np.nanmax(mode.backbone.amplitude) < 0.6 * found.preprocessing[0].bands[0].envelope.max()

@@ -185,7 +185,10 @@ def _deflated(pre, modes: list, rejected: list, template, index: int, samples_pe
     """Peaks without a mode close to their fitted damped sinusoid (:func:`_disagreement` over ``_AGREES``)
     fitted again on the record with the other peaks removed
     (:func:`~sindy_impulse.preprocessing.deflation.deflated_band`: a wide band, so a short filter
-    transient, for a strongly damped mode next to lightly damped ones). That mode replaces the peak's
+    transient, for a strongly damped mode next to lightly damped ones; never narrower than the peak's own
+    band, whose transient already costs the largest amplitudes, where an amplitude-dependent damping shows
+    most: an x^2 x' damper refitted in a 10 % band instead of its own 21 % kept 0.58 of them, not 0.92).
+    That mode replaces the peak's
     (the modes nearest the peak in frequency) when it agrees with the peak's sinusoid within
     ``_AGREEMENT`` and better; the peak's rejections are then dropped."""
     f, zeta = pre.peaks.frequency_hz, pre.peaks.damping_ratio
@@ -198,7 +201,8 @@ def _deflated(pre, modes: list, rejected: list, template, index: int, samples_pe
         if best <= _AGREES:
             continue
         try:
-            band = deflated_band(pre, i, samples_per_period=samples_per_period)
+            own = pre.peaks.band_hz[i][1] / f[i] - 1  # never narrower than the peak's own band
+            band = deflated_band(pre, i, samples_per_period=samples_per_period, min_width=max(own, 0.1))
         except ValueError:  # too few periods above the noise: the peak keeps what it had
             continue
         out = fit_band(band, template, onset_time=pre.impact.onset_time, index=index)
