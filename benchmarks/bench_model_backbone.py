@@ -29,6 +29,12 @@ backbone 0.2 %, 10 %, 10 %). Backbones compared (rows):
 * ``hilbert_backbone`` of the band signal (model-free), the same errors (pass marks 0.5 %, 20 %, 25 %);
 * a constant backbone (the model fitted with a linear library, ``PolynomialLibrary(degree=1)``): the same
   errors, to show that the checks do fail a backbone that ignores the amplitude.
+
+``--floor F`` runs the survey with another floor of its segment-wise measure (``modes._fit.SEGMENT_FLOOR``,
+default 0.1; the estimator's own default is 0.01). ``--rounding N`` instead runs ``identify_modes`` on the
+first N records of each row and on the same records rounded to 8 significant digits (a CSV export) and
+prints, per record, whether the mode nearest the true frequency keeps its terms, the largest relative
+change of a coefficient and of its frequency and damping ratio.
 """
 
 from __future__ import annotations
@@ -94,8 +100,38 @@ def _tested(mode):
     return test.backbone_model if test.nonlinear and test.backbone_model is not None else mode.backbone
 
 
+def _set_floor(floor) -> None:
+    if floor is not None:
+        from sindy_impulse.modes import _fit
+
+        _fit.SEGMENT_FLOOR = floor
+
+
+def _mode_of(rec, y):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        survey = identify_modes(y, fs=rec.fs, force=rec.force)
+    f0 = rec.modes.frequency_hz[0]
+    return min(survey.modes, key=lambda m: abs(m.frequency_hz / f0 - 1))
+
+
+def rounding_one(job) -> tuple:
+    """(kind, seed, same terms, worst coefficient change, frequency change, damping-ratio change)."""
+    kind, seed, floor = job
+    _set_floor(floor)
+    rec, _ = nl.record(kind, seed)
+    a, b = _mode_of(rec, rec.y), _mode_of(rec, np.array([float(f"{v:.7e}") for v in rec.y]))
+    ca, cb = a.model.coefficients(), b.model.coefficients()
+    same = bool(np.array_equal(ca != 0, cb != 0))
+    kept = ca != 0
+    coef = float(np.max(np.abs(cb[kept] / ca[kept] - 1))) if same else np.inf
+    return (kind, seed, same, coef, abs(b.frequency_hz / a.frequency_hz - 1),
+            abs(b.damping_ratio / a.damping_ratio - 1))
+
+
 def run_one(job) -> dict:
-    kind, seed = job
+    kind, seed, floor = job
+    _set_floor(floor)
     shift = 0.02 * 2 ** np.random.default_rng(seed).uniform()  # 2-4 %
     overrides = {"cubic": dict(shift=shift)}.get(kind, {})
     rec, _ = nl.record(kind, seed, **overrides)
@@ -129,18 +165,33 @@ def run_one(job) -> dict:
     return out
 
 
+def _map(function, jobs, n_jobs):
+    if n_jobs > 1:
+        with ProcessPoolExecutor(n_jobs) as pool:
+            return list(pool.map(function, jobs))
+    return [function(job) for job in jobs]
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--records", type=int, default=30, help="records per row (default 30)")
     parser.add_argument("--jobs", type=int, default=1, help="worker processes")
     parser.add_argument("--misses", action="store_true", help="list the records the mode backbone misses")
+    parser.add_argument("--floor", type=float, default=None, help="the survey's segment floor (default 0.1)")
+    parser.add_argument("--rounding", type=int, default=0, help="rounding check on N records per row")
     args = parser.parse_args()
-    jobs = [(kind, seed) for kind in ("cubic", "damping") for seed in range(args.records)]
-    if args.jobs > 1:
-        with ProcessPoolExecutor(args.jobs) as pool:
-            rows = list(pool.map(run_one, jobs))
-    else:
-        rows = [run_one(job) for job in jobs]
+    if args.rounding:
+        jobs = [(kind, seed, args.floor) for kind in ("damping", "cubic") for seed in range(args.rounding)]
+        rows = _map(rounding_one, jobs, args.jobs)
+        for row in rows:
+            print("{} {:2d}: same terms {}, worst coefficient change {:.3g}, frequency {:.2g}, damping ratio "
+                  "{:.2g}".format(*row))
+        print(f"same terms {sum(r[2] for r in rows)}/{len(rows)}; worst coefficient change "
+              f"{max(r[3] for r in rows):.3g} (mark 1e-2); frequency {max(r[4] for r in rows):.2g}, damping "
+              f"ratio {max(r[5] for r in rows):.2g}")
+        return
+    jobs = [(kind, seed, args.floor) for kind in ("cubic", "damping") for seed in range(args.records)]
+    rows = _map(run_one, jobs, args.jobs)
     print(f"{args.records} records per row; worst pointwise errors over the middle 80 % of the amplitudes,")
     print("median / worst over the records")
     print(f"{'row':8s} {'backbone':13s} {'pass':>9s} {'frequency':>22s} {'damping':>16s} {'shift':>16s}")

@@ -30,7 +30,8 @@ class Mode:
         identified decay rate.
     fit_error : float
         How well the model reproduces the mode's prepared signal: the mean absolute deviation of its
-        simulation (restarted every few periods for long records) relative to the local amplitude.
+        simulation (restarted every few periods for long records) relative to the local amplitude,
+        whatever measure selected the model (``modes._fit.fit_error_of``).
     model : ImpulseSINDy
         Fitted on ``states`` over ``t`` (states ``[y, dy]``: the band signal and its derivative), so every
         :mod:`sindy_impulse.analysis` function works on it.

@@ -19,6 +19,7 @@ from .integrators import MAX_SUBSTEPS
 from .scoring import (
     AUTO_PERIODS,
     ERROR_MEASURES,
+    Auto,
     ErrorMeasure,
     FunctionMeasure,
     Gamma,
@@ -33,6 +34,7 @@ from .terms import TermTable
 
 __all__ = [
     "AUTO_PERIODS",
+    "Auto",
     "CompiledModel",
     "ERROR_MEASURES",
     "ErrorMeasure",

@@ -25,11 +25,13 @@ Built-in measures
     segment's own amplitude (floored at ``min_scale`` times the record's), so phase drift cannot
     accumulate over hundreds of periods and every amplitude level weighs alike.
 ``"auto"``
-    ``"gamma"`` for records of at most :data:`AUTO_PERIODS` periods, ``"segmented"`` for longer ones.
+    ``"gamma"`` for records of at most :data:`AUTO_PERIODS` periods, ``"segmented"`` for longer ones
+    (:class:`Auto` chooses other measures the same way, e.g. ``Auto(long=Segmented(min_scale=0.3))``).
 """
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable
 
 import numpy as np
@@ -39,6 +41,7 @@ __all__ = [
     "WeightedL1",
     "Gamma",
     "Segmented",
+    "Auto",
     "FunctionMeasure",
     "ERROR_MEASURES",
     "AUTO_PERIODS",
@@ -228,6 +231,9 @@ class Segmented(WeightedL1):
         self.segment_periods = segment_periods
         self.min_scale = min_scale
 
+    def __repr__(self) -> str:
+        return f"Segmented(segment_periods={self.segment_periods!r}, min_scale={self.min_scale!r})"
+
     def prepare(self, reference, t):
         n = reference.shape[0]
         periods = oscillation_count(reference)
@@ -258,6 +264,47 @@ class FunctionMeasure(ErrorMeasure):
 
 
 #: Registered measures: name -> factory of a fresh :class:`ErrorMeasure`.
+class Auto(ErrorMeasure):
+    """``"auto"`` with chosen measures: ``short`` for records of at most ``periods`` periods, else ``long``.
+
+    Resolved when an estimator binds it to its data (the estimator's ``error_measure_`` then names the
+    measure used).
+
+    Parameters
+    ----------
+    short, long : str or ErrorMeasure, default="gamma", "segmented"
+        The measures for short and for long records.
+    periods : float, default=AUTO_PERIODS
+        The longest record, in periods of its dominant oscillation, that counts as short.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0, 100, 4001)
+    >>> x = np.column_stack([np.cos(2 * np.pi * t), -np.sin(2 * np.pi * t)])
+    >>> Auto(long=Segmented(min_scale=0.3)).resolve([x]).min_scale
+    0.3
+    >>> Auto(periods=200).resolve([x]).name
+    'gamma'
+    """
+
+    name = "auto"
+
+    def __init__(self, short="gamma", long="segmented", periods: float = AUTO_PERIODS):
+        self.short = short
+        self.long = long
+        self.periods = periods
+
+    def __repr__(self) -> str:
+        return f"Auto(short={self.short!r}, long={self.long!r}, periods={self.periods!r})"
+
+    def resolve(self, references=None) -> ErrorMeasure:
+        """The measure for these reference trajectories (a fresh copy of ``short`` or ``long``)."""
+        long = references is not None and any(oscillation_count(r) > self.periods for r in references)
+        spec = self.long if long else self.short
+        return get_error_measure(copy.deepcopy(spec) if isinstance(spec, ErrorMeasure) else spec, references)
+
+
 ERROR_MEASURES: dict[str, Callable[[], ErrorMeasure]] = {"gamma": Gamma, "segmented": Segmented}
 
 
@@ -284,6 +331,8 @@ def get_error_measure(spec, references=None) -> ErrorMeasure:
     ``"auto"`` needs the ``references``: ``"segmented"`` when any holds more than :data:`AUTO_PERIODS`
     periods, else ``"gamma"``.
     """
+    if isinstance(spec, Auto):
+        return spec.resolve(references)
     if isinstance(spec, ErrorMeasure):
         return spec
     if isinstance(spec, str):
