@@ -1,4 +1,4 @@
-"""Generated hammer-test records for the preprocessing tests (numpy only, no files)."""
+"""Generated hammer-test records for the preprocessing and mode tests (no files)."""
 
 from __future__ import annotations
 
@@ -57,3 +57,14 @@ def envelope_fit(y, fs, frequency_hz, weighted=True):
     slope_phase = np.polyfit(tt, np.unwrap(np.angle(zz)), 1, w=w)[0]
     slope_amp = np.polyfit(tt, np.log(np.abs(zz)), 1, w=w)[0]
     return frequency_hz + slope_phase / (2 * np.pi), -slope_amp
+
+
+def damper_record(case: dict):
+    """The single-mode hammer test (``impact_record``) of a mode with an ``x^2 x'`` damper, from a dict of
+    ``f0, zeta, fs, duration, snr_db, c2, seed`` (the cases of ``benchmarks/bench_model_backbone.py``'s
+    damping row)."""
+    from sindy_impulse import impact_record
+
+    c = case
+    return impact_record(c["f0"], c["zeta"], [1.0], fs=c["fs"], duration=c["duration"], snr_db=c["snr_db"],
+                         damping_amplitude=c["c2"], random_state=c["seed"])

@@ -5,8 +5,9 @@ import warnings
 import numpy as np
 import pysindy as ps
 import pytest
+from preprocessing_records import damper_record
 
-from sindy_impulse import ImpulseSINDy, identify_modes, impact_record
+from sindy_impulse import ImpulseSINDy, identify_modes
 from sindy_impulse.modes import _fit
 from sindy_impulse.simulation import Auto, Gamma, Segmented, get_error_measure
 
@@ -61,9 +62,7 @@ DAMPER = dict(f0=175.60678558238322, zeta=0.01285033333582105, fs=7467.999026689
 
 
 def _damping_shift_error():
-    c = DAMPER
-    rec = impact_record(c["f0"], c["zeta"], [1.0], fs=c["fs"], duration=c["duration"], snr_db=c["snr_db"],
-                        damping_amplitude=c["c2"], random_state=c["seed"])
+    rec = damper_record(DAMPER)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         found = identify_modes(rec.y, fs=rec.fs, force=rec.force)

@@ -5,6 +5,7 @@ import warnings
 
 import numpy as np
 import pytest
+from preprocessing_records import damper_record
 
 from sindy_impulse import identify_modes, impact_record
 from sindy_impulse.modes import _nonlinear, survey
@@ -128,9 +129,7 @@ DAMPER = dict(f0=85.79060934499395, zeta=0.00924857622186462, fs=2895.5261177651
 
 
 def _damper_survey():
-    c = DAMPER
-    rec = impact_record(c["f0"], c["zeta"], [1.0], fs=c["fs"], duration=c["duration"], snr_db=c["snr_db"],
-                        damping_amplitude=c["c2"], random_state=c["seed"])
+    rec = damper_record(DAMPER)
     return _survey(rec)
 
 
@@ -159,9 +158,7 @@ SPIKE = dict(f0=50.07271493204269, zeta=0.016274373945438, fs=2948.005380192316,
 
 
 def _spike_survey():
-    c = SPIKE
-    rec = impact_record(c["f0"], c["zeta"], [1.0], fs=c["fs"], duration=c["duration"], snr_db=c["snr_db"],
-                        damping_amplitude=c["c2"], random_state=c["seed"])
+    rec = damper_record(SPIKE)
     return _survey(rec)
 
 
@@ -206,9 +203,7 @@ WIDE = dict(f0=34.54832705117374, zeta=0.006437144663300511, fs=1039.16213962927
 
 
 def _wide_survey():
-    c = WIDE
-    rec = impact_record(c["f0"], c["zeta"], [1.0], fs=c["fs"], duration=c["duration"], snr_db=c["snr_db"],
-                        damping_amplitude=c["c2"], random_state=c["seed"])
+    rec = damper_record(WIDE)
     found = _survey(rec)
     assert len(found.modes) == 1
     return found, found.modes[0]
