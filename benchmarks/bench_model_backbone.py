@@ -108,11 +108,12 @@ def _set_floor(floor) -> None:
 
 
 def _mode_of(rec, y):
+    """The mode ``identify_modes`` finds nearest the true frequency in ``y`` (None without a mode)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         survey = identify_modes(y, fs=rec.fs, force=rec.force)
     f0 = rec.modes.frequency_hz[0]
-    return min(survey.modes, key=lambda m: abs(m.frequency_hz / f0 - 1))
+    return min(survey.modes, key=lambda m: abs(m.frequency_hz / f0 - 1), default=None)
 
 
 def rounding_one(job) -> tuple:
@@ -121,6 +122,8 @@ def rounding_one(job) -> tuple:
     _set_floor(floor)
     rec, _ = nl.record(kind, seed)
     a, b = _mode_of(rec, rec.y), _mode_of(rec, np.array([float(f"{v:.7e}") for v in rec.y]))
+    if a is None or b is None:
+        return kind, seed, False, np.inf, np.inf, np.inf
     ca, cb = a.model.coefficients(), b.model.coefficients()
     same = bool(np.array_equal(ca != 0, cb != 0))
     kept = ca != 0
@@ -140,9 +143,7 @@ def run_one(job) -> dict:
     out = dict(kind=kind, seed=seed)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        survey = identify_modes(rec.y, fs=rec.fs, force=rec.force)
-        f0 = rec.modes.frequency_hz[0]
-        mode = min(survey.modes, key=lambda m: abs(m.frequency_hz / f0 - 1), default=None)
+        mode = _mode_of(rec, rec.y)
         model, test = nl.fit_and_test(x, t)
         linear = ImpulseSINDy(feature_library=ps.PolynomialLibrary(degree=1, include_bias=False)).fit(x, t=t)
         curves = {

@@ -263,7 +263,6 @@ class FunctionMeasure(ErrorMeasure):
         return float("nan") if self._compare is None else float(self._compare(x_true, x_other, t))
 
 
-#: Registered measures: name -> factory of a fresh :class:`ErrorMeasure`.
 class Auto(ErrorMeasure):
     """``"auto"`` with chosen measures: ``short`` for records of at most ``periods`` periods, else ``long``.
 
@@ -305,6 +304,7 @@ class Auto(ErrorMeasure):
         return get_error_measure(copy.deepcopy(spec) if isinstance(spec, ErrorMeasure) else spec, references)
 
 
+#: Registered measures: name -> factory of a fresh :class:`ErrorMeasure`.
 ERROR_MEASURES: dict[str, Callable[[], ErrorMeasure]] = {"gamma": Gamma, "segmented": Segmented}
 
 
@@ -337,8 +337,7 @@ def get_error_measure(spec, references=None) -> ErrorMeasure:
         return spec
     if isinstance(spec, str):
         if spec == "auto":
-            long = references is not None and any(oscillation_count(r) > AUTO_PERIODS for r in references)
-            spec = "segmented" if long else "gamma"
+            return Auto().resolve(references)
         if spec not in ERROR_MEASURES:
             raise ValueError(
                 f"unknown error measure {spec!r}; registered: {sorted(ERROR_MEASURES)} or 'auto'"
