@@ -81,3 +81,16 @@ def test_the_survey_splits_linear_and_amplitude_dependent_damping_with_the_floor
 def test_with_the_estimators_floor_the_split_follows_the_noise(monkeypatch):
     monkeypatch.setattr(_fit, "SEGMENT_FLOOR", 0.01)
     assert _damping_shift_error() > 0.1  # measured 0.19
+
+
+def test_the_survey_measure_takes_the_estimators_defaults_and_its_own_knobs(monkeypatch):
+    from sindy_impulse.simulation import AUTO_PERIODS
+
+    measure = _fit.default_estimator().error_measure
+    assert measure.periods == AUTO_PERIODS
+    assert measure.long.segment_periods == Segmented().segment_periods
+    assert measure.long.min_scale == _fit.SEGMENT_FLOOR
+    monkeypatch.setattr(_fit, "SEGMENT_PERIODS", 24.0)
+    monkeypatch.setattr(_fit, "GAMMA_PERIODS", 150.0)
+    measure = _fit.default_estimator().error_measure
+    assert (measure.long.segment_periods, measure.periods) == (24.0, 150.0)
