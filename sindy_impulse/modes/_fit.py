@@ -62,14 +62,12 @@ def default_estimator():
 def fit_error_of(model) -> float:
     """A mode's fit error: the model's simulation error per compared value, measured as ``"auto"`` does
     with its defaults (Gamma on a band of at most 30 periods, else segments each normalised by their own
-    amplitude down to 1 % of the largest), whatever floor selected the model: :data:`MAX_FIT_ERROR` and the
+    amplitude down to 1 % of the largest), whatever measure selected the model: :data:`MAX_FIT_ERROR` and the
     survey's comparisons of modes are set on that scale (under a floor of 0.3 a model of a band that is
     mostly noise scores low: the broad peak of a damper's third harmonic gave a "mode" at 151 Hz, 1.8x the
     fundamental, with 0.22; tests/test_modes_nonlinear.py)."""
     x = model.x_filtered_
-    if model.error_measure_ == "gamma":
-        return float(model.score_) / np.size(x)
-    return float(Segmented().bind([x], [model.t_])(model.model_)[0]) / np.size(x)
+    return float(Auto().resolve([x]).bind([x], [model.t_])(model.model_)[0]) / np.size(x)
 
 
 def _linear_mode(model, band_hz):
