@@ -37,7 +37,9 @@ A summary line per row counts the records on which ``identify_modes`` reports a 
 
 ``--floor F`` runs the survey with another floor of its segment-wise measure (``modes._fit.SEGMENT_FLOOR``,
 default 0.1; the estimator's own default is 0.01), ``--segment-periods P`` with segments of P periods
-(default 8) and ``--gamma-periods P`` with the paper's Gamma on bands up to P periods (default 30).
+(default 8), ``--gamma-periods P`` with the paper's Gamma on bands up to P periods (default 30) and
+``--output-error-periods P`` with the output-error fit on bands up to P periods (default 150; 0: none, the
+survey before that fit).
 ``--rounding N`` instead runs ``identify_modes`` on the first N records of each row and on the same
 records rounded to 8 significant digits (a CSV export) and prints, per record, whether the mode nearest
 the true frequency keeps its terms, the largest relative change of a coefficient and of its frequency and
@@ -157,11 +159,13 @@ def reference_fit(signal, truth) -> Backbone:
 
 
 def _set_options(options) -> None:
-    """The survey's segment floor, Gamma's longest band and the segment length (``(floor, periods,
-    segment_periods)``; None keeps a default)."""
+    """The survey's segment floor, Gamma's longest band, the segment length and the longest band fitted by
+    output error (``(floor, periods, segment_periods, output_error_periods)``; None keeps a default)."""
     from sindy_impulse.modes import _fit
 
-    floor, periods, segment = options
+    floor, periods, segment, output_error = options
+    if output_error is not None:
+        _fit.OUTPUT_ERROR_PERIODS = output_error
     if floor is not None:
         _fit.SEGMENT_FLOOR = floor
     if periods is not None:
@@ -277,12 +281,15 @@ def main() -> None:
                         help="the survey scores bands up to this many periods by Gamma (default 30)")
     parser.add_argument("--segment-periods", type=float, default=None,
                         help="the survey's segment length in periods (default 8)")
+    parser.add_argument("--output-error-periods", type=float, default=None,
+                        help="the survey fits bands up to this many periods by output error (default 150; "
+                             "0: none)")
     parser.add_argument("--redraw", type=int, nargs="*", default=(),
                         help="damper seeds to re-run noise-free and with --draws other noise draws")
     parser.add_argument("--draws", type=int, default=3, help="noise draws per --redraw seed (default 3)")
     parser.add_argument("--rounding", type=int, default=0, help="rounding check on N records per row")
     args = parser.parse_args()
-    options = (args.floor, args.gamma_periods, args.segment_periods)
+    options = (args.floor, args.gamma_periods, args.segment_periods, args.output_error_periods)
     if args.rounding:
         jobs = [(kind, seed, options) for kind in ("damping", "cubic") for seed in range(args.rounding)]
         rows = _map(rounding_one, jobs, args.jobs)

@@ -26,6 +26,7 @@ from .differentiation import differentiate
 from .exceptions import DataWarning, NoDynamicsWarning
 from .feature_library.terms import library_terms
 from .optimizers import candidate_path
+from .output_error import fit_output_error
 from .refinement import refine
 from .selection import SELECTION_RULES, select_candidate
 from .simulation import ERROR_MEASURES, ErrorMeasure, Reference, WorkBudget, compile_model
@@ -70,6 +71,13 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         Refinement bounds ``[0, bound_factor * xi]``.
     refine_max_iter : int, default=100
         SLSQP iterations.
+    output_error : bool, default=False
+        After the refinement, fit the non-zero coefficients once more together with each trajectory's
+        initial state, by least squares of the free simulation over the whole record
+        (:func:`~sindy_impulse.output_error.fit_output_error`): the error measures start their simulations
+        from the filtered first state, whose noise the coefficients otherwise absorb. A local fit of the
+        whole decay, for records of up to a hundred periods or so (``identify_modes`` turns it on for
+        bands of at most :data:`~sindy_impulse.modes._fit.OUTPUT_ERROR_PERIODS` periods).
     divergence_factor : float, default=100
         A simulation that exceeds this factor times the data's range counts as diverged.
     dt : float, optional
@@ -93,6 +101,8 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         Every candidate of the sweep.
     refinement_history_ : dict
         ``"score"`` and ``"coefficients"`` per SLSQP iteration.
+    output_error_fit_ : OutputErrorResult or None
+        The output-error fit (``output_error=True``): costs before and after, fitted initial states.
     noise_level_ : float
         The measure between the measured and the filtered states.
     budget_used_ : float
@@ -138,6 +148,7 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         "refine": ["boolean"],
         "bound_factor": [Interval(Real, 0, None, "neither")],
         "refine_max_iter": [Interval(Integral, 1, None, "left")],
+        "output_error": ["boolean"],
         "divergence_factor": [Interval(Real, 0, None, "neither")],
         "dt": [None, Interval(Real, 0, None, "neither")],
     }
@@ -154,6 +165,7 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         refine: bool = True,
         bound_factor: float = 1.5,
         refine_max_iter: int = 100,
+        output_error: bool = False,
         divergence_factor: float = 100.0,
         dt: float | None = None,
     ):
@@ -166,6 +178,7 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         self.refine = refine
         self.bound_factor = bound_factor
         self.refine_max_iter = refine_max_iter
+        self.output_error = output_error
         self.divergence_factor = divergence_factor
         self.dt = dt
 
@@ -215,6 +228,7 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         refuse_unsupported(x, self.feature_library)
         data = as_trajectories(x, t, u, default_dt=1.0 if self.dt is None else self.dt, min_samples=3)
         self._resolve_components()
+        self.output_error_fit_ = None
         if x_dot is None:
             plain = not (self.sweep or self.refine)  # too short for the method: finite differences
             filtered, derivs = differentiate(self.differentiation_method_, data.x, data.t, plain)
@@ -252,6 +266,11 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
             measure.floor,
         )
         self.budget_used_ = budget.used  # a budget that ran out is a reason of the verdict (diagnostics_)
+        if self.output_error and self.refine and not self._screening.excluded and np.any(coef):
+            self.output_error_fit_ = fit_output_error(
+                compile_(coef), filtered, data.t, data.u, self.bound_factor
+            )
+            coef = self.output_error_fit_.coefficients
         return self._keep(candidates, thresholds, index, coef, compile_, measure, history, scores, score)
 
     def _regression(self, filtered, data, derivs):

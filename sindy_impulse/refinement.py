@@ -10,6 +10,8 @@ which makes the problem unit-free.
 :func:`refine` works on any scoring function it is handed (a bound
 :class:`~sindy_impulse.simulation.ErrorMeasure`); :func:`refine_coefficients` is the convenience form that
 binds a measure to reference trajectories.
+
+:func:`sindy_impulse.output_error.fit_output_error` is the output-error fit that may follow it.
 """
 
 from __future__ import annotations
@@ -124,11 +126,11 @@ class _Objective:
         return out
 
 
-def _check(bound_factor, max_iter) -> None:
+def _check(bound_factor, max_iter, name: str = "max_iter") -> None:
     if isinstance(bound_factor, bool) or not (np.isfinite(bound_factor) and bound_factor > 0):
         raise ValueError(f"bound_factor must be a positive number, got {bound_factor!r}")
     if isinstance(max_iter, bool) or not (isinstance(max_iter, (int, np.integer)) and max_iter > 0):
-        raise ValueError(f"max_iter must be a positive integer, got {max_iter!r}")
+        raise ValueError(f"{name} must be a positive integer, got {max_iter!r}")
 
 
 def refine(
@@ -267,3 +269,4 @@ def refine_coefficients(
     _check(bound_factor, max_iter)
     measure = get_error_measure(error_measure, references).bind(list(references), list(times), inputs)
     return refine(model, measure, bound_factor, max_iter, zero_tol, budget)
+

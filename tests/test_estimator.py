@@ -165,6 +165,7 @@ def test_grid_search_over_degree(clean):
         ({"selection": "best"}, {}, ValueError, "selection"),
         ({"bound_factor": -1}, {}, ValueError, "bound_factor"),
         ({"refine": "yes"}, {}, TypeError, "refine"),
+        ({"output_error": 1}, {}, TypeError, "output_error"),
         ({"dt": -0.1}, {}, ValueError, "dt"),
         ({}, {"u": np.zeros(400)}, ValueError, "u\\[0\\] has 400 samples"),
         ({}, {"feature_names": ["a"]}, ValueError, "feature_names"),
@@ -214,3 +215,21 @@ def test_single_diverging_model_raises():
     )
     with pytest.raises(RuntimeError, match="diverged"):
         est.fit(x, t=t)
+
+
+def test_output_error_fit_is_off_by_default_and_fits_the_initial_state_when_on(clean):
+    """``output_error=True``: the refined model is fitted once more with its initial state; the record's
+    first sample carries an error of 5 % of the amplitude, which Gamma's simulation starts from."""
+    t, x, x_dot = clean
+    x = x.copy()
+    x[0, 0] += 0.05
+    linear = ps.PolynomialLibrary(degree=1, include_bias=False)
+    plain = ImpulseSINDy(feature_library=linear).fit(x, t=t, x_dot=x_dot)
+    assert plain.output_error_fit_ is None
+    fitted = ImpulseSINDy(feature_library=linear, output_error=True).fit(x, t=t, x_dot=x_dot)
+    fit = fitted.output_error_fit_
+    assert fit.success and fit.cost < fit.cost_initial
+    assert abs(fit.initial_states[0][0] - 1.0) < 0.1 * 0.05  # the first sample's error is not believed
+    names = fitted.get_feature_names()
+    plain_error, error = (abs(m.coefficients()[1, names.index("x1")] / -3.2 - 1) for m in (plain, fitted))
+    assert error < 0.005 and error < 0.5 * plain_error

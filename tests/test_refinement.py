@@ -3,6 +3,7 @@ import pytest
 
 from sindy_impulse.datasets import damped_oscillator
 from sindy_impulse.feature_library import TermTable
+from sindy_impulse.output_error import fit_output_error
 from sindy_impulse.refinement import refine_coefficients
 from sindy_impulse.simulation import CompiledModel, simulation_gamma
 
@@ -50,3 +51,74 @@ def test_bad_arguments():
         refine_coefficients(start, [x], [t], bound_factor=-1)
     with pytest.raises(ValueError, match="max_iter"):
         refine_coefficients(start, [x], [t], max_iter=0)
+
+
+def _noisy(x, level, seed=0):
+    return x + level * np.random.default_rng(seed).standard_normal(x.shape) * np.max(np.abs(x), axis=0)
+
+
+def test_output_error_fit_is_not_misled_by_the_first_sample():
+    """Gamma's refinement starts its simulation from the measured first state: an error of 5 % there goes
+    into the coefficients; the output-error fit takes the initial state as an unknown."""
+    t, x, _ = damped_oscillator()
+    measured = x.copy()
+    measured[0, 0] += 0.05
+    start = CompiledModel([[0, 1.0, 0], [-64.0, -3.2, 0]], TERMS, measured)
+    by_gamma = refine_coefficients(start, [measured], [t]).coefficients[1, 1]
+    start = CompiledModel([[0, 1.0, 0], [-64.0, -3.2, 0]], TERMS, measured)
+    res = fit_output_error(start, [measured], [t])
+    assert abs(res.coefficients[1, 1] / -3.2 - 1) < 2e-3 < abs(by_gamma / -3.2 - 1)
+    # the erroneous sample is one of the residuals: it pulls the fitted state by a tenth of its error at most
+    assert np.all(np.abs(res.initial_states[0] - x[0]) < 0.1 * 0.05 * np.max(np.abs(x), axis=0))
+    assert res.success and res.cost < res.cost_initial and res.n_simulations > 0
+
+
+def test_output_error_fit_of_several_trajectories_fits_each_initial_state():
+    t, x, _ = damped_oscillator()
+    second = 0.5 * x[100:]
+    start = CompiledModel([[0, 1.0, 0], [-60.0, -4.0, 0]], TERMS, x)
+    res = fit_output_error(start, [_noisy(x, 0.01), _noisy(second, 0.01, 1)], [t, t[100:]])
+    np.testing.assert_allclose(res.coefficients[1, :2], [-64.0, -3.2], rtol=0.01)
+    assert len(res.initial_states) == 2
+    for fitted, true in zip(res.initial_states, (x[0], second[0])):
+        np.testing.assert_allclose(fitted, true, atol=0.01 * np.max(np.abs(x)))
+
+
+def test_output_error_fit_keeps_signs_bounds_and_never_does_worse():
+    t, x, _ = damped_oscillator()
+    # the true damping 3.2 is out of reach of a start of 1.0 (bound 1.5), a spurious term may vanish
+    start = CompiledModel([[0, 1.0, 0], [-64.0, -1.0, -0.5]], TERMS, x)
+    res = fit_output_error(start, [x], [t])
+    assert -1.5 - 1e-12 <= res.coefficients[1, 1] < 0
+    assert res.coefficients[1, 2] <= 0
+    assert res.cost < res.cost_initial
+    # the exact model: nothing to gain but the integrator's last digits
+    start = CompiledModel([[0, 1.0, 0], [-64.0, -3.2, 0]], TERMS, x)
+    res = fit_output_error(start, [x], [t])
+    np.testing.assert_allclose(res.coefficients, start.full_coefficients, rtol=1e-6)
+    assert res.cost <= res.cost_initial < 1e-12
+
+
+def test_output_error_fit_from_a_diverging_start_does_not_raise():
+    t, x, _ = damped_oscillator()
+    start = CompiledModel([[0, 1.0, 0], [-64.0, 30.0, 0]], TERMS, x)
+    res = fit_output_error(start, [x], [t])
+    assert np.isfinite(res.cost) and res.cost <= res.cost_initial
+    assert res.coefficients[1, 1] >= 0  # the sign is kept: the fit may only shrink the wrong damping
+
+
+def test_output_error_fit_bad_arguments():
+    t, x, _ = damped_oscillator()
+    start = CompiledModel([[0, 1.0, 0], [-64.0, -3.2, 0]], TERMS, x)
+    with pytest.raises(ValueError, match="bound_factor"):
+        fit_output_error(start, [x], [t], bound_factor=0)
+    with pytest.raises(ValueError, match="max_evaluations"):
+        fit_output_error(start, [x], [t], max_evaluations=0)
+
+
+def test_output_error_fit_of_a_model_without_terms_returns_it():
+    t, x, _ = damped_oscillator()
+    start = CompiledModel(np.zeros((2, 3)), TERMS, x)
+    res = fit_output_error(start, [x], [t])
+    assert not res.success and res.message == "nothing to fit" and res.cost == res.cost_initial
+    np.testing.assert_array_equal(res.coefficients, 0.0)
