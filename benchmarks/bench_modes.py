@@ -3,6 +3,7 @@
     python benchmarks/bench_modes.py            # 200 records + 50 noise-only records (a few minutes)
     python benchmarks/bench_modes.py --quick    # 30 + 10
     python benchmarks/bench_modes.py --seed 3 --n 50
+    python benchmarks/bench_modes.py --output-error-cost 20   # time of the output-error fit (see below)
 
 Each record (``sindy_impulse.datasets.impact_record``): 1-4 modes between 2 and 25 % of the Nyquist
 frequency (>= 8 samples per period), at least 3 % apart with non-overlapping half-power bands, damping
@@ -14,6 +15,10 @@ Pass marks (per record): every true mode found with frequency within 0.3 % and d
 no spurious mode (an identified mode farther than 1 % from every true mode). Noise-only records (white and
 pink): no mode. The classical baseline is :func:`sindy_impulse.analysis.esprit` on the same records from the
 same detected onset, its median errors reported beside ours (the ratio is the aim: at least as accurate).
+
+``--output-error-cost N`` instead times ``identify_modes`` on the first N records with the modes' output-error
+fit (bands of at most ``modes._fit.OUTPUT_ERROR_PERIODS`` periods) and without it (the threshold set to 0),
+alternating, three times each, and prints the median time ratio with / without.
 """
 
 from __future__ import annotations
@@ -182,12 +187,39 @@ def _misses(results: list[dict]) -> None:
         print(f"  damping {lo:g}-{hi:g}: {off} of {int(sel.sum())} modes off by > 10 %")
 
 
+def output_error_cost(n: int, rng: np.random.Generator) -> None:
+    """Median time ratio of ``identify_modes`` with / without the modes' output-error fit (same run)."""
+    from sindy_impulse.modes import _fit
+
+    default = _fit.OUTPUT_ERROR_PERIODS
+    ratios = []
+    for _ in range(n):
+        rec = impact_record(**random_case(rng))
+        times = {default: [], 0: []}
+        for _ in range(3):
+            for periods in (default, 0):
+                _fit.OUTPUT_ERROR_PERIODS = periods
+                start = time.perf_counter()
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    identify_modes(rec.y, fs=rec.fs)
+                times[periods].append(time.perf_counter() - start)
+        ratios.append(np.median(times[default]) / np.median(times[0]))
+    _fit.OUTPUT_ERROR_PERIODS = default
+    print(f"identify_modes with / without the output-error fit, {n} records: median time ratio "
+          f"{np.median(ratios):.3f} (range {min(ratios):.3f}-{max(ratios):.3f})")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--n", type=int, default=None)
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--output-error-cost", type=int, default=0, metavar="N")
     args = parser.parse_args()
+    if args.output_error_cost:
+        output_error_cost(args.output_error_cost, np.random.default_rng(args.seed))
+        return
     n = args.n or (30 if args.quick else 200)
     rng = np.random.default_rng(args.seed)
     results = []
