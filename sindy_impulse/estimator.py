@@ -29,7 +29,7 @@ from .optimizers import candidate_path
 from .output_error import fit_output_error
 from .refinement import refine
 from .selection import SELECTION_RULES, select_candidate
-from .simulation import ERROR_MEASURES, ErrorMeasure, Reference, WorkBudget, compile_model
+from .simulation import ERROR_MEASURES, ErrorMeasure, Reference, WorkBudget, compile_model, oscillation_count
 from .simulation import simulation_gamma as _gamma
 
 __all__ = ["ImpulseSINDy", "SweepPath"]
@@ -71,13 +71,14 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         Refinement bounds ``[0, bound_factor * xi]``.
     refine_max_iter : int, default=100
         SLSQP iterations.
-    output_error : bool, default=False
+    output_error : bool or float, default=False
         After the refinement, fit the non-zero coefficients once more together with each trajectory's
         initial state, by least squares of the free simulation over the whole record
         (:func:`~sindy_impulse.output_error.fit_output_error`): the error measures start their simulations
         from the filtered first state, whose noise the coefficients otherwise absorb. A local fit of the
-        whole decay, for records of up to a hundred periods or so (``identify_modes`` turns it on for
-        bands of at most :data:`~sindy_impulse.modes._fit.OUTPUT_ERROR_PERIODS` periods).
+        whole decay, meant for records of up to a hundred periods or so: a number ``P`` turns it on only
+        when no trajectory holds more than ``P`` periods (counted as ``"auto"`` counts them;
+        ``identify_modes``' default estimator uses :data:`~sindy_impulse.modes._fit.OUTPUT_ERROR_PERIODS`).
     divergence_factor : float, default=100
         A simulation that exceeds this factor times the data's range counts as diverged.
     dt : float, optional
@@ -148,7 +149,7 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         "refine": ["boolean"],
         "bound_factor": [Interval(Real, 0, None, "neither")],
         "refine_max_iter": [Interval(Integral, 1, None, "left")],
-        "output_error": ["boolean"],
+        "output_error": ["boolean", Interval(Real, 0, None, "left")],
         "divergence_factor": [Interval(Real, 0, None, "neither")],
         "dt": [None, Interval(Real, 0, None, "neither")],
     }
@@ -165,7 +166,7 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         refine: bool = True,
         bound_factor: float = 1.5,
         refine_max_iter: int = 100,
-        output_error: bool = False,
+        output_error: bool | float = False,
         divergence_factor: float = 100.0,
         dt: float | None = None,
     ):
@@ -266,7 +267,7 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
             measure.floor,
         )
         self.budget_used_ = budget.used  # a budget that ran out is a reason of the verdict (diagnostics_)
-        if self.output_error and self.refine and not self._screening.excluded and np.any(coef):
+        if self._may_refine() and self._output_error_on(filtered) and np.any(coef):
             self.output_error_fit_ = fit_output_error(
                 compile_(coef), filtered, data.t, data.u, self.bound_factor
             )
@@ -309,12 +310,23 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
 
     def _refined(self, coef, score, compile_, measure, budget):
         """The candidate refined on the measure (paper section 2.5); never worse than unrefined."""
-        if not self.refine or self._screening.excluded:  # refining would fit the clipped stretches
+        if not self._may_refine():
             return coef, score, {"score": [], "coefficients": []}
         res = refine(compile_(coef), measure, self.bound_factor, self.refine_max_iter, budget=budget)
         if not res.score <= score:
             return coef, score, res.history
         return res.coefficients, res.score, res.history
+
+    def _may_refine(self) -> bool:
+        """Whether coefficients may be fitted to simulations: ``refine`` and no clipped stretches (refining
+        would fit them)."""
+        return self.refine and not self._screening.excluded
+
+    def _output_error_on(self, filtered) -> bool:
+        """Whether ``output_error`` asks for the output-error fit of these trajectories."""
+        if isinstance(self.output_error, (bool, np.bool_)):
+            return bool(self.output_error)
+        return all(oscillation_count(f) <= self.output_error for f in filtered)
 
     def _keep(self, candidates, thresholds, index, coef, compile_, measure, history, scores, score):
         """Store the selected model and what led to it."""

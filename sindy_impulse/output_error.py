@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-from .refinement import _check
+from .refinement import Multipliers, _check
 from .simulation.scoring import compare_stride
 
 __all__ = ["fit_output_error", "OutputErrorResult"]
@@ -125,22 +125,18 @@ def fit_output_error(
     scale = np.max([np.max(np.abs(r), axis=0) for r in refs], axis=0)
     scale = np.where(scale > 0, scale, 1.0)
     strides = [compare_stride(r) if u is None else 1 for r, u in zip(refs, inputs)]
-    start = model.coef.copy()
-    mask = start != 0
-    values, n_w, n_states = start[mask], int(np.count_nonzero(mask)), refs[0].shape[1]
+    unknowns = Multipliers(model)
+    n_w, n_states = unknowns.values.size, refs[0].shape[1]
     model.spectral_radius = model.spectral_radius * max(1.0, bound_factor)
     n_sims = [0]
 
-    def coef_of(w):
-        c = start.copy()
-        c[mask] = values * w
-        return c
+    def initial_states(p) -> list:
+        return [p[n_w + k * n_states : n_w + (k + 1) * n_states] * scale for k in range(len(refs))]
 
     def residuals(p):
-        c = coef_of(p[:n_w])
+        c = unknowns.coef_of(p[:n_w])
         out = []
-        for k, (r, t, u, stride) in enumerate(zip(refs, times, inputs, strides)):
-            x0 = p[n_w + k * n_states : n_w + (k + 1) * n_states] * scale
+        for x0, r, t, u, stride in zip(initial_states(p), refs, times, inputs, strides):
             with np.errstate(all="ignore"):
                 sim = model.simulate(x0, t, u=u, coef=c)
             n_sims[0] += 1
@@ -148,9 +144,12 @@ def fit_output_error(
             out.append(np.where(np.isfinite(e), e, _DIVERGED).ravel())
         return np.concatenate(out)
 
+    def cost_of(p) -> float:
+        r = residuals(p)
+        return float(r @ r) / r.size
+
     p0 = np.concatenate([np.ones(n_w), *(r[0] / scale for r in refs)])
-    r0 = residuals(p0)
-    cost0 = float(r0 @ r0) / r0.size
+    cost0 = cost_of(p0)
     keep = OutputErrorResult(model.full_coefficients.copy(), [r[0].copy() for r in refs], cost0, cost0,
                              n_sims[0], False, "nothing to fit")
     if n_w == 0 or not np.isfinite(cost0):
@@ -160,21 +159,17 @@ def fit_output_error(
     try:
         res = least_squares(residuals, p0, bounds=(lower, upper), method="trf", diff_step=1e-7,
                             max_nfev=int(max_evaluations))
+        p = np.concatenate([unknowns.removed(res.x[:n_w], zero_tol), res.x[n_w:]])
+        cost = cost_of(p)
     except Exception as err:  # noqa: BLE001 - any solver failure keeps the starting model
-        keep.message = f"{type(err).__name__}: {err}"
+        keep.n_simulations, keep.message = n_sims[0], f"{type(err).__name__}: {err}"
         warnings.warn(
             f"output-error fit failed ({keep.message}); keeping the starting model", RuntimeWarning, 2
         )
         return keep
-    p = res.x.copy()
-    p[:n_w] = np.where(p[:n_w] < zero_tol, 0.0, p[:n_w])
-    r = residuals(p)
-    cost = float(r @ r) / r.size
     keep.n_simulations = n_sims[0]
     if not (np.isfinite(cost) and cost < cost0):
         keep.message = "the output-error fit did not lower the cost"
         return keep
-    full = model.full_coefficients.copy()
-    full[:, model.active] = coef_of(p[:n_w])
-    x0 = [p[n_w + k * n_states : n_w + (k + 1) * n_states] * scale for k in range(len(refs))]
-    return OutputErrorResult(full, x0, cost, cost0, n_sims[0], True, str(res.message))
+    return OutputErrorResult(unknowns.full(p[:n_w]), initial_states(p), cost, cost0, n_sims[0], True,
+                             str(res.message))

@@ -24,7 +24,7 @@ from scipy.optimize import minimize
 
 from .simulation import OutOfBudget, WorkBudget, get_error_measure
 
-__all__ = ["refine", "refine_coefficients", "RefinementResult"]
+__all__ = ["refine", "refine_coefficients", "RefinementResult", "Multipliers"]
 
 #: Forward-difference step on the multipliers (of order 1).
 _STEP = 1e-7
@@ -71,27 +71,43 @@ class RefinementResult:
         return self.score_initial
 
 
-class _Objective:
-    """The measure as a function of the multipliers, with the budget charged and the best point kept."""
+class Multipliers:
+    """A model's non-zero coefficients as multipliers ``w`` of their starting values (the unknowns of the
+    refinement and of the output-error fit); terms whose multiplier ends below ``zero_tol`` are removed."""
 
-    def __init__(self, model, measure, budget: WorkBudget, penalty: float):
-        self.model, self.measure, self.budget, self.penalty = model, measure, budget, penalty
+    def __init__(self, model):
+        self.model = model
         self.start = model.coef.copy()
         self.mask = self.start != 0
         self.values = self.start[self.mask]
-        self.best = (np.inf, None)
-        self.last = (None, None)
-        self.last_gradient = (None, None)
 
     def coef_of(self, w) -> np.ndarray:
+        """Active-coefficient matrix for multipliers ``w``."""
         c = self.start.copy()
         c[self.mask] = self.values * w
         return c
 
     def full(self, w) -> np.ndarray:
+        """Full coefficient matrix (every library term) for multipliers ``w``."""
         c = self.model.full_coefficients.copy()
         c[:, self.model.active] = self.coef_of(w)
         return c
+
+    @staticmethod
+    def removed(w, zero_tol: float) -> np.ndarray:
+        """``w`` with the multipliers below ``zero_tol`` set to zero (those terms drop out)."""
+        return np.where(w < zero_tol, 0.0, w)
+
+
+class _Objective(Multipliers):
+    """The measure as a function of the multipliers, with the budget charged and the best point kept."""
+
+    def __init__(self, model, measure, budget: WorkBudget, penalty: float):
+        super().__init__(model)
+        self.measure, self.budget, self.penalty = measure, budget, penalty
+        self.best = (np.inf, None)
+        self.last = (None, None)
+        self.last_gradient = (None, None)
 
     def scores(self, coefs, check_budget: bool = True) -> np.ndarray:
         if check_budget and self.budget.exhausted:
@@ -218,7 +234,7 @@ def refine(
 
 def _finish(objective, w, g0, history, success, message, zero_tol, keep) -> RefinementResult:
     """Remove the terms that reached zero and keep the result only if it improved."""
-    w = np.where(w < zero_tol, 0.0, w)
+    w = objective.removed(w, zero_tol)
     g = float(objective.scores(objective.coef_of(w)[None], check_budget=False)[0])
     if not np.isfinite(g) or g >= g0 or not np.all(np.isfinite(w)):
         keep.success, keep.message = success, "refinement did not improve the score"
@@ -269,4 +285,3 @@ def refine_coefficients(
     _check(bound_factor, max_iter)
     measure = get_error_measure(error_measure, references).bind(list(references), list(times), inputs)
     return refine(model, measure, bound_factor, max_iter, zero_tol, budget)
-

@@ -165,7 +165,8 @@ def test_grid_search_over_degree(clean):
         ({"selection": "best"}, {}, ValueError, "selection"),
         ({"bound_factor": -1}, {}, ValueError, "bound_factor"),
         ({"refine": "yes"}, {}, TypeError, "refine"),
-        ({"output_error": 1}, {}, TypeError, "output_error"),
+        ({"output_error": -1}, {}, ValueError, "output_error"),
+        ({"output_error": "yes"}, {}, ValueError, "output_error"),
         ({"dt": -0.1}, {}, ValueError, "dt"),
         ({}, {"u": np.zeros(400)}, ValueError, "u\\[0\\] has 400 samples"),
         ({}, {"feature_names": ["a"]}, ValueError, "feature_names"),
@@ -233,3 +234,13 @@ def test_output_error_fit_is_off_by_default_and_fits_the_initial_state_when_on(c
     names = fitted.get_feature_names()
     plain_error, error = (abs(m.coefficients()[1, names.index("x1")] / -3.2 - 1) for m in (plain, fitted))
     assert error < 0.005 and error < 0.5 * plain_error
+
+
+def test_output_error_as_a_number_of_periods_turns_the_fit_on_for_shorter_records(clean):
+    """``output_error=P``: on when no trajectory holds more than P periods (the oscillator: 3)."""
+    t, x, x_dot = clean
+    linear = ps.PolynomialLibrary(degree=1, include_bias=False)
+    short = ImpulseSINDy(feature_library=linear, output_error=3).fit(x, t=t, x_dot=x_dot)
+    assert short.output_error_fit_ is not None
+    long = ImpulseSINDy(feature_library=linear, output_error=2.5).fit(x, t=t, x_dot=x_dot)
+    assert long.output_error_fit_ is None

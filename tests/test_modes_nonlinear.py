@@ -291,6 +291,15 @@ def test_without_the_output_error_fit_the_dampers_shift_is_missed(monkeypatch):
     assert _damping_shift_error(rec, mode) > 0.1
 
 
+def test_an_estimator_given_without_the_output_error_fit_is_kept_so():
+    rec = damper_record(NOISY_DAMPER)
+    estimator = _fit.default_estimator().set_params(output_error=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        (mode,) = identify_modes(rec.y, fs=rec.fs, force=rec.force, estimator=estimator).modes
+    assert mode.model.output_error_fit_ is None
+
+
 def test_a_band_of_hundreds_of_periods_keeps_the_segment_wise_model():
     """The output-error fit is local to the whole free decay: a band longer than OUTPUT_ERROR_PERIODS
     periods is not fitted by it."""

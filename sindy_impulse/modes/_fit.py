@@ -10,7 +10,7 @@ import pysindy as ps
 from ..analysis.modal import modal_parameters
 from ..optimizers import fresh_copy
 from ..preprocessing import bandpass
-from ..simulation.scoring import AUTO_PERIODS, Auto, Segmented, oscillation_count
+from ..simulation.scoring import AUTO_PERIODS, Auto, Segmented
 from ._states import EDGE, STATE_NAMES, channel_shape, derivative_states, group_states
 from .result import Mode, Rejected
 
@@ -38,8 +38,8 @@ SEGMENT_FLOOR = 0.1
 GAMMA_PERIODS = AUTO_PERIODS
 SEGMENT_PERIODS = Segmented().segment_periods
 #: Longest band, in periods, whose refined model is fitted once more with its initial state by output error
-#: (``ImpulseSINDy(output_error=True)``, :func:`~sindy_impulse.output_error.fit_output_error`). Gamma and the
-#: segments start every simulation from the filtered measured state, whose noise the coefficients then
+#: (the default estimator's ``output_error``, :func:`~sindy_impulse.output_error.fit_output_error`). Gamma and
+#: the segments start every simulation from the filtered measured state, whose noise the coefficients then
 #: absorb: a fit of the generating equation's own structure with its initial state fixed there passes
 #: 29/50 damper backbones, with the initial state fitted 46/50 (``benchmarks/bench_model_backbone.py``,
 #: x^2 x' dampers of 40-105 periods); the modes' backbones went from 40/50 to 45/50. A fit of a whole
@@ -54,7 +54,8 @@ def default_estimator():
     The linear oscillator's terms (``dy`` in ``y'``; ``y`` and ``dy`` in ``dy'``) are protected from the
     threshold sweep: a mode always keeps a stiffness and a damping (a very lightly damped mode's damping
     term explains a tiny share of ``dy'``, which the sweep would otherwise remove first), and the sweep
-    searches only the nonlinear terms.
+    searches only the nonlinear terms. Bands of at most :data:`OUTPUT_ERROR_PERIODS` periods get the
+    output-error fit after the refinement.
     """
     from ..estimator import ImpulseSINDy
     from ..optimizers import ThresholdSweep
@@ -64,7 +65,7 @@ def default_estimator():
     protected[0, 1] = protected[1, 0] = protected[1, 1] = True
     measure = Auto(long=Segmented(SEGMENT_PERIODS, SEGMENT_FLOOR), periods=GAMMA_PERIODS)
     return ImpulseSINDy(optimizer=ThresholdSweep(protected=protected), feature_library=library,
-                        error_measure=measure)
+                        error_measure=measure, output_error=OUTPUT_ERROR_PERIODS)
 
 
 def fit_error_of(model) -> float:
@@ -155,8 +156,6 @@ def fit_band(
     """
     states, states_dot, t = derivative_states(band.y, band.t)
     model = fresh_copy(template)
-    if "output_error" in model.get_params(deep=False) and oscillation_count(states) <= OUTPUT_ERROR_PERIODS:
-        model.set_params(output_error=True)
     # the band-pass filtered the signal: band-limited derivatives, unless the template asks for its own method
     x_dot = states_dot if getattr(model, "differentiation_method", None) is None else None
     model.fit(states, t=t, x_dot=x_dot, feature_names=list(STATE_NAMES))
@@ -194,10 +193,14 @@ def fit_band(
 
 
 def _without_protection(model):
-    """The model with its optimizer's ``protected`` terms cleared: they name the terms of ``[y, dy]``
-    (:func:`default_estimator`), which delay coordinates or another library do not have."""
-    if "optimizer__protected" in model.get_params(deep=True):
+    """The model for delay coordinates: its optimizer's ``protected`` terms cleared (they name the terms of
+    ``[y, dy]``, :func:`default_estimator`, which delay coordinates or another library do not have), and
+    without the output-error fit (measured on the own bands' ``[y, dy]`` only)."""
+    params = model.get_params(deep=True)
+    if "optimizer__protected" in params:
         model.set_params(optimizer__protected=None)
+    if "output_error" in params:
+        model.set_params(output_error=False)
     return model
 
 
