@@ -14,7 +14,7 @@ from queue import Empty
 def _worker(tasks, results, target: str, kwargs: dict):
     import importlib
 
-    import sindy_impulse.estimator  # noqa: F401 - import (and numba cache load) before timing
+    import sindy_impulse.identification.estimator  # noqa: F401 - import (and numba cache load) before timing
 
     module, name = target.split(":")
     function = getattr(importlib.import_module(module), name)

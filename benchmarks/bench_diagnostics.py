@@ -27,7 +27,7 @@ def _timed(fn) -> float:
 
 def measure(fn, repeats: int) -> tuple[float, float]:
     """Median time of ``fn`` with the diagnostics and without them (interleaved)."""
-    import sindy_impulse.estimator as estimator
+    import sindy_impulse.identification.estimator as estimator
 
     real = estimator.diagnose_fit
     on, off = [], []

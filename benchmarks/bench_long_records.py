@@ -22,7 +22,7 @@ import warnings
 import numpy as np
 
 from sindy_impulse import identify_modes, impact_record
-from sindy_impulse.modes._fit import default_estimator
+from sindy_impulse.modes.band_fit import default_estimator
 
 F_TOL, Z_TOL = 1e-3, 0.10
 

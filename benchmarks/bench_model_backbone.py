@@ -161,7 +161,7 @@ def reference_fit(signal, truth) -> Backbone:
 def _set_options(options) -> None:
     """The survey's segment floor, Gamma's longest band, the segment length and the longest band fitted by
     output error (``(floor, periods, segment_periods, output_error_periods)``; None keeps a default)."""
-    from sindy_impulse.modes import _fit
+    from sindy_impulse.modes import band_fit as _fit
 
     floor, periods, segment, output_error = options
     if output_error is not None:

@@ -189,7 +189,7 @@ def _misses(results: list[dict]) -> None:
 
 def output_error_cost(n: int, rng: np.random.Generator) -> None:
     """Median time ratio of ``identify_modes`` with / without the modes' output-error fit (same run)."""
-    from sindy_impulse.modes import _fit
+    from sindy_impulse.modes import band_fit as _fit
 
     default = _fit.OUTPUT_ERROR_PERIODS
     ratios = []

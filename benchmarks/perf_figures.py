@@ -19,8 +19,8 @@ from sindy_impulse import ImpulseSINDy, SINDyFeatures, damped_oscillator, identi
 from sindy_impulse.analysis import esprit
 from sindy_impulse.simulation import integrators
 from sindy_impulse.simulation.compile import _FIRST, _NO_WEIGHTS
-from sindy_impulse.simulation.cubic2 import dense_coefficients, integrate_cubic2
 from sindy_impulse.simulation.program import pack, propagators
+from sindy_impulse.simulation.two_state_cubic import dense_coefficients, integrate_cubic2
 
 
 def _pysindy_simulate_time(model: ImpulseSINDy, x0, t) -> float:

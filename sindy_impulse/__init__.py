@@ -5,24 +5,24 @@ Equations from Impulse Response Time Series Data for Model Identification and Fe
 Vibration 2(1), 25-46.
 
 Public names are imported lazily, so ``import sindy_impulse`` stays fast; on a machine's first import the
-compiled kernels are built in a background process (:mod:`sindy_impulse._warmup`).
+compiled kernels are built in a background process (:mod:`sindy_impulse._utils.warmup`).
 """
 
 from __future__ import annotations
 
 import importlib
 
-__version__ = "0.1.0"
+from ._version import __version__ as __version__
 
 _PUBLIC = {
     "TVRegDiff": "sindy_impulse.differentiation",
     "DelayEmbedding": "sindy_impulse.embedding",
     "MechanicalLibrary": "sindy_impulse.feature_library",
     "ThresholdSweep": "sindy_impulse.optimizers",
-    "ImpulseSINDy": "sindy_impulse.estimator",
-    "gamma": "sindy_impulse.metrics",
+    "ImpulseSINDy": "sindy_impulse.identification",
+    "gamma": "sindy_impulse.simulation",
     "CompiledModel": "sindy_impulse.simulation",
-    "refine_coefficients": "sindy_impulse.refinement",
+    "refine_coefficients": "sindy_impulse.identification",
     "SINDyFeatures": "sindy_impulse.features",
     "damped_oscillator": "sindy_impulse.datasets",
     "add_noise": "sindy_impulse.datasets",
@@ -35,12 +35,14 @@ _PUBLIC = {
     "preprocess": "sindy_impulse.preprocessing",
     "plotting": "sindy_impulse.plotting",
     "datasets": "sindy_impulse.datasets",
+    "poles": "sindy_impulse.poles",
+    "identification": "sindy_impulse.identification",
 }
 
 __all__ = sorted(_PUBLIC)
 
 try:  # a machine's first import: compile the numba kernels in the background (see _warmup)
-    from . import _warmup
+    from ._utils import warmup as _warmup
 
     _warmup.start()
 except Exception:  # noqa: BLE001 - never let the warm-up stop an import

@@ -13,10 +13,11 @@ import numpy as np
 import pytest
 
 import sindy_impulse
-from sindy_impulse.cli import _io, build_parser, main
-from sindy_impulse.cli._io import CLIError, atomic_write, read_csv
+from sindy_impulse.cli import build_parser, main
+from sindy_impulse.cli import files as _io
 from sindy_impulse.cli._numbers import NumberError, parse_int, parse_number
 from sindy_impulse.cli._options import data_options
+from sindy_impulse.cli.files import CLIError, atomic_write, read_csv
 from sindy_impulse.datasets import damped_oscillator
 
 OLD = '{"old": "report"}\n'
@@ -231,7 +232,7 @@ def test_a_batch_without_a_usable_file_writes_nothing(tmp_path, capsys):
 
 
 def test_progress_bar_only_when_wanted_and_available(monkeypatch):
-    from sindy_impulse.cli.features import _progress_bar
+    from sindy_impulse.cli.features_command import _progress_bar
 
     args = build_parser().parse_args(["features", "x", "--out", "y"])
     assert _progress_bar(args) is True
@@ -389,6 +390,6 @@ def test_an_interruption_is_one_line_and_status_130(ring, monkeypatch, capsys):
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr("sindy_impulse.cli.fit.read_csv", interrupted)
+    monkeypatch.setattr("sindy_impulse.cli.fit_command.read_csv", interrupted)
     code, _, err = _run(["fit", ring], capsys)
     assert code == 130 and err == "sindy-impulse: interrupted\n"

@@ -29,10 +29,10 @@ from sindy_impulse import (
     damped_oscillator,
     gamma,
 )
-from sindy_impulse import refinement as refinement_module
 from sindy_impulse.cli import main as cli_main
 from sindy_impulse.feature_library import TermTable
-from sindy_impulse.refinement import refine_coefficients
+from sindy_impulse.identification import refinement as refinement_module
+from sindy_impulse.identification.refinement import refine_coefficients
 from sindy_impulse.simulation import CompiledModel
 from sindy_impulse.simulation import budget as budget_module
 

@@ -11,10 +11,8 @@ import pytest
 
 from sindy_impulse import ImpulseSINDy, MechanicalLibrary, SINDyFeatures, damped_oscillator
 from sindy_impulse.analysis import modal_parameters
-from sindy_impulse.analysis.modal import MIN_LINEAR_SHARE, linear_share, rest_point
-from sindy_impulse.diagnostics import VERDICTS, FitDiagnostics, clipped_rows, diagnose_fit, rest_level
+from sindy_impulse.diagnostics import VERDICTS, FitDiagnostics, diagnose_fit
 from sindy_impulse.diagnostics.data import DataChecks
-from sindy_impulse.diagnostics.rest import RestLevel
 from sindy_impulse.diagnostics.terms import TermTests
 from sindy_impulse.diagnostics.verdict import judge
 from sindy_impulse.exceptions import (
@@ -24,6 +22,8 @@ from sindy_impulse.exceptions import (
     NoDynamicsWarning,
     SindyImpulseWarning,
 )
+from sindy_impulse.poles.modal import MIN_LINEAR_SHARE, linear_share, rest_point
+from sindy_impulse.preprocessing.states import RestLevel, clipped_rows, rest_level
 from sindy_impulse.simulation import CompiledModel, TermTable
 
 F_TRUE, ZETA_TRUE = 8.0 / (2 * np.pi), 0.2

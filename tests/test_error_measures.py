@@ -8,7 +8,7 @@ import pytest
 from preprocessing_records import damper_record
 
 from sindy_impulse import ImpulseSINDy, identify_modes
-from sindy_impulse.modes import _fit
+from sindy_impulse.modes import band_fit as _fit
 from sindy_impulse.simulation import Auto, Gamma, Segmented, get_error_measure
 
 

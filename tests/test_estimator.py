@@ -8,8 +8,8 @@ from sklearn.model_selection import GridSearchCV, KFold
 from sklearn.pipeline import make_pipeline
 
 from sindy_impulse import ImpulseSINDy, MechanicalLibrary, ThresholdSweep, damped_oscillator
-from sindy_impulse.estimator import SweepPath
 from sindy_impulse.exceptions import DataWarning
+from sindy_impulse.identification.estimator import SweepPath
 
 
 @pytest.fixture(scope="module")

@@ -6,8 +6,8 @@ import pytest
 
 from sindy_impulse import DelayEmbedding, ImpulseSINDy, damped_oscillator
 from sindy_impulse.analysis import ModalParameters, modal_parameters
-from sindy_impulse.analysis.modal import jacobian_at_origin
 from sindy_impulse.feature_library import TermTable
+from sindy_impulse.poles.modal import jacobian_at_origin
 from sindy_impulse.simulation import CompiledModel
 
 F_TRUE = 8.0 / (2 * np.pi)

@@ -8,7 +8,8 @@ import pytest
 from preprocessing_records import damper_record
 
 from sindy_impulse import identify_modes, impact_record
-from sindy_impulse.modes import _fit, _nonlinear, survey
+from sindy_impulse.modes import _nonlinear, survey
+from sindy_impulse.modes import band_fit as _fit
 from sindy_impulse.modes.result import Mode
 from sindy_impulse.preprocessing import spectral_peaks
 from sindy_impulse.preprocessing.filters import transient_samples

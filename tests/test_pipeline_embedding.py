@@ -9,7 +9,7 @@ from sklearn.pipeline import make_pipeline
 
 from sindy_impulse import DelayEmbedding, ImpulseSINDy
 from sindy_impulse.datasets import damped_oscillator
-from sindy_impulse.metrics import gamma
+from sindy_impulse.simulation import gamma
 
 DT = 0.01
 OMEGA, ZETA = 8.0, 0.2

@@ -17,7 +17,7 @@ from scipy import sparse
 import sindy_impulse.plotting as plotting
 from sindy_impulse import DelayEmbedding, ImpulseSINDy, TVRegDiff, damped_oscillator
 from sindy_impulse.analysis import complexity_error, consensus, nonlinearity_test, parameter_dependency
-from sindy_impulse.estimator import SweepPath
+from sindy_impulse.identification.estimator import SweepPath
 from sindy_impulse.plotting import (
     plot_alpha_curve,
     plot_complexity_error,

@@ -3,8 +3,8 @@ import pytest
 
 from sindy_impulse.datasets import damped_oscillator
 from sindy_impulse.feature_library import TermTable
-from sindy_impulse.output_error import fit_output_error
-from sindy_impulse.refinement import refine_coefficients
+from sindy_impulse.identification.output_error import fit_output_error
+from sindy_impulse.identification.refinement import refine_coefficients
 from sindy_impulse.simulation import CompiledModel, simulation_gamma
 
 TERMS = TermTable.polynomial([[1, 0], [0, 1], [3, 0]])

@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from sindy_impulse.selection import select_candidate
+from sindy_impulse.identification.selection import select_candidate
 
 
 def _refine_table(refined):

@@ -1,8 +1,8 @@
 import numpy as np
 import pytest
 
-from sindy_impulse._trajectories import check_trajectories
-from sindy_impulse._validation import check_signal, check_time
+from sindy_impulse._utils.trajectories import check_trajectories
+from sindy_impulse._utils.validation import check_signal, check_time
 
 
 def test_check_signal_reshapes_1d():
@@ -59,7 +59,7 @@ def test_sparse_refused():
 
 
 def test_check_array_keeps_the_layout_and_names_the_argument():
-    from sindy_impulse._validation import check_array
+    from sindy_impulse._utils.validation import check_array
 
     assert check_array([[[1, 0]], [[2, 0]]], "coefficients", ndim=(3,)).shape == (2, 1, 2)
     assert check_array(np.array([1, 2], dtype=object), "values").dtype == float

@@ -7,11 +7,11 @@ Imported eagerly: ``from .consensus import consensus`` binds the function, not t
 name, whatever the order in which names are first used.
 """
 
+from ..poles.esprit import EspritModes, esprit
+from ..poles.modal import ModalParameters, jacobian_at_origin, modal_parameters
 from .backbone import Backbone, backbone, hilbert_backbone
-from .classical import EspritModes, esprit
 from .complexity import ComplexityError, complexity_error
 from .consensus import Consensus, Histogram, consensus, consensus_fit
-from .modal import ModalParameters, jacobian_at_origin, modal_parameters
 from .nonlinearity import NonlinearityResult, NonlinearTerm, nonlinearity_test
 from .parameters import ParameterDependency, parameter_dependency
 

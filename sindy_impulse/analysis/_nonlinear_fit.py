@@ -5,12 +5,11 @@ Everything here is done with the estimator's own steps, on the test data made un
 1. :func:`normalise`: each state's equilibrium (the Hann-weighted mean of the record's end, as the backbone
    estimator takes it) is removed and the state divided by its largest remaining magnitude, so the same
    record in other units, or with an offset, gives the same numbers (up to rounding);
-2. :class:`Comparison`: the model's differentiation method
-   (:func:`~sindy_impulse.differentiation.differentiate`), a fresh copy of its library fitted to the
-   normalised filtered states, least squares on a support
-   (:func:`~sindy_impulse.optimizers.least_squares`), compilation
-   (:func:`~sindy_impulse.simulation.compile_model`) and the refinement
-   (:func:`~sindy_impulse.refinement.refine`) on the model's error measure;
+2. :class:`Comparison`: the fit's own stages (:mod:`sindy_impulse.identification.stages`) on the
+   normalised data: the model's differentiation method and a fresh copy of its library build the
+   regression once (:func:`~sindy_impulse.identification.stages.prepare`); each support is fitted by
+   :func:`~sindy_impulse.identification.stages.run_stages` (least squares on the support, scored, refined
+   on the model's error measure);
 3. :meth:`Comparison.search`: the nonlinear library terms that best explain the linear model's derivative
    residual (one term added to one equation);
 4. :func:`alternatives`: the refined linear model and the best refined nonlinear alternative;
@@ -25,16 +24,14 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
-from pysindy.utils import AxesArray
 
-from ..differentiation import differentiate
-from ..feature_library.terms import library_terms
+from .._utils.trajectories import as_trajectories
+from ..identification.stages import filter_states, prepare, run_stages
 from ..optimizers import fresh_copy, least_squares
-from ..refinement import refine
-from ..simulation import compile_model, get_error_measure, oscillation_count
+from ..simulation import get_error_measure, oscillation_count
 from ..simulation.terms import ABS, PLAIN, SIGNED_SQUARE, SMOOTH_SIGN
-from ._decay import carrier_hz, offset
 from .backbone import Backbone, backbone, hilbert_backbone
+from .instantaneous import carrier_hz, offset
 
 __all__ = ["normalise", "Comparison", "alternatives", "amplitude_ratio", "in_data_units", "to_data_units"]
 
@@ -78,40 +75,41 @@ def normalise(trajectories, times):
     return [c / scales for c in centred], scales, equilibria
 
 
-def _axes(a: np.ndarray) -> AxesArray:
-    return AxesArray(a, {"ax_time": 0, "ax_coord": 1})
-
-
 class Comparison:
-    """Fits of given supports to the normalised test data with the estimator's own steps."""
+    """Fits of given supports to the normalised test data through the estimator's own stages.
+
+    The regression is built once (:func:`~sindy_impulse.identification.stages.prepare`); each support is
+    then fitted by :func:`~sindy_impulse.identification.stages.run_stages` with the test's constraints:
+    the support's least-squares coefficients as the only candidate, refined on the model's error measure.
+    """
 
     def __init__(self, library, diff, xs, ts, measure_name, bound_factor, max_iter):
-        self.filtered, derivs = differentiate(fresh_copy(diff), xs, ts)
+        data = as_trajectories(list(xs), list(ts))
+        self.filtered, derivs = filter_states(fresh_copy(diff), data)
         self.measured, self.times = xs, ts
-        self.library = fresh_copy(library)
-        self.library.fit([_axes(f) for f in self.filtered])
+        self.problem = prepare(fresh_copy(library), data, self.filtered, derivs, refuse_underdetermined=False)
         self.measure = get_error_measure(measure_name, self.filtered).bind(self.filtered, ts)
         self.noise = self.measure.noise_level(xs, self.filtered, ts)
-        self.theta = np.vstack([np.asarray(self.library.transform(_axes(f))) for f in self.filtered])
-        self.y = np.vstack(derivs)
-        self.terms = library_terms(self.library, xs[0].shape[1])
-        self.n_values = int(sum(f.size for f in self.filtered))
+        self.theta, self.y, self.terms = self.problem.theta, self.problem.y, self.problem.terms
+        self.n_values = self.problem.n_values
         self.n_cycles = float(sum(oscillation_count(f) for f in self.filtered))
         self.bound_factor, self.max_iter = bound_factor, max_iter
-        self.reference = np.vstack(self.filtered)
 
     def compile(self, coef):
-        return compile_model(coef, self.terms, self.reference)
+        return self.problem.compile(coef)
 
     def fit(self, support):
         """Least squares on ``support``, then refined; ``(coefficients, score)``, never worse than lstsq."""
-        coef = least_squares(self.theta, self.y, support)
-        model = self.compile(coef)
-        g0 = float(self.measure(model)[0])
-        if not np.isfinite(g0) or not np.any(coef):
-            return coef, g0
-        res = refine(model, self.measure, self.bound_factor, self.max_iter)
-        return (res.coefficients, res.score) if res.score <= g0 else (coef, g0)
+        result = run_stages(
+            self.problem,
+            self.problem.on_supports([support]),
+            self.measure,
+            selection="min_gamma",
+            bound_factor=self.bound_factor,
+            max_iter=self.max_iter,
+            all_diverged="keep",
+        )
+        return result.coefficients, result.score
 
     def search(self, lin_support, candidates, n_search):
         """The ``n_search`` supports ``linear + one nonlinear term`` that best explain the residual."""

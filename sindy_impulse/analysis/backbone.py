@@ -27,10 +27,10 @@ from numbers import Integral, Real
 
 import numpy as np
 
-from .._params import Interval, Options, check_param
-from .._validation import check_array, check_signal, check_time
-from ._decay import TRIM_PERIODS, bin_by_amplitude, instantaneous
-from ._model_decay import simulate_free_decay
+from .._utils.params import Interval, Options, check_param
+from .._utils.validation import check_array, check_signal, check_time
+from .free_decay import simulate_free_decay
+from .instantaneous import TRIM_PERIODS, bin_by_amplitude, instantaneous
 
 __all__ = ["Backbone", "backbone", "hilbert_backbone"]
 

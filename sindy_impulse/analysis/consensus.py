@@ -22,7 +22,7 @@ from typing import NamedTuple
 import numpy as np
 from sklearn.base import clone
 
-from .._validation import check_array, check_signal
+from .._utils.validation import check_array, check_signal
 
 __all__ = ["consensus", "consensus_fit", "Consensus", "Histogram", "coefficient_stack"]
 

@@ -8,7 +8,8 @@ with the estimator's own steps (see :mod:`._nonlinear_fit`):
    (the model's nonlinear terms, and each of the :data:`N_SEARCH` nonlinear library terms that best explain
    the linear model's derivative residual) are refined on the model's error measure. ``significance`` is
    how much the error grows without the nonlinear terms, in units of the tolerance of
-   :func:`~sindy_impulse.selection.tolerance`: ``rel_tol`` times the nonlinear model's error, plus
+   :func:`~sindy_impulse.identification.selection.tolerance`: ``rel_tol`` times the nonlinear model's
+   error, plus
    ``noise_tol`` times the noise level, plus the measure's floor. A term fitted to noise lowers the error
    by about ``1 / (2 n_eff)`` of it, ``n_eff`` the independent noise samples: one or two per cycle of a
    filtered or band-passed record; ``rel_tol`` is therefore :data:`CYCLES_TOL` divided by the number of
@@ -45,13 +46,13 @@ from numbers import Integral, Real
 
 import numpy as np
 
-from .._params import Interval, check_param
-from .._trajectories import as_trajectories
+from .._utils.params import Interval, check_param
+from .._utils.trajectories import as_trajectories
 from ..feature_library.terms import term_table
-from ..selection import tolerance
+from ..identification.selection import tolerance
 from ..simulation import ERROR_MEASURES
-from ._model_decay import resolve_coordinate
 from ._nonlinear_fit import Comparison, alternatives, amplitude_ratio, in_data_units, normalise, to_data_units
+from .free_decay import resolve_coordinate
 
 __all__ = ["nonlinearity_test", "NonlinearityResult", "NonlinearTerm"]
 
@@ -119,7 +120,7 @@ class NonlinearityResult:
         The error measure (``measure``) of the refined linear model and of the refined nonlinear
         alternative on the normalised test data.
     tolerance : float
-        :func:`~sindy_impulse.selection.tolerance` at ``gamma_nonlinear``.
+        :func:`~sindy_impulse.identification.selection.tolerance` at ``gamma_nonlinear``.
     noise_gamma : float
         The measure between the measured and the filtered states of the test data.
     measure : str

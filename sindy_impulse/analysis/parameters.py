@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validation import check_array
+from .._utils.validation import check_array
 from .consensus import coefficient_stack
 
 __all__ = ["parameter_dependency", "ParameterDependency"]

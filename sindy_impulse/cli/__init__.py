@@ -20,9 +20,12 @@ from __future__ import annotations
 import argparse
 import sys
 
-from . import demo, features, fit, modes
-from ._io import CLIError, Table, read_csv
+from . import demo_command as demo
+from . import features_command as features
+from . import fit_command as fit
+from . import modes_command as modes
 from ._options import Parser
+from .files import CLIError, Table, read_csv
 
 __all__ = ["CLIError", "Table", "build_parser", "main", "read_csv"]
 

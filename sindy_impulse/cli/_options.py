@@ -11,8 +11,8 @@ from __future__ import annotations
 import argparse
 import math
 
-from ._io import CLIError
 from ._numbers import NumberError, parse_int, parse_number
+from .files import CLIError
 
 __all__ = [
     "Parser",
@@ -137,7 +137,7 @@ def sampling_step(args: argparse.Namespace) -> float | None:
 
 
 def data_options(args: argparse.Namespace) -> dict:
-    """The keyword arguments of :func:`~sindy_impulse.cli._io.read_csv` the input options ask for."""
+    """The keyword arguments of :func:`~sindy_impulse.cli.files.read_csv` the input options ask for."""
     return {"columns": split_names(args.columns), "time": args.time, "dt": sampling_step(args)}
 
 
@@ -145,7 +145,7 @@ def make_estimator(degree: int):
     """The model every command fits: ImpulseSINDy with a polynomial library of ``degree``."""
     import pysindy as ps
 
-    from ..estimator import ImpulseSINDy
+    from ..identification.estimator import ImpulseSINDy
 
     return ImpulseSINDy(feature_library=ps.PolynomialLibrary(degree=degree))
 

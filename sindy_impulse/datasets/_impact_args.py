@@ -8,8 +8,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from .._params import Interval, Options, check_param
-from .._validation import check_array
+from .._utils.params import Interval, Options, check_param
+from .._utils.validation import check_array
 from .oscillator import MAX_SAMPLES
 
 __all__ = ["check_impact_args"]

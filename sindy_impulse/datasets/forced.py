@@ -14,7 +14,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.signal import butter, sosfiltfilt
 
-from .._params import Interval, Options, check_param
+from .._utils.params import Interval, Options, check_param
 from ._response import half_sine_force
 from .oscillator import MAX_SAMPLES, add_noise
 

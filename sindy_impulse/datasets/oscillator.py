@@ -12,7 +12,7 @@ from numbers import Real
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from .._validation import check_signal
+from .._utils.validation import check_signal
 
 __all__ = ["damped_oscillator", "add_noise", "RingDown", "MAX_SAMPLES"]
 

@@ -17,29 +17,24 @@ Each verdict but "ok" warns once, with what to do (:class:`~sindy_impulse.except
 :class:`~sindy_impulse.exceptions.DataWarning` when only the data are at fault,
 :class:`~sindy_impulse.exceptions.NoDynamicsWarning`); none raises. The rules are in :mod:`.verdict`.
 
-Modules: :mod:`.data` (the measured states, before the regression), :mod:`.rest` (the rest level of a
-ring-down: removed before the regression when the physics allows), :mod:`.model` (the fitted model against
-its data), :mod:`.verdict` (the rules), :mod:`.report` (:class:`FitDiagnostics`), :mod:`.fit`
-(:func:`diagnose_fit`).
+The diagnostics only judge: what changes the data before the regression (the rest level removed, the
+clipped samples left out) is :mod:`sindy_impulse.preprocessing.states`, which the estimator calls.
+
+Modules: :mod:`.data` (the measured states, before the regression), :mod:`.model` (the fitted model
+against its data), :mod:`.terms` (whether the data support each term), :mod:`.verdict` (the rules),
+:mod:`.report` (:class:`FitDiagnostics`), :mod:`.diagnose` (:func:`diagnose_fit`, every check in order).
 """
 
-from .data import MAGNITUDE_RANGE, DataChecks, check_magnitude, clipped_rows, leave_out_clipped, screen_states
-from .fit import diagnose_fit
+from .data import MAGNITUDE_RANGE, DataChecks, check_magnitude, screen_states
+from .diagnose import diagnose_fit
 from .report import VERDICTS, FitDiagnostics
-from .rest import AtRestLevel, RestLevel, at_rest_level, rest_level
 
 __all__ = [
     "MAGNITUDE_RANGE",
     "VERDICTS",
-    "AtRestLevel",
     "DataChecks",
     "FitDiagnostics",
-    "RestLevel",
-    "at_rest_level",
     "check_magnitude",
-    "clipped_rows",
     "diagnose_fit",
-    "leave_out_clipped",
-    "rest_level",
     "screen_states",
 ]

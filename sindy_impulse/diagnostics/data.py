@@ -8,16 +8,16 @@ fit need from the raw data (the estimator keeps only the filtered states).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..preprocessing.peaks import spectral_peaks
 from ..preprocessing.quality import LIMITS, check_quality, clipping_mask
+from ..preprocessing.states import RestLevel, clipped_rows
 from ..simulation.scoring import compare_stride
-from .rest import RestLevel, rest_level
 
-__all__ = ["DataChecks", "screen_states", "check_magnitude", "clipped_rows", "MAGNITUDE_RANGE"]
+__all__ = ["DataChecks", "screen_states", "check_magnitude", "quality_problems", "MAGNITUDE_RANGE"]
 
 #: Largest absolute state value outside which a fit is refused: (smallest, largest). Beyond 1e100 the
 #: cubes of the states overflow double precision (5.6e102); below 1e-150 their squares underflow, the
@@ -32,14 +32,6 @@ MIN_QUALITY_SAMPLES = 128
 #: what the filter removed (Gaussian noise exceeds 8 with probability 1e-15) and by more than
 #: ``SPIKE_FLOOR`` of the state's amplitude.
 SPIKE_SIGMA, SPIKE_FLOOR = 8.0, 0.01
-#: Clipped samples are left out of the regression when at least this share of the samples remains.
-MIN_KEPT = 0.5
-#: Samples left out on each side of a clipped run (the filtered derivative is corrupted there too).
-#: Measured on the paper's oscillator clipped at 0.5, 0.8, 0.95 of one or both states' amplitude (clean,
-#: 40, 30 dB; 27 records): right structure and coefficients within 5 % in 8 of 27 fits with clipped samples
-#: kept, 13 with them left out of the regression, 25 with them left out and the refinement (which would fit
-#: the simulation to the flat tops) skipped.
-CLIP_MARGIN = 5
 
 
 @dataclass(frozen=True)
@@ -199,39 +191,52 @@ def _noise_ratio(raw, filtered, level) -> np.ndarray:
     return np.where(den > 0, num / np.where(den > 0, den, 1.0), np.inf)
 
 
-def screen_states(estimator, data, filtered) -> np.ndarray:
-    """Check the measured states of a fit and return the rest level to subtract before the regression.
+def screen_states(data, filtered, rest: RestLevel, plain: bool = False, excluded: int = 0) -> DataChecks:
+    """Check the measured states of a fit: what :func:`~sindy_impulse.diagnostics.diagnose_fit` reads.
 
-    Refuses states outside :data:`MAGNITUDE_RANGE` (ValueError); keeps the checks on the estimator
-    (``estimator._screening``, read by :func:`~sindy_impulse.diagnostics.diagnose_fit`). The rest level is
-    removed only when the estimator is not in plain PySINDy mode (``sweep`` or ``refine``).
+    Refuses states outside :data:`MAGNITUDE_RANGE` (ValueError; in plain PySINDy mode, ``plain=True``,
+    states too small are accepted and the problem kept for the verdict). Changes nothing: the rest level
+    (``rest``) and the clipped samples left out (``excluded``) come from
+    :mod:`sindy_impulse.preprocessing.states`, called by the estimator.
 
     Parameters
     ----------
-    estimator : ImpulseSINDy
     data : Trajectories
         The validated measured states, times and inputs.
     filtered : list of ndarray
         The filtered states (what the library is built on).
+    rest : RestLevel
+        The rest level of each state and whether it is removed.
+    plain : bool
+        Plain PySINDy mode (no sweep, no refinement).
+    excluded : int
+        Samples left out of the regression because a state is clipped there.
 
     Returns
     -------
-    ndarray (n_states,)
-        The level to subtract from the states (0 where nothing is removed).
+    DataChecks
+
+    Examples
+    --------
+    >>> from sindy_impulse import damped_oscillator
+    >>> from sindy_impulse._utils.trajectories import as_trajectories
+    >>> from sindy_impulse.preprocessing.states import rest_level
+    >>> ring = damped_oscillator()
+    >>> data = as_trajectories(ring.x, ring.t)
+    >>> checks = screen_states(data, [ring.x], rest_level(data.x, data.t))
+    >>> checks.clipped, checks.noise_known
+    (0, False)
     """
-    scale_problem = check_magnitude(data.x, refuse_small=bool(estimator.sweep or estimator.refine))
-    rest = rest_level(data.x, data.t, allow_removal=bool(estimator.sweep or estimator.refine))
+    scale_problem = check_magnitude(data.x, refuse_small=not plain)
     with np.errstate(all="ignore"):  # tiny states (plain mode): the checks' ratios may overflow
         reports, clipped, step, peaks, widths, heights = _quality(data.x, data.t)
     condition, pair = _collinearity(filtered)
-    noise = _noise_ratio(data.x, filtered, rest.level)
-    constant = np.array([all(np.ptp(x[:, j]) == 0 for x in data.x) for j in range(data.n_states)])
-    estimator._screening = DataChecks(
+    return DataChecks(
         rest,
         reports,
         clipped,
         step,
-        noise,
+        _noise_ratio(data.x, filtered, rest.level),
         condition,
         pair,
         peaks,
@@ -239,70 +244,11 @@ def screen_states(estimator, data, filtered) -> np.ndarray:
         heights,
         list(data.x),
         _spikes(data.x, filtered),
-        constant,
+        np.array([all(np.ptp(x[:, j]) == 0 for x in data.x) for j in range(data.n_states)]),
         not all(np.array_equal(r, f) for r, f in zip(data.x, filtered)),
+        excluded=excluded,
         scale_problem=scale_problem,
     )
-    return rest.shift
-
-
-def clipped_rows(trajectories, widen: int = 2) -> list[np.ndarray]:
-    """Per trajectory, the samples to leave out of the regression because a state is clipped there.
-
-    A sample is left out when any state sits in a clipped run (:func:`~sindy_impulse.preprocessing.
-    clipping_mask`) within ``widen`` samples (the derivative next to a flat top is corrupted too).
-
-    Examples
-    --------
-    >>> x = np.clip(np.sin(np.arange(100) / 5), -2, 0.9)[:, None]
-    >>> int(clipped_rows([x])[0].sum())  # 13 clipped samples in 3 runs, 2 more on each side of each
-    25
-    """
-    out = []
-    for x in trajectories:
-        mask = np.zeros(x.shape[0], bool)
-        if x.shape[0] >= 3:
-            for j in range(x.shape[1]):
-                if np.ptp(x[:, j]) > 0:
-                    mask |= clipping_mask(x[:, j])
-        if widen and mask.any():
-            mask = np.convolve(mask, np.ones(2 * widen + 1), mode="same") > 0
-        out.append(mask)
-    return out
-
-
-def leave_out_clipped(estimator, data, derivs) -> list:
-    """The derivatives with the rows of clipped samples (:func:`clipped_rows`) set to NaN, which the
-    regression then leaves out; unchanged in plain PySINDy mode or when fewer than ``MIN_KEPT`` of the
-    samples would remain. The count goes to the data checks (``excluded``).
-
-    Examples
-    --------
-    >>> from sindy_impulse import ImpulseSINDy, damped_oscillator
-    >>> ring = damped_oscillator()
-    >>> x = ring.x.copy(); x[:, 0] = np.clip(x[:, 0], -0.8, 0.8)
-    >>> model = ImpulseSINDy()
-    >>> import warnings
-    >>> with warnings.catch_warnings():
-    ...     warnings.simplefilter("ignore")
-    ...     _ = model.fit(x, t=ring.t)
-    >>> model._screening.excluded > 0
-    True
-    """
-    checks = estimator._screening
-    if not checks.clipped or not (estimator.sweep or estimator.refine):
-        return derivs
-    rows = clipped_rows(data.x, widen=CLIP_MARGIN)
-    n_out, total = sum(int(r.sum()) for r in rows), sum(r.size for r in rows)
-    if total - n_out < MIN_KEPT * total:
-        return derivs
-    out = []
-    for d, r in zip(derivs, rows):
-        d = np.array(d, dtype=float)
-        d[r] = np.nan
-        out.append(d)
-    estimator._screening = replace(checks, excluded=n_out)
-    return out
 
 
 def quality_problems(checks: DataChecks) -> dict:

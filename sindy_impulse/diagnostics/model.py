@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 from pysindy.utils import AxesArray
 
-from ..analysis.modal import MIN_LINEAR_SHARE, model_modes
+from ..poles.modal import MIN_LINEAR_SHARE, model_modes
 from ..preprocessing.peaks import spectral_peaks
 from ..simulation.scoring import AUTO_PERIODS, Segmented, compare_stride, oscillation_count
 
@@ -168,7 +168,7 @@ def frequency_agreement(fitted: Fitted, checks, residuals):
     significant peak of the measured states (:class:`~sindy_impulse.diagnostics.data.DataChecks`) within
     ``STRONG_DB`` of the highest must lie on one within the larger of 5 % and its half-power width, and
     the highest on a modal frequency or a peak of the response. Skipped (NaN) when the model's linear
-    part does not describe it (:data:`~sindy_impulse.analysis.modal.MIN_LINEAR_SHARE`) or no peak stands
+    part does not describe it (:data:`~sindy_impulse.poles.modal.MIN_LINEAR_SHARE`) or no peak stands
     out of the noise.
 
     Returns
@@ -179,7 +179,7 @@ def frequency_agreement(fitted: Fitted, checks, residuals):
     disagree : bool
         A peak lies beyond its tolerance.
     share : float
-        The model's linear share (:func:`~sindy_impulse.analysis.modal.linear_share`).
+        The model's linear share (:func:`~sindy_impulse.poles.modal.linear_share`).
     """
     modes, share = model_modes(fitted.estimator)
     model_hz = modes.frequencies_hz * np.sqrt(np.clip(1 - modes.damping_ratios**2, 0, None))

@@ -57,7 +57,7 @@ class FitDiagnostics:
         Worst relative distance of a data peak to the nearest model frequency (NaN: not checked).
     linear_share : float
         Share of the model's right-hand side over the data that its linear part explains
-        (:func:`~sindy_impulse.analysis.modal.linear_share`).
+        (:func:`~sindy_impulse.poles.modal.linear_share`).
     condition_number : float
         Condition number of the library columns of the model's terms (scaled to unit norm).
     state_condition : float

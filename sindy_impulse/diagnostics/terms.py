@@ -35,10 +35,9 @@ import scipy.linalg
 from scipy.stats import chi2
 
 from ..feature_library.terms import library_terms
-from ..simulation import WORK_BUDGET, WorkBudget, compile_model
+from ..simulation import WORK_BUDGET, WorkBudget, at_rest_level, compile_model
 from ..simulation.scoring import compare_stride
 from .model import Fitted, regression, segments, simulate_residuals
-from .rest import at_rest_level
 
 __all__ = ["TermTests", "term_tests", "SUPPORT_CHI2", "FALSE_ALARM", "WORK_FRACTION"]
 

@@ -19,7 +19,7 @@ import numpy as np
 from scipy.linalg import solveh_banded
 from scipy.linalg.lapack import dpbsv
 
-from .._jit import kernel
+from .._utils.jit import kernel
 from ._smoother import smooth
 
 __all__ = [

@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from .._jit import kernel
+from .._utils.jit import kernel
 
 __all__ = ["lagged_diffusivity"]
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._jit import jit, kernel
+from .._utils.jit import jit, kernel
 
 __all__ = ["SplineBasis"]
 

@@ -34,7 +34,7 @@ def _for_short_records(method, trajectories, stacklevel: int):
 
 
 def differentiate(
-    method, trajectories, times, short_fallback: bool = False
+    method, trajectories, times, short_fallback: bool = False, stacklevel: int = 4
 ) -> tuple[list[np.ndarray], list[np.ndarray]]:
     """Filtered states and derivatives of each trajectory.
 
@@ -48,6 +48,9 @@ def differentiate(
     short_fallback : bool, default=False
         Use finite differences, with a warning, when a trajectory is too short for ``method`` (instead of
         its ValueError): plain PySINDy mode.
+    stacklevel : int, default=4
+        Where that warning points: 4 is the caller of a method that calls a function that calls this one
+        (the user's ``fit``).
 
     Returns
     -------
@@ -64,7 +67,7 @@ def differentiate(
     ((401, 2), (401, 2))
     """
     if short_fallback:
-        method = _for_short_records(method, trajectories, stacklevel=4)  # the caller of fit
+        method = _for_short_records(method, trajectories, stacklevel=stacklevel)
     filtered, derivs = [], []
     for xi, ti in zip(trajectories, times):
         d = np.asarray(method(AxesArray(xi, {"ax_time": 0, "ax_coord": 1}), ti), dtype=float)

@@ -30,8 +30,8 @@ from pysindy.differentiation import BaseDifferentiation
 from sklearn.base import TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
-from .._params import Interval, Options, Satisfies, validate_params
-from .._validation import check_array, check_signal, check_time
+from .._utils.params import Interval, Options, Satisfies, validate_params
+from .._utils.validation import check_array, check_signal, check_time
 from ..simulation.scoring import oscillation_count
 from ._banded import IdentityBasis, difference_stencil
 from ._selection import AlphaProblem, empty_curve, select_alpha

@@ -10,8 +10,8 @@ from pysindy.utils import AxesArray
 from sklearn.preprocessing import PolynomialFeatures
 from sklearn.utils.validation import check_is_fitted
 
-from .._params import Interval, Options, validate_params
-from .._trajectories import check_trajectories
+from .._utils.params import Interval, Options, validate_params
+from .._utils.trajectories import check_trajectories
 from ..simulation.terms import ABS, SIGNED_SQUARE, SMOOTH_SIGN, TermTable
 
 __all__ = ["MechanicalLibrary"]

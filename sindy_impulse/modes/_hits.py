@@ -7,7 +7,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..analysis.consensus import consensus
-from ..analysis.modal import modal_parameters
+from ..poles.modal import modal_parameters
 
 __all__ = ["merge_hits", "MATCH_TOLERANCE"]
 

@@ -26,7 +26,7 @@ import warnings
 import numpy as np
 
 from ..feature_library.terms import term_table
-from ._fit import fit_band
+from .band_fit import fit_band
 from .result import Mode, Rejected
 
 __all__ = ["merge_chirps", "name_harmonics", "has_nonlinear_terms", "HARMONIC_TOLERANCE"]

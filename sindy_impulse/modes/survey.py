@@ -24,14 +24,14 @@ from numbers import Integral, Real
 
 import numpy as np
 
-from .._params import HasMethods, Interval, Options, check_param
-from .._validation import check_signal
+from .._utils.params import HasMethods, Interval, Options, check_param
+from .._utils.validation import check_signal
 from ..exceptions import DataWarning, NoDynamicsWarning
 from ..preprocessing import extract_band, preprocess
 from ..preprocessing.deflation import deflated_band
-from ._fit import default_estimator, fit_band, fit_direct, fit_group
 from ._hits import merge_hits
 from ._nonlinear import has_nonlinear_terms, merge_chirps, name_harmonics
+from .band_fit import default_estimator, fit_band, fit_direct, fit_group
 from .result import ModalSurvey, Mode, Rejected
 
 __all__ = ["identify_modes"]
@@ -278,7 +278,7 @@ def identify_modes(
         The kind of sensor (for the residues).
     estimator : ImpulseSINDy, optional
         Template of the per-mode identification (cloned per mode); default: a cubic polynomial library on
-        the states ``[y, dy]`` (see :func:`~sindy_impulse.modes._fit.default_estimator`).
+        the states ``[y, dy]`` (see :func:`~sindy_impulse.modes.band_fit.default_estimator`).
     channel : int, optional
         Reference channel (peaks and bands are found on it); default: the strongest.
     onset, offset, samples_per_period

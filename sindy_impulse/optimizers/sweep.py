@@ -17,8 +17,8 @@ from pysindy.optimizers import BaseOptimizer
 from scipy.linalg import solve_triangular
 from sklearn.utils.validation import check_is_fitted
 
-from .._params import Interval, validate_params
-from .._validation import check_array, check_signal
+from .._utils.params import Interval, validate_params
+from .._utils.validation import check_array, check_signal
 from .path import least_squares
 
 __all__ = ["ThresholdSweep", "threshold_path"]

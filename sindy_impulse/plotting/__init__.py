@@ -23,7 +23,7 @@ The functions live in one module per family of figures (``filtering``, ``sweep``
 ``complexity``, ``identification``, ``features``, ``backbone``, ``modes``; shared helpers in ``_common``);
 import them from here.
 matplotlib is imported only when a function is called. Bad input raises ``ValueError`` or ``TypeError``
-naming the argument (the array checks are the shared ones of :mod:`sindy_impulse._validation`).
+naming the argument (the array checks are the shared ones of :mod:`sindy_impulse._utils.validation`).
 """
 
 from .backbone import plot_backbone

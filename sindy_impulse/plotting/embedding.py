@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import check_signal
+from .._utils.validation import check_signal
 from ._common import MARK_STYLE, many_axes
 
 __all__ = ["plot_embedding"]

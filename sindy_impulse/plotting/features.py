@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .._validation import check_array
+from .._utils.validation import check_array
 from ._common import one_axes, scatter_groups
 
 if TYPE_CHECKING:  # pragma: no cover

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .._validation import check_array, check_signal, check_time, time_vector
+from .._utils.validation import check_array, check_signal, check_time, time_vector
 from ._common import (
     MARK_STYLE,
     check_choice,

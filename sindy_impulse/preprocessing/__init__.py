@@ -27,7 +27,7 @@ Imported eagerly: ``from .band import extract_band`` binds the function, whateve
 from .band import BandSignal, band_noise_rms, extract_band, record_end
 from .contact import contact_end
 from .filters import bandpass, check_band, decimation_factor, filter_gain, transient_samples
-from .floor import noise_floor
+from .noise_floor import noise_floor
 from .offset import OffsetEstimate, estimate_offset, remove_offset
 from .onset import ForcePulse, Impact, find_impact, force_pulses, response_onset
 from .partition import band_groups, peak_bands

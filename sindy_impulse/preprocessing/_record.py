@@ -6,7 +6,7 @@ from numbers import Real
 
 import numpy as np
 
-from .._validation import check_signal, check_time
+from .._utils.validation import check_signal, check_time
 
 __all__ = ["MIN_SAMPLES", "as_record", "check_fs", "check_signal_1d"]
 

@@ -22,7 +22,7 @@ from numbers import Integral, Real
 import numpy as np
 from scipy.ndimage import uniform_filter1d
 
-from .._params import Interval, check_param
+from .._utils.params import Interval, check_param
 from ._record import check_fs, check_signal_1d
 from .filters import _METHODS, _ORDER, bandpass, check_band, decimation_factor, filter_gain, transient_samples
 from .spectrum import Spectrum, ringdown_spectrum

@@ -25,7 +25,7 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 from threadpoolctl import threadpool_limits
 
-from .._params import Interval, check_param
+from .._utils.params import Interval, check_param
 from ._record import check_signal_1d
 
 __all__ = ["contact_end"]

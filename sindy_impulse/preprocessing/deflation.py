@@ -29,7 +29,7 @@ from numbers import Integral, Real
 
 import numpy as np
 
-from .._params import Interval, check_param
+from .._utils.params import Interval, check_param
 from .band import BandSignal, band_noise_rms, extract_band
 from .pipeline import Preprocessed, _noise_spectrum
 from .sinusoids import fit_amplitudes

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy.signal import find_peaks, hilbert
 
-from .floor import noise_floor
+from .noise_floor import noise_floor
 from .sinusoids import DampedSinusoids, fit_damped_sinusoids
 from .spectrum import (
     Spectrum,

@@ -37,7 +37,7 @@ from scipy.fft import next_fast_len
 from scipy.signal import butter, hilbert, sosfiltfilt, sosfreqz
 from scipy.special import erf
 
-from .._params import Interval, Options, check_param
+from .._utils.params import Interval, Options, check_param
 from ._record import check_fs, check_signal_1d
 
 __all__ = ["bandpass", "filter_gain", "transient_samples", "decimation_factor", "check_band"]

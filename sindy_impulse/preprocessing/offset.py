@@ -19,7 +19,7 @@ from numbers import Integral, Real
 
 import numpy as np
 
-from .._params import Interval, Options, check_param
+from .._utils.params import Interval, Options, check_param
 from ._record import check_fs, check_signal_1d
 
 __all__ = ["OffsetEstimate", "estimate_offset", "remove_offset"]

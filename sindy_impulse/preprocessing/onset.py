@@ -20,7 +20,7 @@ from numbers import Real
 
 import numpy as np
 
-from .._params import Interval, check_param
+from .._utils.params import Interval, check_param
 from ..exceptions import DataWarning
 from ._record import MIN_SAMPLES, check_fs, check_signal_1d
 from .contact import contact_end

@@ -24,7 +24,7 @@ from numbers import Real
 
 import numpy as np
 
-from .._params import Interval, check_param
+from .._utils.params import Interval, check_param
 from ._record import check_fs
 from .filters import transient_samples
 

@@ -19,7 +19,7 @@ from numbers import Integral, Real
 
 import numpy as np
 
-from .._params import Interval, check_param
+from .._utils.params import Interval, check_param
 from ..exceptions import DataWarning
 from ._record import check_fs, check_signal_1d
 from .detection import fit_peaks, fit_peaks_after_spike, spectrum_peaks

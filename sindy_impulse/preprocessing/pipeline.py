@@ -8,7 +8,7 @@ from numbers import Integral, Real
 
 import numpy as np
 
-from .._params import Interval, Options, check_param
+from .._utils.params import Interval, Options, check_param
 from ..exceptions import DataWarning
 from ._record import as_record
 from .band import band_noise_rms, extract_band

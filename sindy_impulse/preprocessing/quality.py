@@ -29,7 +29,7 @@ from numbers import Integral, Real
 
 import numpy as np
 
-from .._params import Interval, check_param
+from .._utils.params import Interval, check_param
 from ._record import check_fs, check_signal_1d
 from .offset import estimate_offset
 from .onset import _runs

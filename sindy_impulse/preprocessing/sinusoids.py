@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from .._validation import check_array
+from .._utils.validation import check_array
 from ._record import check_fs, check_signal_1d
 
 __all__ = ["DampedSinusoids", "fit_damped_sinusoids", "fit_amplitudes"]

@@ -2,7 +2,7 @@
 
 - Spectrum: one-sided PSD of the ring-down under the right half of a Hann window (1 at the onset, 0 at
   the end: a ring-down starts abruptly by nature, so only its end needs a taper), zero-padded 4x.
-- Noise floor: :func:`~sindy_impulse.preprocessing.floor.noise_floor` (the rough, noisy bins' level).
+- Noise floor: :func:`~sindy_impulse.preprocessing.noise_floor.noise_floor` (the rough, noisy bins' level).
 - Candidate peaks: local maxima whose PSD exceeds the floor by ``threshold_db`` and which stand out of
   their surroundings (the deepest point towards any higher peak) by 3 dB (half power) and by more than
   noise added to their own level could make them (this merges noise ripples on a broad peak into it).
@@ -22,9 +22,9 @@ from numbers import Integral, Real
 import numpy as np
 from scipy.signal import find_peaks
 
-from .._params import Interval, check_param
+from .._utils.params import Interval, check_param
 from ._record import check_fs, check_signal_1d
-from .floor import noise_floor
+from .noise_floor import noise_floor
 
 __all__ = [
     "Spectrum",

@@ -24,7 +24,7 @@ import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
-from .._params import Interval, Options, validate_params
+from .._utils.params import Interval, Options, validate_params
 from ._record import check_signal_1d
 from .band import extract_band
 from .filters import check_band

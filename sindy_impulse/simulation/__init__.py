@@ -1,20 +1,24 @@
 """Simulation and scoring: the hot path of the sweep and the refinement.
 
-Nothing here imports from the rest of the package (but the numba decorator, :mod:`sindy_impulse._jit`): a
+Nothing here imports from the rest of the package (but the numba decorator,
+:mod:`sindy_impulse._utils.jit`): a
 model is coefficients plus a :class:`~sindy_impulse.simulation.terms.TermTable` (or a function evaluating
 the terms), the integrators run it, the error measures score it, and the work budget bounds it.
 
 - :mod:`.terms`: the simulator's description of library terms;
-- :mod:`.sparse`: what every model shares (:class:`Reference`, time scale, work, adaptive integrator);
-- :mod:`.compile`: :class:`CompiledModel` (numba kernels) and :class:`FallbackModel` (any library);
+- :mod:`.base`: what every model shares (:class:`Reference`, time scale, work, adaptive integrator);
+- :mod:`.compile`: :class:`CompiledModel` (numba kernels), :class:`FallbackModel` (any library) and
+  :class:`AtRestLevel` (a model written about a rest level);
+- :mod:`.two_state_cubic`: the two-state cubic model's kernel (its monomials in registers);
 - :mod:`.program`: a model as the kernels read it (product tree, compressed coefficients, propagator);
 - :mod:`.integrators`: the RK4 kernel (trajectory or fused weighted-L1 error), the adaptive integrator;
 - :mod:`.scoring`: error measures registered by name (``"gamma"``, ``"segmented"``, your own);
 - :mod:`.budget`: the deterministic work budget of a fit.
 """
 
+from .base import Reference
 from .budget import WORK_BUDGET, OutOfBudget, WorkBudget
-from .compile import STEP_SCALE, CompiledModel, FallbackModel, compile_model
+from .compile import STEP_SCALE, AtRestLevel, CompiledModel, FallbackModel, at_rest_level, compile_model
 from .integrators import MAX_SUBSTEPS
 from .scoring import (
     AUTO_PERIODS,
@@ -24,16 +28,17 @@ from .scoring import (
     FunctionMeasure,
     Gamma,
     Segmented,
+    gamma,
     get_error_measure,
     oscillation_count,
     register_error_measure,
     simulation_gamma,
 )
-from .sparse import Reference
 from .terms import TermTable
 
 __all__ = [
     "AUTO_PERIODS",
+    "AtRestLevel",
     "Auto",
     "CompiledModel",
     "ERROR_MEASURES",
@@ -49,7 +54,9 @@ __all__ = [
     "TermTable",
     "WORK_BUDGET",
     "WorkBudget",
+    "at_rest_level",
     "compile_model",
+    "gamma",
     "get_error_measure",
     "oscillation_count",
     "register_error_measure",

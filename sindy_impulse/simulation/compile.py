@@ -13,13 +13,22 @@ from __future__ import annotations
 import numpy as np
 
 from . import integrators as kernels
-from .cubic2 import dense_coefficients, dense_positions, integrate_cubic2, is_cubic2
+from .base import STEP_SCALE, Reference, _as_inputs, _SparseModel
 from .integrators import scratch_size
 from .program import build_program, pack, propagators, term_values
-from .sparse import STEP_SCALE, Reference, _as_inputs, _SparseModel
 from .terms import TermTable
+from .two_state_cubic import dense_coefficients, dense_positions, integrate_cubic2, is_cubic2
 
-__all__ = ["CompiledModel", "FallbackModel", "Reference", "compile_model", "STEP_SCALE", "FALLBACK_COST"]
+__all__ = [
+    "CompiledModel",
+    "FallbackModel",
+    "Reference",
+    "compile_model",
+    "AtRestLevel",
+    "at_rest_level",
+    "STEP_SCALE",
+    "FALLBACK_COST",
+]
 
 #: Work units charged per right-hand-side evaluation and term by the fallback (Python is ~100x slower).
 FALLBACK_COST = 100.0
@@ -266,3 +275,57 @@ def compile_model(
     return FallbackModel(
         coef, terms, coef.shape[0] + int(n_inputs), reference, divergence_factor, reference_u
     )
+
+
+class AtRestLevel:
+    """A compiled model whose equations are written in the deviations from a rest level.
+
+    ``rhs(x) = f(x - level)``; simulations start from ``x0 - level`` and come back with the level added,
+    scores compare ``reference - level`` with the simulation. Everything else (coefficients, work counting,
+    time scale) is the wrapped model's, read and written through.
+
+    Examples
+    --------
+    >>> from sindy_impulse.simulation import CompiledModel, TermTable
+    >>> inner = CompiledModel([[0.0, 1.0], [-64.0, -3.2]], TermTable.polynomial([[1, 0], [0, 1]]))
+    >>> model = AtRestLevel(inner, np.array([5.0, 0.0]))
+    >>> model.rhs(np.array([[5.0, 0.0], [6.0, 0.0]])).tolist()
+    [[0.0, 0.0], [0.0, -64.0]]
+    >>> bool(abs(model.simulate([6.0, 0.0], np.arange(401) * 0.01)[-1, 0] - 5.0) < 0.01)
+    True
+    """
+
+    def __init__(self, model, level):
+        object.__setattr__(self, "inner", model)
+        object.__setattr__(self, "level", np.asarray(level, dtype=float))
+
+    def __getattr__(self, name):
+        if name in ("inner", "level") or name.startswith("__"):  # not yet set (copy, pickle)
+            raise AttributeError(name)
+        return getattr(self.inner, name)
+
+    def __setattr__(self, name, value):
+        setattr(self.inner, name, value)
+
+    def rhs(self, x, u=None, coef=None):
+        """The right-hand side at measured states ``x``."""
+        shifted = np.asarray(x, dtype=float) - self.level
+        return self.inner.rhs(shifted, u) if coef is None else self.inner.rhs(shifted, u, coef)
+
+    def simulate(self, x0, t, *args, **kwargs):
+        """A simulation from the measured state ``x0``, in measured coordinates."""
+        x0 = np.asarray(x0, dtype=float).ravel()
+        return self.inner.simulate(x0 - self.level, t, *args, **kwargs) + self.level
+
+    def weighted_l1(self, reference, t, *args, **kwargs):
+        """The fused error kernel against a measured reference."""
+        return self.inner.weighted_l1(np.asarray(reference, dtype=float) - self.level, t, *args, **kwargs)
+
+    def __repr__(self) -> str:
+        return f"AtRestLevel({self.inner!r}, level={self.level.tolist()})"
+
+
+def at_rest_level(model, level):
+    """``model`` measured from ``level`` (:class:`AtRestLevel`), or ``model`` itself when the level is 0."""
+    level = np.asarray(level, dtype=float)
+    return model if not np.any(level) else AtRestLevel(model, level)

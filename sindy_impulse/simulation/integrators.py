@@ -21,7 +21,7 @@ The kernel then applies ``M`` (the *propagator*) instead of the stages: the same
 rounding) at a fraction of the cost.
 
 The kernel allocates nothing (the caller passes scratch space), which keeps its compilation short, and is
-cached on disk by numba (:mod:`sindy_impulse._warmup` builds the cache in the background on a machine's
+cached on disk by numba (:mod:`sindy_impulse._utils.warmup` builds the cache in the background on a machine's
 first import).
 
 ``solve_ivp_simulate`` is the adaptive path: SciPy's ``solve_ivp`` on the right-hand side, used for stiff
@@ -35,7 +35,7 @@ import math
 
 import numpy as np
 
-from .._jit import jit, kernel
+from .._utils.jit import jit, kernel
 
 __all__ = [
     "integrate",

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validation import check_signal, check_time, time_vector
-from .exceptions import InvalidParameterError, UnsupportedProblemError
+from ..exceptions import InvalidParameterError, UnsupportedProblemError
+from .validation import check_signal, check_time, time_vector
 
 __all__ = [
     "Trajectories",

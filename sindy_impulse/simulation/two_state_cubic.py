@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._jit import jit, kernel
+from .._utils.jit import jit, kernel
 from .integrators import account, propagate
 from .terms import PLAIN, TermTable
 

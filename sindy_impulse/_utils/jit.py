@@ -5,7 +5,8 @@ not writable (a system or read-only site-packages), in the user's cache director
 set). Where neither can be written the kernels are compiled in every process (correct, slower to start).
 
 :func:`kernel` marks the entry points called from Python: their first call waits for a background build
-of the cache that is under way (see :mod:`sindy_impulse._warmup`) instead of compiling the same code twice.
+of the cache that is under way (:func:`~.kernel_cache.wait`; :mod:`sindy_impulse._utils.warmup` builds
+it) instead of compiling the same code twice.
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ import functools
 
 import numba
 
-from . import _warmup
+from .kernel_cache import wait
 
 __all__ = ["jit", "kernel"]
 
@@ -40,7 +41,7 @@ def kernel(function):
     @functools.wraps(function)
     def call(*args):
         if not ready:
-            _warmup.wait(name)
+            wait(name)
             ready.append(True)
         return dispatcher(*args)
 

@@ -1,36 +1,33 @@
 """ImpulseSINDy: PySINDy plus the threshold sweep scored on the simulation error and the bounded refinement.
 
 The estimator reads like the paper's Figure 1 plus sections 2.4-2.5 and holds no algorithm of its own:
-validate, differentiate (:mod:`~sindy_impulse.differentiation`), build the library on the filtered states,
-enumerate the candidates along the threshold path (:mod:`~sindy_impulse.optimizers`), simulate and score
-each (:mod:`~sindy_impulse.simulation`), select (:mod:`~sindy_impulse.selection`), refine
-(:mod:`~sindy_impulse.refinement`), compile. With ``sweep=False, refine=False`` it is plain PySINDy.
+validate, filter and differentiate, measure the states from their rest level
+(:mod:`~sindy_impulse.preprocessing.states`), check them (:mod:`~sindy_impulse.diagnostics`), build the
+regression (:func:`~.stages.prepare`), enumerate the candidates along the threshold path
+(:mod:`~sindy_impulse.optimizers`), then score, select, refine and fit by output error
+(:func:`~.stages.run_stages`), and keep the result. With ``sweep=False, refine=False`` it is plain PySINDy.
 """
 
 from __future__ import annotations
 
-import warnings
+from dataclasses import replace
 from numbers import Integral, Real
 
 import numpy as np
 import pysindy as ps
-from pysindy.utils import AxesArray
 from threadpoolctl import threadpool_limits
 
-from ._components import ComponentsMixin
-from ._fitted import FittedModelMixin, SweepPath, fresh_measure
-from ._params import HasMethods, Interval, Satisfies, validate_params
-from ._trajectories import as_trajectories, check_derivatives, refuse_unsupported
-from .diagnostics import at_rest_level, diagnose_fit, leave_out_clipped, screen_states
-from .differentiation import differentiate
-from .exceptions import DataWarning, NoDynamicsWarning
-from .feature_library.terms import library_terms
-from .optimizers import candidate_path
-from .output_error import fit_output_error
-from .refinement import refine
-from .selection import SELECTION_RULES, select_candidate
-from .simulation import ERROR_MEASURES, ErrorMeasure, Reference, WorkBudget, compile_model, oscillation_count
-from .simulation import simulation_gamma as _gamma
+from .._utils.params import HasMethods, Interval, Satisfies, validate_params
+from .._utils.trajectories import as_trajectories, refuse_unsupported
+from ..diagnostics import diagnose_fit, screen_states
+from ..optimizers import candidate_path
+from ..preprocessing.states import rest_level
+from ..simulation import ERROR_MEASURES, ErrorMeasure, WorkBudget
+from ..simulation import simulation_gamma as _gamma
+from .components import ComponentsMixin
+from .fitted import FittedModelMixin, SweepPath, fresh_measure
+from .selection import SELECTION_RULES
+from .stages import filter_states, prepare, run_stages
 
 __all__ = ["ImpulseSINDy", "SweepPath"]
 
@@ -62,7 +59,7 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         How a simulation is scored (:mod:`sindy_impulse.simulation.scoring`); ``"auto"`` is ``"gamma"``
         up to :data:`~sindy_impulse.simulation.AUTO_PERIODS` periods, ``"segmented"`` beyond.
     selection : "auto", "min_gamma", a registered name or callable, default="auto"
-        The rule that picks a candidate (:mod:`sindy_impulse.selection`).
+        The rule that picks a candidate (:mod:`sindy_impulse.identification.selection`).
     sweep : bool, default=True
         Enumerate and score the threshold path. ``False`` fits the optimizer once, as PySINDy does.
     refine : bool, default=True
@@ -74,11 +71,13 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
     output_error : bool or float, default=False
         After the refinement, fit the non-zero coefficients once more together with each trajectory's
         initial state, by least squares of the free simulation over the whole record
-        (:func:`~sindy_impulse.output_error.fit_output_error`): the error measures start their simulations
+        (:func:`~sindy_impulse.identification.output_error.fit_output_error`): the error measures start
+        their simulations
         from the filtered first state, whose noise the coefficients otherwise absorb. A local fit of the
         whole decay, meant for records of up to a hundred periods or so: a number ``P`` turns it on only
         when no trajectory holds more than ``P`` periods (counted as ``"auto"`` counts them;
-        ``identify_modes``' default estimator uses :data:`~sindy_impulse.modes._fit.OUTPUT_ERROR_PERIODS`).
+        ``identify_modes``' default estimator uses
+        :data:`~sindy_impulse.modes.band_fit.OUTPUT_ERROR_PERIODS`).
     divergence_factor : float, default=100
         A simulation that exceeds this factor times the data's range counts as diverged.
     dt : float, optional
@@ -230,103 +229,59 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         data = as_trajectories(x, t, u, default_dt=1.0 if self.dt is None else self.dt, min_samples=3)
         self._resolve_components()
         self.output_error_fit_ = None
-        if x_dot is None:
-            plain = not (self.sweep or self.refine)  # too short for the method: finite differences
-            filtered, derivs = differentiate(self.differentiation_method_, data.x, data.t, plain)
-        else:  # known derivatives: the measured states are the filtered ones
-            filtered, derivs = [xi.copy() for xi in data.x], check_derivatives(x_dot, data)
-        level = screen_states(self, data, filtered)  # data checks; a ring-down's rest level (0: none)
-        derivs = leave_out_clipped(self, data, derivs)  # clipped samples out of the regression
-        theta, y = self._regression([f - level for f in filtered], data, derivs)
-        self._record_data(data, filtered, feature_names, theta.shape[1])
-        thresholds, candidates = candidate_path(self.optimizer_, theta, y, self.sweep)
-        terms = library_terms(self.feature_library_, data.n_states + data.n_inputs)
-        reference_u = None if data.u is None else np.vstack(data.u)
-        reference = Reference(np.vstack(filtered) - level, reference_u, data.n_inputs)  # once for every model
-
-        def compile_(coef):
-            model = compile_model(coef, terms, reference, self.divergence_factor, reference_u, data.n_inputs)
-            return at_rest_level(model, level)  # equations in x - level, states as measured
-
+        plain = not (self.sweep or self.refine)  # plain PySINDy: one model, no simulation
+        filtered, derivs = filter_states(self.differentiation_method_, data, x_dot, plain)
+        rest = rest_level(data.x, data.t, allow_removal=not plain)  # a ring-down's rest level (0: none)
+        self._screening = screen_states(data, filtered, rest, plain)  # the data checks of the diagnostics
+        problem = prepare(
+            self.feature_library_,
+            data,
+            filtered,
+            derivs,
+            rest.shift,
+            leave_out_clipped_samples=bool(self._screening.clipped) and not plain,
+            divergence_factor=self.divergence_factor,
+            refuse_underdetermined=not plain,
+        )
+        self._screening = replace(self._screening, excluded=problem.excluded)
+        self._record_data(data, filtered, feature_names, problem.theta.shape[1])
+        thresholds, candidates = candidate_path(self.optimizer_, problem.theta, problem.y, self.sweep)
         measure = fresh_measure(self.error_measure, filtered)
-        if not (self.sweep or self.refine):  # plain PySINDy: one model, no simulation
+        if plain:
             self.error_measure_ = measure.name
-            return self._keep(candidates, thresholds, 0, candidates[0], compile_, None, {}, np.nan, np.nan)
+            return self._keep(candidates, thresholds, 0, candidates[0], problem.compile, None, {},
+            np.nan, np.nan)
         measure.bind(filtered, data.t, data.u)  # the inputs drive every simulation that is scored
-        budget = WorkBudget()
-        n_terms = np.array([np.count_nonzero(c) for c in candidates])
-        scores = self._score_candidates(candidates, n_terms, compile_, measure, budget)
-        self.noise_level_ = measure.noise_level(data.x, filtered, data.t)
-        index, (coef, score, history) = select_candidate(
-            self.selection,
-            np.where(_usable(scores, n_terms), scores, np.inf),
-            n_terms,
-            lambda i: self._refined(candidates[i], scores[i], compile_, measure, budget),
-            self.noise_level_,
-            int(sum(f.size for f in filtered)),
-            measure.floor,
+        stages = run_stages(
+            problem,
+            candidates,
+            measure,
+            selection=self.selection,
+            refine_selected=self._may_refine(),
+            bound_factor=self.bound_factor,
+            max_iter=self.refine_max_iter,
+            output_error=self.output_error,
+            budget=WorkBudget(),
         )
-        self.budget_used_ = budget.used  # a budget that ran out is a reason of the verdict (diagnostics_)
-        if self._may_refine() and self._output_error_on(filtered) and np.any(coef):
-            self.output_error_fit_ = fit_output_error(
-                compile_(coef), filtered, data.t, data.u, self.bound_factor
-            )
-            coef = self.output_error_fit_.coefficients
-        return self._keep(candidates, thresholds, index, coef, compile_, measure, history, scores, score)
-
-    def _regression(self, filtered, data, derivs):
-        """The library matrix on the filtered states (and inputs) and the stacked derivatives."""
-        joined = filtered if data.u is None else [np.hstack([f, ui]) for f, ui in zip(filtered, data.u)]
-        theta = self.feature_library_.fit_transform(
-            [AxesArray(j, {"ax_time": 0, "ax_coord": 1}) for j in joined]
+        self.noise_level_ = stages.noise_level
+        self.budget_used_ = stages.budget_used  # a budget that ran out is a reason of the verdict
+        self.output_error_fit_ = stages.output_error_fit
+        return self._keep(
+            candidates,
+            thresholds,
+            stages.index,
+            stages.coefficients,
+            problem.compile,
+            measure,
+            stages.history,
+            stages.scores,
+            stages.score,
         )
-        theta = np.asarray(theta[0]) if len(theta) == 1 else np.vstack([np.asarray(th) for th in theta])
-        y = np.vstack(derivs)
-        usable = int(np.sum(np.all(np.isfinite(y), axis=1) & np.all(np.isfinite(theta), axis=1)))
-        if usable < theta.shape[1] + 1:
-            message = (
-                f"too few samples: {usable} usable derivative samples for a library of {theta.shape[1]} "
-                f"terms; at least {theta.shape[1] + 1} are needed"
-            )
-            if self.sweep or self.refine:  # a threshold path of an underdetermined fit means nothing
-                raise ValueError(message)
-            warnings.warn(  # plain PySINDy solves it (minimum norm): warn, do not refuse
-                message + " for a determined regression; use a longer record or a smaller library",
-                DataWarning,
-                stacklevel=4,
-            )
-        return theta, y
-
-    def _score_candidates(self, candidates, n_terms, compile_, measure, budget) -> np.ndarray:
-        """Score of every candidate's simulation, sparsest first; past the budget, inf (not simulated)."""
-        scores = np.full(len(candidates), np.inf)
-        for i in np.argsort(n_terms, kind="stable"):
-            if budget.exhausted:
-                continue
-            model = compile_(candidates[i])
-            scores[i] = measure(model)[0]
-            budget.charge_model(model)
-        return scores
-
-    def _refined(self, coef, score, compile_, measure, budget):
-        """The candidate refined on the measure (paper section 2.5); never worse than unrefined."""
-        if not self._may_refine():
-            return coef, score, {"score": [], "coefficients": []}
-        res = refine(compile_(coef), measure, self.bound_factor, self.refine_max_iter, budget=budget)
-        if not res.score <= score:
-            return coef, score, res.history
-        return res.coefficients, res.score, res.history
 
     def _may_refine(self) -> bool:
         """Whether coefficients may be fitted to simulations: ``refine`` and no clipped stretches (refining
         would fit them)."""
         return self.refine and not self._screening.excluded
-
-    def _output_error_on(self, filtered) -> bool:
-        """Whether ``output_error`` asks for the output-error fit of these trajectories."""
-        if isinstance(self.output_error, (bool, np.bool_)):
-            return bool(self.output_error)
-        return all(oscillation_count(f) <= self.output_error for f in filtered)
 
     def _keep(self, candidates, thresholds, index, coef, compile_, measure, history, scores, score):
         """Store the selected model and what led to it."""
@@ -356,29 +311,6 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
             self.gamma_ = _gamma(self.model_, data[0], data[1], inputs=data[2])
             self.gamma_sindy_ = _gamma(compile_(candidates[index]), data[0], data[1], inputs=data[2])
         return self
-
-
-def _usable(scores, n_terms) -> np.ndarray:
-    """Candidates that may be selected: finite score and at least one term.
-
-    The empty model (x' = 0) stays on the path and is selected only when every other candidate diverged
-    (e.g. white noise): the honest answer "no deterministic dynamics found", with a warning.
-    """
-    usable = np.isfinite(scores) & (n_terms > 0)
-    if np.any(usable):
-        return usable
-    if not np.any(np.isfinite(scores)):
-        raise RuntimeError(
-            "every candidate model diverged when simulated; check the data (units of t, trends, clipping) "
-            "or use a smaller feature library"
-        )
-    warnings.warn(
-        "every non-trivial candidate model diverged when simulated; the fitted model is x' = 0 (no "
-        "deterministic dynamics found in the data)",
-        NoDynamicsWarning,
-        stacklevel=4,
-    )
-    return np.isfinite(scores)
 
 
 def _as_list(value):

@@ -14,7 +14,6 @@ import csv
 import os
 import sys
 
-from ._io import CLIError, Table, atomic_write, check_outputs, list_inputs, open_input, read_csv
 from ._options import (
     add_input_options,
     add_model_options,
@@ -24,6 +23,7 @@ from ._options import (
     make_estimator,
     required_rows,
 )
+from .files import CLIError, Table, atomic_write, check_outputs, list_inputs, open_input, read_csv
 
 __all__ = ["add_parser", "run"]
 

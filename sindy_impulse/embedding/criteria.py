@@ -14,7 +14,7 @@ from numbers import Integral
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .exceptions import DataWarning
+from ..exceptions import DataWarning
 
 __all__ = ["autocorrelation", "auto_mutual_information", "false_nearest_neighbours", "cao_statistics"]
 
@@ -288,7 +288,7 @@ DIAGNOSTICS = (
 
 def _filtered(signal: np.ndarray) -> np.ndarray:
     """The TVRegDiff-filtered signal (unit sample spacing: the filter is unit-free)."""
-    from .differentiation import TVRegDiff
+    from ..differentiation import TVRegDiff
 
     if signal.size < 16:  # too short to filter meaningfully; estimate on the raw samples
         return signal

@@ -247,7 +247,7 @@ def read_csv(path: str, columns=None, time=None, dt=None, extra=()) -> Table:
     """
     import numpy as np
 
-    from .._validation import check_time
+    from .._utils.validation import check_time
 
     header, rows, lines = _read_rows(path)
     index = _column_index(path, header, rows)

@@ -6,8 +6,8 @@ from __future__ import annotations
 import argparse
 import math
 
-from ._io import CLIError, check_outputs, read_csv, write_figure, write_json
 from ._options import add_input_options, add_report_options, data_options
+from .files import CLIError, check_outputs, read_csv, write_figure, write_json
 
 __all__ = ["add_parser", "run"]
 

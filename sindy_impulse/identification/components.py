@@ -13,13 +13,13 @@ from __future__ import annotations
 
 import pysindy as ps
 
-from .optimizers import ThresholdSweep, fresh_copy
+from ..optimizers import ThresholdSweep, fresh_copy
 
 __all__ = ["ComponentsMixin", "DEFAULT_COMPONENTS"]
 
 
 def _tvregdiff():
-    from .differentiation import TVRegDiff
+    from ..differentiation import TVRegDiff
 
     return TVRegDiff()
 

@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pysindy as ps
 
-from ..analysis.modal import modal_parameters
 from ..optimizers import fresh_copy
+from ..poles.modal import modal_parameters
 from ..preprocessing import bandpass
 from ..simulation.scoring import AUTO_PERIODS, Auto, Segmented
 from ._states import EDGE, STATE_NAMES, channel_shape, derivative_states, group_states
@@ -38,7 +38,8 @@ SEGMENT_FLOOR = 0.1
 GAMMA_PERIODS = AUTO_PERIODS
 SEGMENT_PERIODS = Segmented().segment_periods
 #: Longest band, in periods, whose refined model is fitted once more with its initial state by output error
-#: (the default estimator's ``output_error``, :func:`~sindy_impulse.output_error.fit_output_error`). Gamma and
+#: (the default estimator's ``output_error``,
+#: :func:`~sindy_impulse.identification.output_error.fit_output_error`). Gamma and
 #: the segments start every simulation from the filtered measured state, whose noise the coefficients then
 #: absorb: a fit of the generating equation's own structure with its initial state fixed there passes
 #: 29/50 damper backbones, with the initial state fitted 46/50 (``benchmarks/bench_model_backbone.py``,
@@ -57,7 +58,7 @@ def default_estimator():
     searches only the nonlinear terms. Bands of at most :data:`OUTPUT_ERROR_PERIODS` periods get the
     output-error fit after the refinement.
     """
-    from ..estimator import ImpulseSINDy
+    from ..identification.estimator import ImpulseSINDy
     from ..optimizers import ThresholdSweep
 
     library = ps.PolynomialLibrary(degree=3, include_bias=False)  # y, dy, y^2, y dy, dy^2, y^3, ...

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from ._io import check_outputs, write_figure
 from ._options import integer, real
+from .files import check_outputs, write_figure
 
 __all__ = ["add_parser", "run"]
 
@@ -34,7 +34,7 @@ def _print_sweep(model) -> None:
 def run(args) -> int:
     from ..analysis import modal_parameters
     from ..datasets import damped_oscillator
-    from ..estimator import ImpulseSINDy
+    from ..identification.estimator import ImpulseSINDy
 
     check_outputs({"--plot": args.plot}, figures=["--plot"])
     print("sindy-impulse demo: the paper's case 3.1.2 (Stender, Oberst & Hoffmann 2019)")

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from .exceptions import InvalidParameterError
+from ..exceptions import InvalidParameterError
 
 __all__ = ["Interval", "Options", "HasMethods", "Satisfies", "validate_params", "check_param"]
 

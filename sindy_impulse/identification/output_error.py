@@ -1,6 +1,7 @@
 """The output-error fit: coefficients and initial states fitted to whole free decays by least squares.
 
-The refinement (:mod:`sindy_impulse.refinement`) scores simulations that start from the filtered measured
+The refinement (:mod:`sindy_impulse.identification.refinement`) scores simulations that start from the
+filtered measured
 state (the paper's Gamma from the first sample, the segment-wise measure from every segment's first), so
 that state's noise goes into the coefficients. The classical output-error fit takes each trajectory's
 initial state as an unknown too and minimises the squared simulation error over the whole record: run after
@@ -15,8 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
+from ..simulation.scoring import compare_stride
 from .refinement import Multipliers, _check
-from .simulation.scoring import compare_stride
 
 __all__ = ["fit_output_error", "OutputErrorResult"]
 
@@ -78,7 +79,7 @@ def fit_output_error(
 
     It is a local fit of a whole free decay: meant for records short enough that the starting model's
     phase stays within a fraction of a period over them (a hundred periods or so, see
-    :data:`sindy_impulse.modes._fit.OUTPUT_ERROR_PERIODS`), not for records of thousands of periods.
+    :data:`sindy_impulse.modes.band_fit.OUTPUT_ERROR_PERIODS`), not for records of thousands of periods.
 
     Parameters
     ----------

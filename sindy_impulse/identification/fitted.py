@@ -15,12 +15,12 @@ import numpy as np
 from sklearn.metrics import r2_score
 from sklearn.utils.validation import check_is_fitted
 
-from ._trajectories import as_times, check_trajectories, restore
-from ._validation import check_signal, check_time
-from .differentiation import differentiate
-from .exceptions import DataWarning, DivergenceWarning
-from .simulation import ERROR_MEASURES, ErrorMeasure, get_error_measure
-from .simulation.integrators import solve_ivp_simulate
+from .._utils.trajectories import as_times, check_trajectories, restore
+from .._utils.validation import check_signal, check_time
+from ..differentiation import differentiate
+from ..exceptions import DataWarning, DivergenceWarning
+from ..simulation import ERROR_MEASURES, ErrorMeasure, get_error_measure
+from ..simulation.integrators import solve_ivp_simulate
 
 __all__ = ["FittedModelMixin", "SweepPath", "fresh_measure"]
 

@@ -7,7 +7,6 @@ import argparse
 import math
 import sys
 
-from ._io import CLIError, Table, check_outputs, read_csv, write_figure, write_json
 from ._options import (
     add_input_options,
     add_model_options,
@@ -18,6 +17,7 @@ from ._options import (
     positive_int,
     required_rows,
 )
+from .files import CLIError, Table, check_outputs, read_csv, write_figure, write_json
 
 __all__ = ["add_parser", "run"]
 
@@ -49,7 +49,7 @@ def _states(table: Table, args, estimator):
     """The states to fit, their names, times and the embedding (or None)."""
     import numpy as np
 
-    from .._validation import time_vector
+    from .._utils.validation import time_vector
 
     x, names, n = table.data, list(table.names), table.data.shape[0]
     t = time_vector(table.t, n)

@@ -21,8 +21,8 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 from scipy.signal import correlate
 
-from .._params import Interval, check_param
-from .._validation import check_signal, check_time
+from .._utils.params import Interval, check_param
+from .._utils.validation import check_signal, check_time
 
 __all__ = ["esprit", "EspritModes"]
 

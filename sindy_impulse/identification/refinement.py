@@ -11,7 +11,7 @@ which makes the problem unit-free.
 :class:`~sindy_impulse.simulation.ErrorMeasure`); :func:`refine_coefficients` is the convenience form that
 binds a measure to reference trajectories.
 
-:func:`sindy_impulse.output_error.fit_output_error` is the output-error fit that may follow it.
+:func:`sindy_impulse.identification.output_error.fit_output_error` is the output-error fit that may follow it.
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import minimize
 
-from .simulation import OutOfBudget, WorkBudget, get_error_measure
+from ..simulation import OutOfBudget, WorkBudget, get_error_measure
 
 __all__ = ["refine", "refine_coefficients", "RefinementResult", "Multipliers"]
 

@@ -27,7 +27,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._validation import check_array
+from .._utils.validation import check_array
 from ..exceptions import ModalWarning
 
 __all__ = [

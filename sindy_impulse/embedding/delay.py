@@ -10,7 +10,7 @@ auto mutual information) and the dimension ``m`` from the false nearest neighbou
 Brown & Abarbanel 1992) or Cao's method (Cao 1997). The embedded states are named ``q1, ..., qm`` as in the
 paper's Fig. 9b and Table 1: ``q1`` is the most delayed copy, ``qm`` the undelayed signal. Several
 channels recorded together are embedded side by side with a common delay and dimension. The criteria
-themselves live in :mod:`sindy_impulse.embedding_criteria`.
+themselves live in :mod:`sindy_impulse.embedding.criteria`.
 """
 
 from __future__ import annotations
@@ -21,25 +21,15 @@ import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
-from ._params import Interval, Options, validate_params
-from ._validation import check_signal, check_time, time_vector
-from .embedding_criteria import DIAGNOSTICS as _DIAGNOSTICS
-from .embedding_criteria import (
-    auto_mutual_information,
-    autocorrelation,
-    cao_statistics,
+from .._utils.params import Interval, Options, validate_params
+from .._utils.validation import check_signal, check_time, time_vector
+from .criteria import DIAGNOSTICS as _DIAGNOSTICS
+from .criteria import (
     delay_matrix,
     estimate_channels,
-    false_nearest_neighbours,
 )
 
-__all__ = [
-    "DelayEmbedding",
-    "autocorrelation",
-    "auto_mutual_information",
-    "false_nearest_neighbours",
-    "cao_statistics",
-]
+__all__ = ["DelayEmbedding"]
 
 _POSITIVE = [Interval(Real, 0, None, "neither")]
 

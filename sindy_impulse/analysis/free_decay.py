@@ -13,9 +13,9 @@ import warnings
 import numpy as np
 from sklearn.exceptions import NotFittedError
 
-from .._validation import check_signal
+from .._utils.validation import check_signal
 from ..exceptions import DivergenceWarning, FitWarning
-from ._decay import carrier_hz
+from .instantaneous import carrier_hz
 
 
 def _trajectories(model) -> tuple[list[np.ndarray], list[np.ndarray]]:

@@ -1,7 +1,8 @@
 """Compiled kernels ready for a machine's first fit.
 
 The package's numba kernels (the simulation's RK4 kernel, TVRegDiff's smoother trace and spline passes)
-are compiled once per machine and cached on disk by numba (:mod:`sindy_impulse._jit`). Compiling them takes
+are compiled once per machine and cached on disk by numba (:mod:`sindy_impulse._utils.jit`). Compiling
+them takes
 seconds, so the first ``import sindy_impulse`` on a machine (or after an upgrade) starts one background
 process that compiles them while the importing process goes on (importing PySINDy and scikit-learn takes
 about as long), and the first call of a kernel waits for that build instead of compiling the same code
@@ -10,84 +11,34 @@ twice. Later processes find the cache and start at once.
 - Nothing starts when the kernels were built for this package, numba and Python (a marker file in the
   user's cache directory, ``NUMBA_CACHE_DIR`` if set), when no cache directory can be written, or when the
   environment variable ``SINDY_IMPULSE_PRECOMPILE`` is ``0``.
-- Two builds, one per group of kernels (:data:`GROUPS`: TVRegDiff's, the simulation's), so that two cores
+- Two builds, one per group of kernels (:data:`~.kernel_cache.GROUPS`: TVRegDiff's, the simulation's), so
+that two cores
   compile at once; one build per group at a time (a lock file); a kernel's first call waits for its build
-  under way at most :data:`WAIT_SECONDS`, then compiles what it needs itself.
+  under way at most :data:`~.kernel_cache.WAIT_SECONDS`, then compiles what it needs itself
+  (:func:`~.kernel_cache.wait`, in the leaf :mod:`.kernel_cache` so that :mod:`.jit` does not import this
+  module, which imports the kernels).
 
-``python -c "from sindy_impulse._warmup import main; main()"`` builds the cache in the foreground (e.g.
+``python -c "from sindy_impulse._utils.warmup import main; main()"`` builds the cache in the foreground (e.g.
 when building a container image).
 """
 
 from __future__ import annotations
 
-import hashlib
 import os
 import sys
 import time
 from pathlib import Path
 
-__all__ = ["start", "wait", "build", "main", "GROUPS", "KERNEL_FILES", "WAIT_SECONDS"]
+from .kernel_cache import CHILD_ENV, GROUPS, STALE_SECONDS, base, paths
 
-#: Sources of the compiled kernels (relative to the package): a change in any of them means a new build.
-KERNEL_FILES = (
-    "_jit.py",
-    "simulation/integrators.py",
-    "simulation/cubic2.py",
-    "differentiation/_banded.py",
-    "differentiation/_spline.py",
-    "differentiation/_smoother.py",
-)
-#: Longest wait of a kernel's first call for a build under way (then it compiles itself).
-WAIT_SECONDS = 120.0
-#: A lock older than this belongs to a build that died.
-STALE_SECONDS = 600.0
+__all__ = ["start", "build", "main"]
+
 _ENV_OFF = "SINDY_IMPULSE_PRECOMPILE"
-_ENV_CHILD = "SINDY_IMPULSE_WARMUP_CHILD"
-_PACKAGE = Path(__file__).resolve().parent
-
-
-def _cache_dir() -> Path:
-    """Where the marker and the lock live: ``$NUMBA_CACHE_DIR/sindy_impulse`` or the user's cache."""
-    if os.environ.get("NUMBA_CACHE_DIR"):
-        return Path(os.environ["NUMBA_CACHE_DIR"]) / "sindy_impulse"
-    if sys.platform == "win32":
-        root = Path(os.environ.get("LOCALAPPDATA", Path.home() / "AppData" / "Local"))
-    elif sys.platform == "darwin":
-        root = Path.home() / "Library" / "Caches"
-    else:
-        root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    return root / "sindy_impulse"
-
-
-def _key() -> str:
-    """Identifies a build: kernel sources (path, size, time), numba's installation, Python, machine."""
-    import importlib.util
-
-    parts = [sys.version, sys.platform, os.environ.get("NUMBA_CACHE_DIR", "")]
-    spec = importlib.util.find_spec("numba")
-    sources = [_PACKAGE / f for f in KERNEL_FILES] + ([Path(spec.origin)] if spec and spec.origin else [])
-    for path in sources:
-        stat = path.stat()
-        parts.append(f"{path}:{stat.st_size}:{stat.st_mtime_ns}")
-    return hashlib.sha1("|".join(parts).encode()).hexdigest()[:16]
-
-
-#: The kernels in two groups, each built by its own background process (two cores compile at once).
-GROUPS = ("differentiation", "simulation")
-
-
-def _base() -> Path:
-    return _cache_dir() / f"kernels-{_key()}"
-
-
-def _paths(group: str) -> tuple[Path, Path]:
-    """The marker of a group's finished build and the lock of its build under way."""
-    base = _base()
-    return base.with_name(f"{base.name}.{group}.done"), base.with_name(f"{base.name}.{group}.lock")
+_PACKAGE = Path(__file__).resolve().parent.parent
 
 
 def _disabled() -> bool:
-    return os.environ.get(_ENV_OFF, "1") == "0" or bool(os.environ.get(_ENV_CHILD))
+    return os.environ.get(_ENV_OFF, "1") == "0" or bool(os.environ.get(CHILD_ENV))
 
 
 def start() -> bool:
@@ -97,7 +48,7 @@ def start() -> bool:
     started = False
     for group in GROUPS:
         try:
-            done, lock = _paths(group)
+            done, lock = paths(group)
             if done.exists():
                 continue
             lock.parent.mkdir(parents=True, exist_ok=True)
@@ -114,8 +65,8 @@ def start() -> bool:
 def _spawn(lock: Path, group: str) -> bool:
     import subprocess
 
-    env = dict(os.environ, **{_ENV_CHILD: "1"})
-    code = f"from sindy_impulse._warmup import main; main(['--background', {group!r}])"
+    env = dict(os.environ, **{CHILD_ENV: "1"})
+    code = f"from sindy_impulse._utils.warmup import main; main(['--background', {group!r}])"
     try:
         subprocess.Popen(
             [sys.executable, "-c", code],
@@ -133,28 +84,12 @@ def _spawn(lock: Path, group: str) -> bool:
         return False
 
 
-def wait(name: str) -> None:
-    """Before kernel ``name`` is first called: wait for its build under way (at most ``WAIT_SECONDS``)."""
-    if os.environ.get(_ENV_CHILD):
-        return
-    try:
-        group = "simulation" if ".simulation." in name else "differentiation"
-        done, lock = _paths(group)
-        base = _base()
-        mine = base.with_name(f"{base.name}.{name}.done")
-        deadline = time.monotonic() + WAIT_SECONDS
-        while lock.exists() and not (done.exists() or mine.exists()) and time.monotonic() < deadline:
-            time.sleep(0.01)
-    except OSError:
-        return
-
-
 def build(group: str, mark=lambda entry: None) -> None:
     """Compile the kernels of ``group`` in the order a fit needs them; ``mark(entry)`` after each."""
     import numpy as np
 
     if group == "differentiation":
-        from .differentiation import _banded, _smoother, _spline
+        from ..differentiation import _banded, _smoother, _spline
 
         coef, h = _banded.difference_stencil(None, 12, 4)
         _banded.tv_smooth(np.linspace(0.0, 1.0, 12) ** 2, coef, h, 1.0, np.ones(12), max_iter=2)
@@ -169,13 +104,13 @@ def build(group: str, mark=lambda entry: None) -> None:
         basis.evaluate(np.ones(basis.n_coef))
         mark(_spline._evaluate)
         return
-    from .simulation import CompiledModel, TermTable, cubic2, integrators
+    from ..simulation import CompiledModel, TermTable, integrators, two_state_cubic
 
     grid = np.linspace(0.0, 1.0, 5)
     # two-state cubic models (the paper's first fit needs only this kernel): linear and nonlinear
     linear = CompiledModel([[0.0, 1.0], [-1.0, -0.1]], TermTable.polynomial([[1, 0], [0, 1]]), [[1.0, 1.0]])
     linear.simulate([1.0, 0.0], grid)
-    mark(cubic2.integrate_cubic2)
+    mark(two_state_cubic.integrate_cubic2)
     # three states: the general kernel, then the refinement's batch kernel
     terms = TermTable.polynomial([[1, 0, 0], [0, 0, 1], [2, 1, 0]])
     coef = [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [-1.0, -0.1, 0.01]]
@@ -190,14 +125,14 @@ def main(argv=None) -> int:
     """Build the cache now: every group, or (``--background GROUP``) as a process :func:`start` launched."""
     argv = sys.argv[1:] if argv is None else list(argv)
     groups = [g for g in argv if g in GROUPS] or list(GROUPS)
-    base = _base()
-    base.parent.mkdir(parents=True, exist_ok=True)
+    stem = base()
+    stem.parent.mkdir(parents=True, exist_ok=True)
 
     def mark(entry) -> None:
-        base.with_name(f"{base.name}.{entry.__module__}.{entry.__qualname__}.done").touch()
+        stem.with_name(f"{stem.name}.{entry.__module__}.{entry.__qualname__}.done").touch()
 
     for group in groups:
-        done, lock = _paths(group)
+        done, lock = paths(group)
         try:
             build(group, mark)
             done.touch()

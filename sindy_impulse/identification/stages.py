@@ -1,0 +1,354 @@
+"""The stages of a fit, in the paper's order (Figure 1, sections 2.3-2.5), as functions.
+
+:class:`~sindy_impulse.ImpulseSINDy` and the nonlinearity test's refits
+(:func:`~sindy_impulse.analysis.nonlinearity_test`) run the same functions, so the test sees its data
+exactly as a fit would:
+
+1. :func:`prepare`: the regression problem (:class:`Problem`): the library ``Theta`` built on the filtered
+   states (:mod:`~sindy_impulse.differentiation`) measured from their rest level, the derivatives with
+   clipped samples left out (:mod:`~sindy_impulse.preprocessing.states`), the library's terms as the
+   simulator reads them and the reference every candidate model is compiled against;
+2. the candidates: the optimizer's threshold path (:func:`~sindy_impulse.optimizers.candidate_path`,
+   the estimator) or given supports (:meth:`Problem.on_supports`, the nonlinearity test);
+3. :func:`run_stages`: every candidate simulated and scored on an error measure
+   (:mod:`~sindy_impulse.simulation.scoring`), one selected (:mod:`.selection`) and refined
+   (:mod:`.refinement`), then, if asked, its coefficients and initial states fitted by output error
+   (:mod:`.output_error`).
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+from pysindy.utils import AxesArray
+
+from .._utils.trajectories import Trajectories, check_derivatives
+from ..differentiation import differentiate
+from ..exceptions import DataWarning, NoDynamicsWarning
+from ..feature_library.terms import library_terms
+from ..optimizers import least_squares
+from ..preprocessing.states import leave_out_clipped
+from ..simulation import Reference, WorkBudget, at_rest_level, compile_model, oscillation_count
+from .output_error import OutputErrorResult, fit_output_error
+from .refinement import refine
+from .selection import select_candidate
+
+__all__ = ["Problem", "StageResult", "prepare", "run_stages", "filter_states"]
+
+
+def filter_states(method, data: Trajectories, x_dot=None, plain: bool = False):
+    """Filtered states and derivatives (section 2.3): ``method``'s, or the measured states with ``x_dot``.
+
+    ``plain`` (PySINDy mode) falls back to finite differences, with a warning, on records too short for
+    ``method``. Returns ``(filtered, derivatives)``, lists of arrays.
+    """
+    if x_dot is None:
+        return differentiate(method, data.x, data.t, plain, stacklevel=5)  # the caller of fit
+    return [xi.copy() for xi in data.x], check_derivatives(x_dot, data)
+
+
+@dataclass
+class Problem:
+    """The regression problem of a fit: what every stage after the differentiation reads.
+
+    Attributes
+    ----------
+    data : Trajectories
+        The measured states, times and inputs.
+    filtered, derivs : list of ndarray
+        Filtered states (what the library, the simulations and the scores use) and derivatives (NaN rows
+        are left out of the regression: trimmed ends, clipped samples).
+    level : ndarray (n_states,)
+        The rest level the equations are written about (0: none).
+    theta : ndarray (n_rows, n_features)
+        The library on the filtered states measured from ``level`` (and the inputs).
+    y : ndarray (n_rows, n_states)
+        The stacked derivatives.
+    terms : TermTable or callable
+        The fitted library's terms as the simulator reads them.
+    excluded : int
+        Samples left out of the regression because a state is clipped there.
+    divergence_factor : float
+        A simulation beyond this factor times the data's range counts as diverged.
+    """
+
+    data: Trajectories
+    filtered: list
+    derivs: list
+    level: np.ndarray
+    theta: np.ndarray
+    y: np.ndarray
+    terms: object
+    excluded: int = 0
+    divergence_factor: float = 100.0
+    reference: Reference = field(init=False, repr=False)
+
+    def __post_init__(self):
+        inputs = None if self.data.u is None else np.vstack(self.data.u)
+        self.reference = Reference(np.vstack(self.filtered) - self.level, inputs, self.data.n_inputs)
+
+    @property
+    def n_values(self) -> int:
+        """Values a score sums over (samples x states)."""
+        return int(sum(f.size for f in self.filtered))
+
+    def compile(self, coef):
+        """A model of the coefficients ``coef``, in the measured coordinates (about the rest level)."""
+        inputs = None if self.data.u is None else np.vstack(self.data.u)
+        model = compile_model(
+            coef, self.terms, self.reference, self.divergence_factor, inputs, self.data.n_inputs
+        )
+        return at_rest_level(model, self.level)
+
+    def on_supports(self, supports) -> list[np.ndarray]:
+        """Least-squares coefficients of the regression on each given support (boolean masks)."""
+        return [least_squares(self.theta, self.y, np.asarray(s, dtype=bool)) for s in supports]
+
+
+def prepare(
+    library,
+    data: Trajectories,
+    filtered,
+    derivs,
+    level=None,
+    *,
+    leave_out_clipped_samples: bool = False,
+    divergence_factor: float = 100.0,
+    refuse_underdetermined: bool = True,
+) -> Problem:
+    """The regression problem: the library fitted to the filtered states measured from ``level``.
+
+    Parameters
+    ----------
+    library : PySINDy feature library
+        Fitted here (in place): pass a fresh copy.
+    data : Trajectories
+        The measured states (their inputs join the library's variables).
+    filtered, derivs : list of ndarray
+        From :func:`filter_states`.
+    level : array (n_states,), optional
+        Rest level to measure the states from (:func:`~sindy_impulse.preprocessing.states.rest_level`).
+    leave_out_clipped_samples : bool, default=False
+        Leave the rows of clipped samples out of the regression
+        (:func:`~sindy_impulse.preprocessing.states.leave_out_clipped`).
+    divergence_factor : float, default=100
+        Passed to every compiled model.
+    refuse_underdetermined : bool, default=True
+        Fewer usable rows than terms raise ValueError (False: a :class:`DataWarning`, as plain PySINDy
+        solves an underdetermined regression).
+
+    Returns
+    -------
+    Problem
+
+    Examples
+    --------
+    >>> import pysindy as ps
+    >>> from sindy_impulse import TVRegDiff, damped_oscillator
+    >>> from sindy_impulse._utils.trajectories import as_trajectories
+    >>> ring = damped_oscillator(snr_db=40, random_state=0)
+    >>> data = as_trajectories(ring.x, ring.t)
+    >>> filtered, derivs = filter_states(TVRegDiff(), data)
+    >>> problem = prepare(ps.PolynomialLibrary(degree=3), data, filtered, derivs)
+    >>> problem.theta.shape
+    (401, 10)
+    """
+    level = np.zeros(data.n_states) if level is None else np.asarray(level, dtype=float)
+    excluded = 0
+    if leave_out_clipped_samples:
+        derivs, excluded = leave_out_clipped(data.x, derivs)
+    shifted = [f - level for f in filtered]
+    joined = shifted if data.u is None else [np.hstack([f, ui]) for f, ui in zip(shifted, data.u)]
+    theta = library.fit_transform([AxesArray(j, {"ax_time": 0, "ax_coord": 1}) for j in joined])
+    theta = np.asarray(theta[0]) if len(theta) == 1 else np.vstack([np.asarray(th) for th in theta])
+    y = np.vstack(derivs)
+    usable = int(np.sum(np.all(np.isfinite(y), axis=1) & np.all(np.isfinite(theta), axis=1)))
+    if usable < theta.shape[1] + 1:
+        message = (
+            f"too few samples: {usable} usable derivative samples for a library of {theta.shape[1]} "
+            f"terms; at least {theta.shape[1] + 1} are needed"
+        )
+        if refuse_underdetermined:  # a threshold path of an underdetermined fit means nothing
+            raise ValueError(message)
+        warnings.warn(
+            message + " for a determined regression; use a longer record or a smaller library",
+            DataWarning,
+            stacklevel=4,
+        )
+    terms = library_terms(library, data.n_states + data.n_inputs)
+    return Problem(data, filtered, derivs, level, theta, y, terms, excluded, divergence_factor)
+
+
+@dataclass
+class StageResult:
+    """What :func:`run_stages` found.
+
+    Attributes
+    ----------
+    index : int
+        The selected candidate.
+    coefficients : ndarray
+        Its coefficients after the refinement (and the output-error fit).
+    score : float
+        Its refined score (before the output-error fit).
+    scores : ndarray
+        Every candidate's unrefined score (``inf``: diverged or not simulated within the budget).
+    history : dict
+        The refinement's history.
+    noise_level : float
+        The measure between the measured and the filtered states.
+    budget_used : float
+        Fraction of the simulation work budget used.
+    output_error_fit : OutputErrorResult or None
+        The output-error fit, when it ran.
+    """
+
+    index: int
+    coefficients: np.ndarray
+    score: float
+    scores: np.ndarray
+    history: dict
+    noise_level: float
+    budget_used: float
+    output_error_fit: OutputErrorResult | None = None
+
+
+def run_stages(
+    problem: Problem,
+    candidates,
+    measure,
+    *,
+    selection="auto",
+    refine_selected: bool = True,
+    bound_factor: float = 1.5,
+    max_iter: int = 100,
+    output_error=False,
+    budget: WorkBudget | None = None,
+    all_diverged: str = "raise",
+) -> StageResult:
+    """Score every candidate, select one, refine it and (if asked) fit it by output error.
+
+    Parameters
+    ----------
+    problem : Problem
+        From :func:`prepare`.
+    candidates : sequence of ndarray (n_states, n_features)
+        Candidate coefficient matrices (the threshold path, or least squares on given supports).
+    measure : ErrorMeasure
+        Bound to the problem's filtered states (``measure.bind(filtered, t, u)``).
+    selection : str or callable, default="auto"
+        The rule (:mod:`.selection`).
+    refine_selected : bool, default=True
+        Refine the selected candidate (:func:`~.refinement.refine`); never kept when worse.
+    bound_factor, max_iter : float, int
+        The refinement's bounds and iterations.
+    output_error : bool or float, default=False
+        Fit the refined coefficients and the initial states by output error; a number ``P`` only when no
+        trajectory holds more than ``P`` periods.
+    budget : WorkBudget, optional
+        Simulation work allowed for scoring and refining (None: unbounded scoring, a fresh budget for the
+        refinement).
+    all_diverged : {"raise", "keep"}, default="raise"
+        When every candidate diverges: raise RuntimeError (a fit), or keep the first candidate with its
+        infinite score (a refit of a given support, whose caller compares scores).
+
+    Returns
+    -------
+    StageResult
+
+    Examples
+    --------
+    >>> import pysindy as ps
+    >>> from sindy_impulse import TVRegDiff, damped_oscillator
+    >>> from sindy_impulse._utils.trajectories import as_trajectories
+    >>> from sindy_impulse.simulation import Gamma
+    >>> ring = damped_oscillator(snr_db=40, random_state=0)
+    >>> data = as_trajectories(ring.x, ring.t)
+    >>> filtered, derivs = filter_states(TVRegDiff(), data)
+    >>> problem = prepare(ps.PolynomialLibrary(degree=1, include_bias=False), data, filtered, derivs)
+    >>> support = [[False, True], [True, True]]  # x' = v, v' = -k x - c v
+    >>> result = run_stages(problem, problem.on_supports([support]), Gamma().bind(filtered, data.t))
+    >>> np.round(result.coefficients[1]).tolist()  # the paper's -64 and -3.2
+    [-64.0, -3.0]
+    """
+    candidates = [np.asarray(c, dtype=float) for c in candidates]
+    n_terms = np.array([np.count_nonzero(c) for c in candidates])
+    scores = _score(problem, candidates, n_terms, measure, budget)
+    noise = measure.noise_level(problem.data.x, problem.filtered, problem.data.t)
+    usable = _usable(scores, n_terms, all_diverged)
+    refine_budget = WorkBudget() if budget is None else budget
+    may_refine = refine_selected
+
+    def refined(i: int):
+        """The candidate refined on the measure (paper section 2.5); never worse than unrefined."""
+        if not may_refine or not np.isfinite(scores[i]):
+            return candidates[i], scores[i], {"score": [], "coefficients": []}
+        res = refine(problem.compile(candidates[i]), measure, bound_factor, max_iter, budget=refine_budget)
+        if not res.score <= scores[i]:
+            return candidates[i], scores[i], res.history
+        return res.coefficients, res.score, res.history
+
+    index, (coef, score, history) = select_candidate(
+        selection,
+        np.where(usable, scores, np.inf),
+        n_terms,
+        refined,
+        noise,
+        problem.n_values,
+        measure.floor,
+    )
+    fit = None
+    if refine_selected and _output_error_on(output_error, problem.filtered) and np.any(coef):
+        data = problem.data
+        fit = fit_output_error(problem.compile(coef), problem.filtered, data.t, data.u, bound_factor)
+        coef = fit.coefficients
+    used = 0.0 if budget is None else budget.used
+    return StageResult(index, np.asarray(coef, dtype=float), float(score), scores, history, noise, used, fit)
+
+
+def _score(problem, candidates, n_terms, measure, budget) -> np.ndarray:
+    """Score of every candidate's simulation, sparsest first; past the budget, inf (not simulated)."""
+    scores = np.full(len(candidates), np.inf)
+    for i in np.argsort(n_terms, kind="stable"):
+        if budget is not None and budget.exhausted:
+            continue
+        model = problem.compile(candidates[i])
+        scores[i] = measure(model)[0]
+        if budget is not None:
+            budget.charge_model(model)
+    return scores
+
+
+def _usable(scores, n_terms, all_diverged: str) -> np.ndarray:
+    """Candidates that may be selected: finite score and at least one term.
+
+    The empty model (x' = 0) stays on the path and is selected only when every other candidate diverged
+    (e.g. white noise): the honest answer "no deterministic dynamics found", with a warning.
+    """
+    usable = np.isfinite(scores) & (n_terms > 0)
+    if np.any(usable):
+        return usable
+    if not np.any(np.isfinite(scores)):
+        if all_diverged == "keep":
+            return np.arange(len(scores)) == 0
+        raise RuntimeError(
+            "every candidate model diverged when simulated; check the data (units of t, trends, clipping) "
+            "or use a smaller feature library"
+        )
+    if all_diverged == "raise":
+        warnings.warn(
+            "every non-trivial candidate model diverged when simulated; the fitted model is x' = 0 (no "
+            "deterministic dynamics found in the data)",
+            NoDynamicsWarning,
+            stacklevel=5,
+        )
+    return np.isfinite(scores)
+
+
+def _output_error_on(output_error, filtered) -> bool:
+    """Whether ``output_error`` asks for the output-error fit of these trajectories."""
+    if isinstance(output_error, (bool, np.bool_)):
+        return bool(output_error)
+    return all(oscillation_count(f) <= output_error for f in filtered)
