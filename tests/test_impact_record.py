@@ -321,3 +321,142 @@ def test_backbone_converts_sensor_amplitudes():
 def test_repr_lists_the_modes():
     text = repr(impact_record(F3, Z3, fs=3000.0, duration=0.5))
     assert text.startswith("ImpactRecord(1500 samples at 3000 Hz") and "410.0000" in text
+
+
+# --- sensor saturation (clip) -----------------------------------------------------------------------
+
+
+def _clip_record(clip, **kw):
+    args = dict(fs=2000.0, duration=0.5, sensor_dof=[0, 2], offset=2.0, snr_db=30, random_state=4)
+    args.update(kw)
+    return impact_record(F3, Z3, clip=clip, **args)
+
+
+def test_clip_bounds_the_signal_around_the_offset():
+    rec = _clip_record(0.4)
+    c = 0.4 * np.abs(rec.y_clean).max(axis=0)
+    dev = np.abs(rec.y - rec.offset)
+    assert np.all(dev.max(axis=0) <= c * (1 + 1e-12))
+    np.testing.assert_allclose(dev.max(axis=0), c, rtol=1e-12)  # it does saturate, in every channel
+    free = _clip_record(None)
+    inside = dev < c * (1 - 1e-9)
+    np.testing.assert_array_equal(rec.y[inside], free.y[inside])  # unsaturated samples are untouched
+    np.testing.assert_array_equal(rec.y_clean, free.y_clean)  # a measurement effect: the truth is unchanged
+    for name in rec.modes.dtype.names:
+        np.testing.assert_array_equal(rec.modes[name], free.modes[name])
+    assert rec.params["clip"] == 0.4 and free.params["clip"] is None
+    assert "clipped at 0.4 x peak" in repr(rec) and "clipped" not in repr(free)
+
+
+def test_clip_fraction_grows_as_clip_falls():
+    fractions = []
+    for clip in (1.0, 0.7, 0.4, 0.2, 0.05):
+        rec = impact_record(
+            50.0,
+            0.01,
+            fs=1000.0,
+            duration=1.0,
+            sensor="displacement",
+            offset=0.5,
+            snr_db=30,
+            random_state=4,
+            clip=clip,
+        )
+        c = clip * np.abs(rec.y_clean).max()
+        fractions.append(np.mean(np.abs(rec.y - rec.offset) >= c * (1 - 1e-12)))
+    assert fractions[0] < 0.01 and np.all(np.diff(fractions) > 0)
+
+
+def test_clip_none_is_the_unclipped_record():
+    for kw in (dict(), dict(noise="pink", sensor_dof=None, double_hit=(0.01, 0.5)), dict(sensor="velocity")):
+        a = _clip_record(None, **kw)
+        b = impact_record(
+            F3,
+            Z3,
+            **{
+                **dict(fs=2000.0, duration=0.5, sensor_dof=[0, 2], offset=2.0, snr_db=30, random_state=4),
+                **kw,
+            },
+        )
+        np.testing.assert_array_equal(a.y, b.y)
+        np.testing.assert_array_equal(a.force, b.force)
+
+
+@pytest.mark.parametrize("clip", [0, 0.0, -0.2, 1.5, np.nan, np.inf, "0.5", True])
+def test_bad_clip_is_named(clip):
+    with pytest.raises(ValueError, match="clip"):
+        impact_record([100.0, 300.0], 0.01, fs=5000.0, duration=0.5, clip=clip)
+
+
+# --- quadratic stiffness --------------------------------------------------------------------------------
+
+W50, A50 = 2 * np.pi * 50.0, 2e-3
+
+
+def _spectrum(rec):
+    y = rec.y[rec.free_decay_index :]
+    Y = np.abs(np.fft.rfft((y - y.mean()) * np.hanning(y.size)))
+    return np.fft.rfftfreq(y.size, 1 / rec.fs), Y
+
+
+def test_quadratic_stiffness_makes_a_second_harmonic():
+    k2 = 0.02 * 6 * W50**2 / A50  # second harmonic of 2 % of the fundamental
+    kw = dict(fs=1000.0, duration=1.0, sensor="displacement", snr_db=80, random_state=1)
+    lin = impact_record(50.0, 0.01, [A50], **kw)
+    quad = impact_record(50.0, 0.01, [A50], quadratic_stiffness=k2, **kw)
+    f, Y_lin = _spectrum(lin)
+    _, Y_quad = _spectrum(quad)
+    near2 = np.abs(f - 100.0) <= 2.0
+    floor = np.median(Y_lin[(f > 150.0) & (f < 450.0)])
+    assert Y_quad[near2].max() > 100 * floor
+    assert Y_lin[near2].max() < 10 * floor
+    assert quad.params["quadratic_stiffness"] == k2 and "nonlinear" in repr(quad)
+    assert quad.true_backbone.quadratic_stiffness == k2
+    np.testing.assert_array_equal(quad.modes.frequency_hz, lin.modes.frequency_hz)  # the linear part
+
+
+def test_quadratic_stiffness_softens_as_the_backbone_says():
+    k2 = 0.05 * 6 * W50**2 / A50
+    rec = impact_record(
+        50.0,
+        0.0005,
+        [A50],
+        fs=5000.0,
+        duration=0.3,
+        sensor="displacement",
+        quadratic_stiffness=-k2,
+        force_snr_db=None,
+    )
+    y, t = rec.y[rec.free_decay_index :], rec.t[rec.free_decay_index :]
+    peaks = np.flatnonzero((y[1:-1] > y[:-2]) & (y[1:-1] >= y[2:])) + 1
+    f_meas = 1 / np.diff(t[peaks[:6]]).mean()
+    f_bb = rec.true_backbone(A50)[0]
+    assert f_bb < 0.97 * 50.0  # softening whatever the sign of k2
+    assert f_meas == pytest.approx(f_bb, rel=0.005)
+    assert rec.true_backbone(1e-9)[0] == pytest.approx(50.0, rel=1e-9)
+
+
+def test_quadratic_stiffness_default_is_unchanged():
+    kw = dict(fs=1000.0, duration=0.5, sensor="displacement", snr_db=40, random_state=2)
+    a = impact_record(50.0, 0.01, [A50], cubic_stiffness=1e6, **kw)
+    b = impact_record(50.0, 0.01, [A50], cubic_stiffness=1e6, quadratic_stiffness=0.0, **kw)
+    np.testing.assert_array_equal(a.y, b.y)
+    c = impact_record(F3, Z3, fs=2000.0, duration=0.5, quadratic_stiffness=0.0)
+    d = impact_record(F3, Z3, fs=2000.0, duration=0.5)
+    np.testing.assert_array_equal(c.y, d.y)
+    assert "nonlinear" not in repr(c)
+
+
+def test_bad_quadratic_stiffness_is_named():
+    with pytest.raises(ValueError, match="quadratic_stiffness"):
+        impact_record(50.0, 0.01, fs=1000.0, duration=0.5, quadratic_stiffness=np.nan)
+    with pytest.raises(ValueError, match="quadratic_stiffness"):  # too soft at the initial amplitude
+        impact_record(
+            50.0,
+            0.01,
+            [A50],
+            fs=1000.0,
+            duration=0.5,
+            sensor="displacement",
+            quadratic_stiffness=0.6 * W50**2 / A50,
+        )

@@ -117,7 +117,7 @@ def _n_figures() -> int:
 # module
 # ------------------------------------------------------------------------------------------------------
 def test_all_lists_one_function_per_figure():
-    assert len(plotting.__all__) == 13  # 11 figures of the paper, backbone curves, modal survey
+    assert len(plotting.__all__) == 14  # 11 figures of the paper, backbone curves, modal survey, MAC
     for name in plotting.__all__:
         func = getattr(plotting, name)
         assert callable(func)

@@ -132,9 +132,11 @@ def check_impact_args(**kw) -> SimpleNamespace:
     _num("offset", kw["offset"])
     for name in ("snr_db", "force_snr_db"):
         check_param(name, kw[name], [None, Interval(Real, None, None)], _OWNER)
+    _num("quadratic_stiffness", kw["quadratic_stiffness"])
     _num("cubic_stiffness", kw["cubic_stiffness"])
     _num("damping_amplitude", kw["damping_amplitude"], 0, None, "left")
     _num("quadratic_damping", kw["quadratic_damping"], 0, None, "left")
+    check_param("clip", kw["clip"], [None, Interval(Real, 0, 1, "right")], _OWNER)
     check_param("random_state", kw["random_state"], ["random_state"], _OWNER)
     contact_time, double_hit = _hammer(kw["contact_time"], kw["double_hit"], kw["force_amplitude"], fs)
     n_pre = int(round(kw["pre_trigger"] * n_samples))

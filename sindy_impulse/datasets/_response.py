@@ -85,13 +85,15 @@ def _force_at(t, starts, amps, contact_time):
 
 @njit(cache=True, inline="always")
 def _accel(f, q, v, omega, zeta, gain, phi_g, coefs, out):
-    """Modal accelerations under the force ``f``; ``coefs`` are the element's (k3, c2, cq) times m_g."""
+    """Modal accelerations under the force ``f``; ``coefs`` are the element's (k3, c2, cq, k2) times m_g."""
     x0 = 0.0
     v0 = 0.0
     for i in range(q.shape[0]):
         x0 += phi_g[i] * q[i]
         v0 += phi_g[i] * v[i]
     fnl = coefs[0] * x0 * x0 * x0 + coefs[1] * x0 * x0 * v0 + coefs[2] * abs(v0) * v0
+    if coefs[3] != 0.0:  # only then: records without a quadratic spring stay bit for bit the same
+        fnl += coefs[3] * x0 * x0
     for i in range(q.shape[0]):
         out[i] = -2.0 * zeta[i] * omega[i] * v[i] - omega[i] * omega[i] * q[i] + gain[i] * f - phi_g[i] * fnl
 
@@ -147,8 +149,19 @@ def _rk4_nodes(nodes, substeps, forced, omega, zeta, gain, phi_g, coefs, starts,
     return Q, V
 
 
+def _four(coefs) -> np.ndarray:
+    """The element's coefficients ``(k3, c2, cq, k2)`` (times m_g); a missing ``k2`` is 0."""
+    out = np.zeros(4)
+    c = np.asarray(coefs, dtype=float).ravel()
+    out[: c.size] = c
+    return out
+
+
 def nonlinear_modal_response(t, omega, zeta, gain, phi_g, coefs, starts, amps, contact_time):
     """Modal displacements and velocities at the times ``t`` (rest until the first hit), by RK4.
+
+    ``coefs`` are the nonlinear element's ``(k3, c2, cq)`` or ``(k3, c2, cq, k2)`` times its mass: its force
+    is ``k3 x**3 + c2 x**2 x' + cq |x'| x' + k2 x**2`` with ``x = phi_g . q``.
 
     The grid is the samples plus ``PULSE_NODES`` nodes across each contact (so no step straddles a
     kink of the force), each interval cut into steps of at most ``RK4_STEP / max(omega)``.
@@ -172,7 +185,7 @@ def nonlinear_modal_response(t, omega, zeta, gain, phi_g, coefs, starts, amps, c
         zeta,
         gain,
         phi_g,
-        np.asarray(coefs, dtype=float),
+        _four(coefs),
         starts,
         np.asarray(amps, dtype=float),
         float(contact_time),
@@ -187,5 +200,7 @@ def accelerations(t, q, v, omega, zeta, gain, phi_g, coefs, starts, amps, contac
     """Modal accelerations from the equations of motion at the sampled states (vectorised)."""
     x0, v0 = q @ phi_g, v @ phi_g
     fnl = coefs[0] * x0**3 + coefs[1] * x0**2 * v0 + coefs[2] * np.abs(v0) * v0
+    if len(coefs) > 3 and coefs[3] != 0.0:
+        fnl = fnl + coefs[3] * x0**2
     f = half_sine_force(t, starts, amps, contact_time)
     return -2 * zeta * omega * v - omega**2 * q + gain[None, :] * f[:, None] - phi_g[None, :] * fnl[:, None]

@@ -10,13 +10,12 @@ fine fixed-step RK4 in numba.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from ._backbone import Backbone
-from ._chain import SpringMassChain, build_chain, scaled
+from ._chain import build_chain, scaled
 from ._impact_args import check_impact_args
+from ._impact_record import ImpactRecord, _nonlinear
 from ._measurement import measure
 from ._response import (
     accelerations,
@@ -31,88 +30,6 @@ __all__ = ["ImpactRecord", "impact_record"]
 _POWER = {"displacement": 0, "velocity": 1, "acceleration": 2}
 #: Smallest response of a mode to the hammer, relative to the strongest, that can be scaled up.
 _MIN_EXCITATION = 1e-8
-
-
-@dataclass(frozen=True, repr=False, eq=False)
-class ImpactRecord:
-    """A synthetic hammer test (see :func:`impact_record`).
-
-    Attributes
-    ----------
-    t : ndarray (n_samples,)
-        Time (s), starting at 0.
-    y : ndarray (n_samples,) or (n_samples, n_channels)
-        The sensor signal: response plus ``offset`` plus noise (m, m/s or m/s^2).
-    force : ndarray (n_samples,)
-        The hammer force (N), with its own small noise.
-    fs : float
-        Sampling rate (Hz).
-    onset_time : float
-        When the (first) contact begins (s). The half-sine is centred on a sample, so ``onset_time`` is
-        within half a contact time after the last pre-trigger sample.
-    free_decay_index : int
-        First sample after the last contact: from here on the record is a free decay.
-    modes : numpy.recarray
-        The true modal table, one row per mode sorted by frequency: ``frequency_hz`` (undamped natural
-        frequency), ``damped_frequency_hz``, ``damping_ratio``, ``amplitude`` and ``phase`` (per channel
-        when there are several) such that after the hits the clean response is
-        ``sum_i amplitude_i exp(-zeta_i omega_i tau) cos(omega_d,i tau + phase_i)``,
-        ``tau = t - onset_time`` (the linear part for a nonlinear record), and ``band_hz`` (the half-power
-        band of the mode's displacement receptance, about ``frequency_hz * (1 -+ damping_ratio)``).
-    offset, noise_std : float or ndarray (n_channels,)
-        The constant added to ``y`` and the standard deviation of its noise (0 without noise).
-    y_clean : ndarray
-        ``y`` without offset and noise.
-    true_backbone : Backbone or None
-        For a single-DOF record, ``amplitude -> (frequency_hz, damping_ratio)``; None otherwise.
-    chain : SpringMassChain
-        The physical chain: masses, springs, stiffness and damping matrices, mass-normalised mode shapes.
-    params : dict
-        The generating arguments (defaults filled in).
-    """
-
-    t: np.ndarray
-    y: np.ndarray
-    force: np.ndarray
-    fs: float
-    onset_time: float
-    free_decay_index: int
-    modes: np.recarray
-    offset: float | np.ndarray
-    noise_std: float | np.ndarray
-    y_clean: np.ndarray
-    true_backbone: Backbone | None
-    chain: SpringMassChain
-    params: dict = field(default_factory=dict)
-
-    @property
-    def n_channels(self) -> int:
-        return 1 if self.y.ndim == 1 else self.y.shape[1]
-
-    def __repr__(self) -> str:
-        p = self.params
-        lines = [
-            f"ImpactRecord({self.t.size} samples at {self.fs:g} Hz, {p['sensor']} at mass "
-            f"{p['sensor_dof']} of {self.chain.masses.size}, tap on mass {p['tap_dof']}, "
-            f"onset {self.onset_time:.4g} s, snr_db={p['snr_db']}, offset={p['offset']:g} x peak"
-            + (", nonlinear" if _nonlinear(p) else "")
-            + ")",
-            "   f_n (Hz)     f_d (Hz)     zeta       amplitude",
-        ]
-        for m in self.modes:
-            amp = (
-                f"{m.amplitude:.4g}"
-                if np.ndim(m.amplitude) == 0
-                else np.array2string(m.amplitude, precision=4)
-            )
-            lines.append(
-                f"  {m.frequency_hz:10.4f}  {m.damped_frequency_hz:10.4f}  {m.damping_ratio:9.5f}  {amp}"
-            )
-        return "\n".join(lines)
-
-
-def _nonlinear(p) -> bool:
-    return bool(p["cubic_stiffness"] or p["damping_amplitude"] or p["quadratic_damping"])
 
 
 def impact_record(
@@ -133,9 +50,11 @@ def impact_record(
     force_amplitude: float = 100.0,
     double_hit: tuple[float, float] | None = None,
     force_snr_db: float | None = 60.0,
+    quadratic_stiffness: float = 0.0,
     cubic_stiffness: float = 0.0,
     damping_amplitude: float = 0.0,
     quadratic_damping: float = 0.0,
+    clip: float | None = None,
     random_state=None,
 ) -> ImpactRecord:
     """A synthetic hammer test of an n-DOF spring-mass chain whose modal table is known exactly.
@@ -155,12 +74,18 @@ def impact_record(
     tapped mass, optionally followed by a second hit; the force channel is its samples plus white noise at
     ``force_snr_db`` below the peak force.
 
+    **The sensor.** ``y`` is the response plus ``offset`` plus noise; with ``clip`` the sensor saturates:
+    ``y = offset + np.clip(y - offset, -c, c)`` per channel, ``c = clip * max|y_clean|``, after the noise is
+    added (the noise is clipped too). Clipping is a measurement effect: ``y_clean``, ``modes`` and
+    ``true_backbone`` are those of the unclipped record.
+
     **The response.** Linear records are exact (closed-form modal response to the continuous half-sine,
     vectorised: about 15 ms CPU for 40,000 samples and 4 modes). Nonlinear records add an element between the
-    ground and mass 0, with force ``m_0 (k3 x**3 + c2 x**2 x' + cq |x'| x')`` (``x`` the displacement of
-    mass 0), integrated by classical RK4 in numba on the samples refined so that ``omega_max h <= 0.02``,
-    with 64 steps per contact (relative error about 5e-7 over 3,000 periods; about 0.06 s CPU for a single
-    mode over 3,000 periods at 20 samples per period, plus a one-off compilation of a few seconds).
+    ground and mass 0, with force ``m_0 (k2 x**2 + k3 x**3 + c2 x**2 x' + cq |x'| x')`` (``x`` the
+    displacement of mass 0), integrated by classical RK4 in numba on the samples refined so that
+    ``omega_max h <= 0.02``, with 64 steps per contact (relative error about 5e-7 over 3,000 periods; about
+    0.06 s CPU for a single mode over 3,000 periods at 20 samples per period, plus a one-off compilation of
+    a few seconds).
 
     Parameters
     ----------
@@ -201,14 +126,22 @@ def impact_record(
         (``delay_s >= contact_time``), ``relative_amplitude`` times as strong.
     force_snr_db : float, optional
         Noise of the force channel relative to the peak force (default 60 dB); None: clean.
-    cubic_stiffness, damping_amplitude, quadratic_damping : float
-        ``k3`` (1/(m^2 s^2)), ``c2`` (1/(m^2 s)) and ``cq`` (1/m) of the nonlinear element between the
-        ground and mass 0, per unit of its mass. For one mass the equation is
-        ``x'' + 2 zeta omega x' + omega**2 x + k3 x**3 + c2 x**2 x' + cq |x'| x' = F / m``: a Duffing spring
-        (frequency ``sqrt(omega**2 + 3/4 k3 a**2)`` at displacement amplitude ``a``), a damper whose
-        damping ratio grows like ``c2 a**2 / (8 omega)`` and a quadratic damper; ``record.true_backbone``
-        gives both against amplitude. A softening spring (``k3 < 0``) may lower ``omega**2`` by at most a
-        quarter at the initial amplitude.
+    quadratic_stiffness, cubic_stiffness, damping_amplitude, quadratic_damping : float
+        ``k2`` (1/(m s^2)), ``k3`` (1/(m^2 s^2)), ``c2`` (1/(m^2 s)) and ``cq`` (1/m) of the nonlinear
+        element between the ground and mass 0, per unit of its mass. For one mass the equation is
+        ``x'' + 2 zeta omega x' + omega**2 x + k2 x**2 + k3 x**3 + c2 x**2 x' + cq |x'| x' = F / m``: a
+        Duffing spring (frequency ``sqrt(omega**2 + 3/4 k3 a**2)`` at displacement amplitude ``a``), a
+        damper whose damping ratio grows like ``c2 a**2 / (8 omega)`` and a quadratic damper;
+        ``record.true_backbone`` gives both against amplitude. The quadratic (asymmetric) spring makes even
+        harmonics: a response at ``2 f`` of displacement amplitude ``k2 a**2 / (6 omega**2)`` and a shift of
+        the mean by ``-k2 a**2 / (2 omega**2)``; to second order it softens the spring whatever its sign,
+        like a cubic one of ``-10/9 k2**2 / omega**2`` (frequency
+        ``sqrt(omega**2 + 3/4 (k3 - 10/9 k2**2 / omega**2) a**2)``). A softening spring (``k3 < 0`` or
+        ``k2 != 0``) may lower ``omega**2`` by at most a quarter at the initial amplitude.
+    clip : float in (0, 1], optional
+        Sensor saturation, as a fraction of each channel's peak clean amplitude ``max|y_clean|``: the
+        measured signal (noise included) is limited to ``offset -+ clip * max|y_clean|``. None (default):
+        no clipping.
     random_state : int, numpy Generator or None
         Seed of the noise.
 
@@ -238,6 +171,13 @@ def impact_record(
     >>> f, zeta = rec.true_backbone(a0)
     >>> round(f / 50.0, 4), round(zeta, 5)
     (1.01, 0.00495)
+
+    A sensor that saturates at 30 % of the peak clips the first cycles of the decay:
+
+    >>> rec = impact_record(50.0, 0.01, fs=1000.0, duration=1.0, clip=0.3)
+    >>> c = 0.3 * np.abs(rec.y_clean).max()
+    >>> bool(np.abs(rec.y).max() <= c), rec.params["clip"]
+    (True, 0.3)
     """
     a = check_impact_args(**{k: v for k, v in locals().items()})
     chain, unit_phasor = _design_chain(a)
@@ -246,7 +186,7 @@ def impact_record(
     force_clean = half_sine_force(t, a.starts, a.hit_amplitudes, a.contact_time)
     modes = _modal_table(a, chain, unit_phasor * chain.mode_shapes[a.tap_dof])
     rng = np.random.default_rng(a.random_state)
-    y, offset, noise_std = measure(y_clean, t, a.onset, a.offset, a.snr_db, a.noise, rng)
+    y, offset, noise_std = measure(y_clean, t, a.onset, a.offset, a.snr_db, a.noise, rng, a.clip)
     force = force_clean.copy()
     if a.force_snr_db is not None:
         force += rng.standard_normal(force.size) * a.force_amplitude * 10 ** (-a.force_snr_db / 20)
@@ -260,6 +200,7 @@ def impact_record(
             float(a.damping_amplitude),
             float(a.quadratic_damping),
             a.sensor,
+            float(a.quadratic_stiffness),
         )
     squeeze = (lambda v: v) if a.multi_channel else (lambda v: v[..., 0] if np.ndim(v) else v)
     free = int(np.searchsorted(t, a.starts[-1] + a.contact_time, side="right"))
@@ -309,14 +250,24 @@ def _simulate(a, chain, unit, t):
     omega, zeta, s = _poles(a)
     Phi = chain.mode_shapes
     gain, phi_g = Phi[a.tap_dof], Phi[0]
-    coefs = chain.masses[0] * np.array([a.cubic_stiffness, a.damping_amplitude, a.quadratic_damping])
+    coefs = chain.masses[0] * np.array(
+        [a.cubic_stiffness, a.damping_amplitude, a.quadratic_damping, a.quadratic_stiffness]
+    )
     hits = (a.starts, a.hit_amplitudes, a.contact_time)
     if _nonlinear(vars(a)):
-        if a.cubic_stiffness < 0:
+        if a.cubic_stiffness < 0 or a.quadratic_stiffness:
             x0 = np.sum(np.abs(phi_g * gain * unit) / s.imag)  # bound on the displacement of mass 0
-            if 0.75 * -a.cubic_stiffness * x0**2 > omega.min() ** 2 / 4:
+            # a quadratic spring softens like a cubic one of -10/9 k2**2 / omega**2 (second order)
+            k3 = a.cubic_stiffness - 10 / 9 * a.quadratic_stiffness**2 / omega.min() ** 2
+            if 0.75 * -k3 * x0**2 > omega.min() ** 2 / 4:
+                what = f"cubic_stiffness={a.cubic_stiffness!r} softens"
+                if a.quadratic_stiffness:
+                    what = (
+                        f"quadratic_stiffness={a.quadratic_stiffness!r} (with cubic_stiffness="
+                        f"{a.cubic_stiffness!r}) softens"
+                    )
                 raise ValueError(
-                    f"cubic_stiffness={a.cubic_stiffness!r} softens the spring too much at the initial "
+                    f"{what} the spring too much at the initial "
                     f"displacement amplitude {x0:.3g} m (omega**2 would drop by more than a quarter)"
                 )
         q, v = nonlinear_modal_response(t, omega, zeta, gain, phi_g, coefs, *hits)
@@ -371,9 +322,11 @@ def _params(a) -> dict:
         "force_amplitude",
         "double_hit",
         "force_snr_db",
+        "quadratic_stiffness",
         "cubic_stiffness",
         "damping_amplitude",
         "quadratic_damping",
+        "clip",
         "random_state",
     )
     out = {

@@ -17,11 +17,12 @@ function                           figure of Stender, Oberst & Hoffmann (2019)
 :func:`plot_feature_space`         14b: 2-D feature space (e.g. PCA of SINDyFeatures) by label
 :func:`plot_backbone`              beyond the paper: backbone curves of data and models overlaid
 :func:`plot_modes`                 beyond the paper: a hammer-test record's spectrum and its modes
+:func:`plot_mac`                   beyond the paper: the Modal Assurance Criterion of mode shapes
 =================================  ==============================================================
 
 The functions live in one module per family of figures (``filtering``, ``sweep``, ``embedding``,
-``complexity``, ``identification``, ``features``, ``backbone``, ``modes``; shared helpers in ``_common``);
-import them from here.
+``complexity``, ``identification``, ``features``, ``backbone``, ``modes``, ``mac``; shared helpers in
+``_common``); import them from here.
 matplotlib is imported only when a function is called. Bad input raises ``ValueError`` or ``TypeError``
 naming the argument (the array checks are the shared ones of :mod:`sindy_impulse._utils.validation`).
 """
@@ -32,6 +33,7 @@ from .embedding import plot_embedding
 from .features import plot_feature_space
 from .filtering import plot_alpha_curve, plot_filtering
 from .identification import plot_consensus, plot_linear_vs_nonlinear, plot_parameter_dependency
+from .mac import plot_mac
 from .modes import plot_modes
 from .sweep import plot_reconstruction, plot_refinement, plot_sweep
 
@@ -44,6 +46,7 @@ __all__ = [
     "plot_feature_space",
     "plot_filtering",
     "plot_linear_vs_nonlinear",
+    "plot_mac",
     "plot_modes",
     "plot_parameter_dependency",
     "plot_reconstruction",
