@@ -62,7 +62,9 @@ def _channels(arrays: Mapping, what: str) -> tuple[np.ndarray, list[str] | None]
         data = np.asarray(arrays[two_d[0]], dtype=float)
         return (data if data.shape[0] >= data.shape[1] else data.T), None
     skip = set(_TIME_KEYS) | set(_FS_KEYS)
-    columns = {k: np.ravel(v) for k, v in arrays.items() if k not in skip and _numeric(v) and np.squeeze(v).ndim == 1}
+    columns = {
+        k: np.ravel(v) for k, v in arrays.items() if k not in skip and _numeric(v) and np.squeeze(v).ndim == 1
+    }
     if not columns:
         raise ValueError(f"{what}: no data array found (expected 'data' or 1-D channel arrays)")
     lengths = {k: c.size for k, c in columns.items()}

@@ -103,12 +103,16 @@ def read_record(
     --------
     >>> import os, tempfile
     >>> import numpy as np
-    >>> rec = Record(np.eye(3), fs=100.0, channel_names=("hammer", "a1", "a2"), units=("N", "g", "g"))
+    >>> rec = Record(np.eye(3), fs=100.0, channel_names=("hammer", "a1", "a2"), units=("N", "g", "g"),
+    ...              force_channel=0)
     >>> with tempfile.TemporaryDirectory() as folder:
     ...     path = write_record(rec, os.path.join(folder, "tap.npz"))
     ...     back = read_record(path)
+    ...     also = read_record(path, force_channel="a2")  # the argument wins over the file
     >>> back.fs, back.channel_names, back.force_channel, np.array_equal(back.data, rec.data)
     (100.0, ('hammer', 'a1', 'a2'), 0, True)
+    >>> also.force_channel
+    2
     """
     p = Path(path)
     name = _format_of(p, format)

@@ -49,7 +49,7 @@ class Record:
     >>> import numpy as np
     >>> rec = Record(np.zeros((4, 2)), fs=1000.0, channel_names=("hammer", "acc"), units=("N", "m/s^2"),
     ...              force_channel=0)
-    >>> rec.n_channels, rec.n_samples, rec.t[-1]
+    >>> rec.n_channels, rec.n_samples, float(rec.t[-1])
     (2, 4, 0.003)
     >>> rec.response.shape, rec.force.shape, rec.nodes, rec.directions
     ((4, 1), (4,), (-1, -1), (0, 0))

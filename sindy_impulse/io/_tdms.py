@@ -36,8 +36,12 @@ def read_tdms(path: str | Path, *, fs: float | None = None, force_channel: int |
         tdms = nptdms.TdmsFile.read(str(path))
     except Exception as err:  # npTDMS raises ValueError, KeyError, struct.error... on a broken file
         raise ValueError(f"{what}: not a readable TDMS file ({err})") from err
-    chans = [c for g in tdms.groups() for c in g.channels() if len(c) and np.asarray(c[:1]).dtype.kind in "fiu"]
-    time = [c for c in chans if c.name.strip().lower() in ("time", "t") and "wf_increment" not in c.properties]
+    chans = [
+        c for g in tdms.groups() for c in g.channels() if len(c) and np.asarray(c[:1]).dtype.kind in "fiu"
+    ]
+    time = [
+        c for c in chans if c.name.strip().lower() in ("time", "t") and "wf_increment" not in c.properties
+    ]
     chans = [c for c in chans if c not in time]
     short = [c.name for c in chans]
     names = short if len(set(short)) == len(short) else [f"{c.group_name}/{c.name}" for c in chans]
@@ -71,7 +75,9 @@ def _timing(props: list, names: list, time: list, what: str) -> tuple[float | No
         if max(starts) - min(starts) > 0.5 * incs[0]:
             raise ValueError(f"{what}: the channels start at different times ({sorted(starts)})")
         exact = props[0].get("sindy_impulse_fs")
-        fs = float(exact) if exact is not None else snap_fs(1.0 / incs[0], 1e-12)
+        fs = snap_fs(1.0 / incs[0], 1e-12)
+        if exact is not None and abs(float(exact) - fs) <= 1e-9 * fs:
+            fs = float(exact)
         return fs, min(starts)
     if time:
         return fs_from_time(np.asarray(time[0][:], dtype=float), what)

@@ -48,7 +48,9 @@ def _mode_layout(mode, k: int, nodes, directions) -> tuple[float, float, np.ndar
     if len(node_list) != n or len(dir_list) != n:
         raise ValueError(f"mode {k}: {n} shape values but {len(node_list)} nodes, {len(dir_list)} directions")
     if any(d not in (1, 2, 3, -1, -2, -3) for d in dir_list):
-        raise ValueError(f"mode {k}: UFF 55 complex shapes hold directions +-1, +-2, +-3 only, got {dir_list}")
+        raise ValueError(
+            f"mode {k}: UFF 55 complex shapes hold directions +-1, +-2, +-3 only, got {dir_list}"
+        )
     if any(nd <= 0 for nd in node_list):
         raise ValueError(f"mode {k}: node numbers must be positive, got {node_list}")
     pairs = list(zip(node_list, [abs(d) for d in dir_list]))

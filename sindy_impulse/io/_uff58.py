@@ -47,7 +47,9 @@ def _label(node: int, direction: int, index: int) -> str:
     return f"{node}{_DIR_LABELS[abs(direction)].replace('+', '-' if direction < 0 else '+')}"
 
 
-def read_uff58(path: str | Path, *, fs: float | None = None, force_channel: int | str | None = None) -> Record:
+def read_uff58(
+    path: str | Path, *, fs: float | None = None, force_channel: int | str | None = None
+) -> Record:
     """Read the time-response data sets 58 of a UFF file (ASCII or binary) as one Record.
 
     Data sets of other types, and sets 58 that are not real time functions (FRFs, spectra), are skipped.
@@ -69,13 +71,15 @@ def read_uff58(path: str | Path, *, fs: float | None = None, force_channel: int 
     timed = [
         s
         for s in sets
-        if not np.iscomplexobj(s["data"]) and (s.get("func_type") in (0, 1) or s.get("abscissa_spec_data_type") == 17)
+        if not np.iscomplexobj(s["data"])
+        and (s.get("func_type") in (0, 1) or s.get("abscissa_spec_data_type") == 17)
     ]
     if not timed:
         found = sorted({int(s.get("func_type", -1)) for s in sets})
         raise ValueError(
             f"{what}: no time-response data set 58 (function type 1) in the file; "
-            f"data set types {sorted(set(np.asarray(uff.get_set_types()).tolist()))}, 58 function types {found}"
+            f"data set types {sorted(set(np.asarray(uff.get_set_types()).tolist()))}, "
+            f"58 function types {found}"
         )
     return _record_from_sets(timed, what, fs, force_channel)
 
