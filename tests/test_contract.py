@@ -911,7 +911,14 @@ def test_refinement_stops_at_its_budget_with_the_best_point():
 
 @pytest.mark.parametrize(
     "case",
-    ["ill-conditioned", "diverging", "huge-library", "spike", "embedded-noise"],
+    [
+        "ill-conditioned",
+        "diverging",
+        # the longest fits of the suite (15-35 s each): in the second step of .ci/run (`pytest -m slow`)
+        pytest.param("huge-library", marks=pytest.mark.slow),
+        pytest.param("spike", marks=pytest.mark.slow),
+        pytest.param("embedded-noise", marks=pytest.mark.slow),
+    ],
 )
 def test_adversarial_fits_return_or_refuse_in_bounded_work(case):
     rng = np.random.default_rng(0)

@@ -260,6 +260,8 @@ def run_stages(
 
     Examples
     --------
+    The paper's oscillator with its true structure as the only candidate, refined on Gamma:
+
     >>> import pysindy as ps
     >>> from sindy_impulse import TVRegDiff, damped_oscillator
     >>> from sindy_impulse._utils.trajectories import as_trajectories
@@ -267,7 +269,8 @@ def run_stages(
     >>> ring = damped_oscillator(snr_db=40, random_state=0)
     >>> data = as_trajectories(ring.x, ring.t)
     >>> filtered, derivs = filter_states(TVRegDiff(), data)
-    >>> problem = prepare(ps.PolynomialLibrary(degree=1, include_bias=False), data, filtered, derivs)
+    >>> linear = ps.PolynomialLibrary(degree=1, include_bias=False)
+    >>> problem = prepare(linear, data, filtered, derivs)
     >>> support = [[False, True], [True, True]]  # x' = v, v' = -k x - c v
     >>> result = run_stages(problem, problem.on_supports([support]), Gamma().bind(filtered, data.t))
     >>> np.round(result.coefficients[1]).tolist()  # the paper's -64 and -3.2

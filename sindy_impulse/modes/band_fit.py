@@ -177,19 +177,18 @@ def fit_band(
     if impulse is not None and sensor is not None and impulse > 0:
         residue = amplitude * omega_d / (omega ** _SENSOR_POWER[sensor] * impulse)
     shape = None if record is None or record.shape[1] == 1 else _shape(record, band, states, omega, channel)
-    return Mode(
+    return _mode(
+        band,
+        model,
+        states,
+        t,
+        index,
         frequency_hz=frequency,
         damping_ratio=zeta,
-        band_hz=tuple(float(b) for b in band.band_hz),
-        amplitude=amplitude,
         fit_error=fit_error,
-        model=model,
-        states=states,
-        t=t,
-        snr_db=float(band.snr_db),
+        amplitude=amplitude,
         shape=shape,
         residue=residue,
-        record=index,
     )
 
 
@@ -271,18 +270,15 @@ def fit_group(band, peak_bands, template, *, onset_time: float, index: int = 0) 
             )
             continue
         frequency, zeta = found
-        out.append(
-            Mode(
-                frequency_hz=frequency,
-                damping_ratio=zeta,
-                band_hz=tuple(float(b) for b in band.band_hz),
-                amplitude=float("nan"),
-                fit_error=fit_error,
-                model=model,
-                states=states,
-                t=t,
-                snr_db=float(band.snr_db),
-                record=index,
-            )
-        )
+        values = {"frequency_hz": frequency, "damping_ratio": zeta, "fit_error": fit_error}
+        out.append(_mode(band, model, states, t, index, **values))
     return out
+
+
+def _mode(band, model, states, t, index, **values) -> Mode:
+    """The :class:`Mode` of a band's ``model`` fitted on ``states``; ``values`` are the mode's own
+    (frequency, damping ratio, fit error; amplitude, shape, residue where known)."""
+    values.setdefault("amplitude", math.nan)  # a mode of a joint group's model: no amplitude of its own
+    band_hz = tuple(float(b) for b in band.band_hz)
+    snr_db = float(band.snr_db)
+    return Mode(band_hz=band_hz, model=model, states=states, t=t, snr_db=snr_db, record=index, **values)

@@ -59,11 +59,11 @@ class BandSignal:
         (``20 log10(envelope / (sqrt 2 noise_rms))``).
     """
 
+    band_hz: tuple
+    fs: float
     y: np.ndarray = field(repr=False)
     t: np.ndarray = field(repr=False)
     envelope: np.ndarray = field(repr=False)
-    fs: float
-    band_hz: tuple
     decimation: int
     samples_per_period: float
     start_index: int
