@@ -353,39 +353,56 @@ def _embed(embedding, signal: np.ndarray, t):
 # --------------------------------------------------------------------------------------------------------
 # one fit
 # --------------------------------------------------------------------------------------------------------
-def _failed_record(error: str | None) -> dict[str, Any]:
-    """The record of a model that does not exist (yet): Gamma inf, no terms."""
-    return {
-        "gamma": np.inf,
-        "gamma_filtered": np.nan,
-        "gamma_sindy": np.nan,
-        "n_terms": -1,
-        "coefficients": None,
-        "term_names": None,
-        "equations": None,
-        "model": None,
-        "error": error,
-        "fit_time": np.nan,
-    }
+@dataclass
+class _Fit:
+    """One (estimator, input) fit of the study: what becomes one entry of :class:`ComplexityError`.
+
+    A fit that does not exist (yet, or failed) has Gamma inf and no terms (``n_terms`` -1).
+    """
+
+    gamma: float = np.inf
+    gamma_filtered: float = np.nan
+    gamma_sindy: float = np.nan
+    n_terms: int = -1
+    coefficients: np.ndarray | None = None
+    term_names: list | None = None
+    equations: list | None = None
+    model: Any = None
+    error: str | None = None
+    fit_time: float = np.nan
 
 
-def _fit_one(estimator, states, t, feature_names, keep_model: bool, errors: str) -> dict[str, Any]:
-    out = _failed_record(None)
+@dataclass
+class _Input:
+    """One input ready to fit: states, their times and names (None when its embedding failed), and the
+    embedding's delay and dimension (-1 without)."""
+
+    states: np.ndarray | None
+    t: Any = None
+    names: list | None = None
+    tau: int = -1
+    dimension: int = -1
+    error: str | None = None
+
+
+def _fit_one(estimator, data: _Input, keep_model: bool, errors: str) -> _Fit:
+    states, t = data.states, data.t
+    out = _Fit()
     est = clone(estimator)
     start = time.perf_counter()
     try:
-        kwargs = {} if feature_names is None else {"feature_names": feature_names}
+        kwargs = {} if data.names is None else {"feature_names": data.names}
         est.fit(states, t=t, **kwargs)
-        out["fit_time"] = time.perf_counter() - start
+        out.fit_time = time.perf_counter() - start
         coef = np.asarray(est.coefficients(), dtype=float)
-        out["coefficients"] = coef.copy()
-        out["n_terms"] = int(np.count_nonzero(coef))
-        out["gamma_filtered"] = float(getattr(est, "gamma_", np.nan))
-        out["gamma_sindy"] = float(getattr(est, "gamma_sindy_", np.nan))
+        out.coefficients = coef.copy()
+        out.n_terms = int(np.count_nonzero(coef))
+        out.gamma_filtered = float(getattr(est, "gamma_", np.nan))
+        out.gamma_sindy = float(getattr(est, "gamma_sindy_", np.nan))
         if hasattr(est, "get_feature_names"):
-            out["term_names"] = list(est.get_feature_names())
+            out.term_names = list(est.get_feature_names())
         if hasattr(est, "equations"):
-            out["equations"] = list(est.equations())
+            out.equations = list(est.equations())
         t_sim = getattr(est, "t_", None)
         if t_sim is None or np.ndim(t_sim) != 1 or len(t_sim) != len(states):
             t_sim = np.arange(len(states)) * (1.0 if t is None or np.ndim(t) else float(t))
@@ -393,15 +410,15 @@ def _fit_one(estimator, states, t, feature_names, keep_model: bool, errors: str)
             warnings.simplefilter("ignore", RuntimeWarning)  # divergence -> NaN rows -> Gamma inf
             sim = np.asarray(est.simulate(states[0], t_sim), dtype=float)
         if sim.shape == states.shape:
-            out["gamma"] = gamma_from_arrays(states, sim)
+            out.gamma = gamma_from_arrays(states, sim)
     except Exception as err:  # noqa: BLE001 - a failing fit is a data point of the study
         if errors == "raise":
             raise
-        out["fit_time"] = time.perf_counter() - start
-        out["error"] = f"{type(err).__name__}: {err}"
+        out.fit_time = time.perf_counter() - start
+        out.error = f"{type(err).__name__}: {err}"
         return out
     if keep_model:
-        out["model"] = est
+        out.model = est
     return out
 
 
@@ -509,7 +526,7 @@ def complexity_error(
     ]
     tasks = [(e, i) for e in range(len(ests)) for i in range(len(signals))]
     records = _run_fits(ests, prepared, tasks, keep_models, errors, n_jobs)
-    failed = [r["error"] for r in records if r["error"] is not None]
+    failed = [r.error for r in records if r.error is not None]
     if failed:
         warnings.warn(
             f"{len(failed)} of {len(records)} fits failed (recorded with Gamma = inf); first: {failed[0]}",
@@ -547,42 +564,36 @@ def _signals(raw, embedded: bool) -> list[np.ndarray]:
     return [s.reshape(-1) for s in signals]
 
 
-def _prepare(embedding, signal, t, feature_names, i: int, errors: str) -> dict:
+def _prepare(embedding, signal, t, feature_names, i: int, errors: str) -> _Input:
     """One input ready to fit: states, time, state names, delay and dimension (or the embedding's error)."""
     if embedding is None:
-        return {"fit": (signal, t, feature_names), "tau": -1, "dimension": -1, "error": None}
+        return _Input(signal, t, feature_names)
     try:
         states, t_states, emb = _embed(embedding, signal, t)
     except Exception as err:  # noqa: BLE001 - recorded like a failing fit
         if errors == "raise":
             raise
-        message = f"embedding of inputs[{i}] failed: {type(err).__name__}: {err}"
-        return {"fit": None, "tau": -1, "dimension": -1, "error": message}
+        return _Input(None, error=f"embedding of inputs[{i}] failed: {type(err).__name__}: {err}")
     names = feature_names
     if names is None and hasattr(emb, "get_feature_names_out"):
         names = [str(n) for n in emb.get_feature_names_out()]
     dimension = int(getattr(emb, "dimension_", states.shape[1]))
-    return {
-        "fit": (states, t_states, names),
-        "tau": int(getattr(emb, "tau_", -1)),
-        "dimension": dimension,
-        "error": None,
-    }
+    return _Input(states, t_states, names, int(getattr(emb, "tau_", -1)), dimension)
 
 
-def _run_fits(ests, prepared, tasks, keep_models, errors, n_jobs) -> list[dict]:
+def _run_fits(ests, prepared, tasks, keep_models, errors, n_jobs) -> list[_Fit]:
     """Every (estimator, input) fit, serially or with joblib; a record per task."""
-    runnable = [(e, i) for e, i in tasks if prepared[i]["fit"] is not None]
+    runnable = [(e, i) for e, i in tasks if prepared[i].states is not None]
     if n_jobs is None or n_jobs == 1 or len(runnable) <= 1:
-        outputs = [_fit_one(ests[e], *prepared[i]["fit"], keep_models, errors) for e, i in runnable]
+        outputs = [_fit_one(ests[e], prepared[i], keep_models, errors) for e, i in runnable]
     else:
         from joblib import Parallel, delayed
 
         outputs = Parallel(n_jobs=n_jobs)(
-            delayed(_fit_one)(ests[e], *prepared[i]["fit"], keep_models, errors) for e, i in runnable
+            delayed(_fit_one)(ests[e], prepared[i], keep_models, errors) for e, i in runnable
         )
     by_task = dict(zip(runnable, outputs))
-    return [by_task.get(task) or _failed_record(prepared[task[1]]["error"]) for task in tasks]
+    return [by_task.get(task) or _Fit(error=prepared[task[1]].error) for task in tasks]
 
 
 def _result(records, tasks, est_labels, in_labels, prepared, n_estimators, n_inputs) -> ComplexityError:
@@ -590,8 +601,8 @@ def _result(records, tasks, est_labels, in_labels, prepared, n_estimators, n_inp
     in_idx = np.array([i for _, i in tasks], dtype=int)
     est_lab, in_lab = _label_array(est_labels), _label_array(in_labels)
 
-    def column(key, dtype=float):
-        return np.array([r[key] for r in records], dtype=dtype)
+    def column(name, dtype=float):
+        return np.array([getattr(r, name) for r in records], dtype=dtype)
 
     return ComplexityError(
         gamma=column("gamma"),
@@ -602,14 +613,14 @@ def _result(records, tasks, est_labels, in_labels, prepared, n_estimators, n_inp
         input_index=in_idx,
         estimator_label=est_lab[est_idx],
         input_label=in_lab[in_idx],
-        tau=np.array([p["tau"] for p in prepared], dtype=int)[in_idx],
-        dimension=np.array([p["dimension"] for p in prepared], dtype=int)[in_idx],
+        tau=np.array([p.tau for p in prepared], dtype=int)[in_idx],
+        dimension=np.array([p.dimension for p in prepared], dtype=int)[in_idx],
         fit_time=column("fit_time"),
-        coefficients=[r["coefficients"] for r in records],
-        term_names=[r["term_names"] for r in records],
-        equations=[r["equations"] for r in records],
-        models=[r["model"] for r in records],
-        errors=[r["error"] for r in records],
+        coefficients=[r.coefficients for r in records],
+        term_names=[r.term_names for r in records],
+        equations=[r.equations for r in records],
+        models=[r.model for r in records],
+        errors=[r.error for r in records],
         n_estimators=n_estimators,
         n_inputs=n_inputs,
     )

@@ -21,8 +21,17 @@ from dataclasses import dataclass, field
 
 from ._numbers import NumberError, parse_number
 
-__all__ = ["CLIError", "Table", "atomic_write", "check_outputs", "list_inputs", "open_input", "read_csv"]
-__all__ += ["write_figure", "write_json"]
+__all__ = [
+    "CLIError",
+    "Table",
+    "atomic_write",
+    "check_outputs",
+    "list_inputs",
+    "open_input",
+    "read_csv",
+    "write_figure",
+    "write_json",
+]
 
 #: Names recognised as the time column when neither ``--time`` nor a sampling step is given.
 TIME_NAMES = ("t", "time")
