@@ -14,14 +14,17 @@ __all__ = ["add_parser", "run"]
 _SENSORS = ("displacement", "velocity", "acceleration")
 
 
+#: The command's one-line help and its description.
+SUMMARY = "modal table of a hammer-test record stored as CSV"
+DESCRIPTION = (
+    "Find the modes of a hammer-test (impact) record: onset, offset, spectral peaks, one band-passed signal "
+    "per mode, one identified equation per mode; prints frequency, damping ratio, amplitude, fit error and "
+    "the verdict of the test for nonlinearity."
+)
+
+
 def add_parser(sub) -> argparse.ArgumentParser:
-    p = sub.add_parser(
-        "modes",
-        help="modal table of a hammer-test record stored as CSV",
-        description="Find the modes of a hammer-test (impact) record: onset, offset, spectral peaks, one "
-        "band-passed signal per mode, one identified equation per mode; prints frequency, damping ratio, "
-        "amplitude, fit error and the verdict of the test for nonlinearity.",
-    )
+    p = sub.add_parser("modes", help=SUMMARY, description=DESCRIPTION)
     p.add_argument("file", metavar="FILE.csv", help="CSV file with a header row")
     add_input_options(p)
     p.add_argument("--force", metavar="NAME", help="column of the hammer's force (onset, double hits)")

@@ -16,6 +16,7 @@ binds a measure to reference trajectories.
 
 from __future__ import annotations
 
+import inspect
 import warnings
 from dataclasses import dataclass, field
 
@@ -245,15 +246,7 @@ def _finish(objective, w, g0, history, success, message, zero_tol, keep) -> Refi
 
 
 def refine_coefficients(
-    model,
-    references,
-    times,
-    bound_factor: float = 1.5,
-    max_iter: int = 100,
-    zero_tol: float = 1e-3,
-    budget: WorkBudget | None = None,
-    error_measure="gamma",
-    inputs=None,
+    model, references, times, *options, error_measure="gamma", inputs=None, **keywords
 ) -> RefinementResult:
     """Refine ``model`` on an error measure of its simulations against reference trajectories.
 
@@ -264,8 +257,9 @@ def refine_coefficients(
         States the simulations are compared with (each simulation starts at their first sample).
     times : list of ndarray
         Their time grids.
-    bound_factor, max_iter, zero_tol, budget
-        As in :func:`refine`.
+    *options, **keywords
+        :func:`refine`'s ``bound_factor``, ``max_iter``, ``zero_tol``, ``budget`` (in that order) and
+        ``penalty``.
     error_measure : str, ErrorMeasure or callable, default="gamma"
         The measure (see :mod:`sindy_impulse.simulation.scoring`).
     inputs : list of ndarray, optional
@@ -282,6 +276,7 @@ def refine_coefficients(
     >>> bool(res.score < 0.01 * res.score_initial), np.round(res.coefficients[1], 2).tolist()
     (True, [-64.0, -3.2])
     """
-    _check(bound_factor, max_iter)
+    arguments = inspect.signature(refine).bind(model, None, *options, **keywords).arguments
+    _check(arguments.get("bound_factor", 1.5), arguments.get("max_iter", 100))  # before the measure's work
     measure = get_error_measure(error_measure, references).bind(list(references), list(times), inputs)
-    return refine(model, measure, bound_factor, max_iter, zero_tol, budget)
+    return refine(model, measure, *options, **keywords)

@@ -8,17 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .._utils.validation import check_array, check_signal, check_time, time_vector
-from ._common import (
-    MARK_STYLE,
-    check_choice,
-    check_int,
-    first,
-    fitted_sindy,
-    is_sindy,
-    many_axes,
-    one_axes,
-    resolve_state_names,
-)
+from . import _common as common
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -63,7 +53,7 @@ def plot_parameter_dependency(result, ax=None, *, quantity: str = "ratio") -> Ax
     """
     if not all(hasattr(result, a) for a in ("values", "ratio", "varies", "reference_index")):
         raise TypeError(f"result must be a ParameterDependency, got {type(result).__name__}")
-    quantity = check_choice(quantity, "quantity", ("ratio", "relative_change"))
+    quantity = common.check_choice(quantity, "quantity", ("ratio", "relative_change"))
     values = check_array(result.values, "result.values", ndim=(1,))
     data = check_array(
         getattr(result, quantity), f"result.{quantity}", ndim=(3,), allow_inf=True, allow_nan=True
@@ -75,7 +65,7 @@ def plot_parameter_dependency(result, ax=None, *, quantity: str = "ratio") -> Ax
     coefficients = np.asarray(result.coefficients, dtype=float)
     shown = np.any(coefficients != 0, axis=0) & (coefficients[ref] != 0)
     names = result.names() if hasattr(result, "names") else None
-    ax = one_axes(ax)
+    ax = common.one_axes(ax)
     j = 0
     for i, k in zip(*np.nonzero(shown)):
         y = np.where(np.isfinite(data[:, i, k]), data[:, i, k], np.nan)
@@ -86,7 +76,7 @@ def plot_parameter_dependency(result, ax=None, *, quantity: str = "ratio") -> Ax
         else:
             ax.plot(values, y, "-", color="0.6", lw=1.0, label="_invariant")
     ax.axhline(1.0 if quantity == "ratio" else 0.0, color="0.3", lw=0.8, ls="--")
-    ax.axvline(values[ref], **MARK_STYLE)
+    ax.axvline(values[ref], **common.MARK_STYLE)
     ax.set_xlabel("control parameter")
     ax.set_ylabel("xi / xi_ref" if quantity == "ratio" else "xi / xi_ref - 1")
     ax.set_title(f"reference = {values[ref]:g}; {int((shown & ~varies).sum())} invariant term(s) in grey")
@@ -147,7 +137,7 @@ def plot_consensus(result, axes=None, *, true_coefficients=None) -> np.ndarray:
             )
     keys = sorted(hist)
     names = result.names() if hasattr(result, "names") else {}
-    axes = many_axes(axes, len(keys), name="axes", ncols=3)
+    axes = common.many_axes(axes, len(keys), name="axes", ncols=3)
     for a, key in zip(axes, keys):
         h = hist[key]
         counts = np.asarray(h.counts, dtype=float)
@@ -231,8 +221,8 @@ def plot_linear_vs_nonlinear(
         if x_linear is not None or x_nonlinear is not None:
             raise TypeError("with a NonlinearityResult, pass no x_linear or x_nonlinear")
         return _from_result(t, ax, labels)
-    if is_sindy(t):  # two fitted models
-        if not is_sindy(x_linear):
+    if common.is_sindy(t):  # two fitted models
+        if not common.is_sindy(x_linear):
             raise TypeError(
                 "with a model as first argument, pass the nonlinear model as second argument, got "
                 f"{type(x_linear).__name__}"
@@ -261,7 +251,7 @@ def _from_result(result, ax, labels) -> Axes:
     if lin.shape != non.shape:
         raise ValueError(f"result's coefficient matrices differ in shape: {lin.shape} and {non.shape}")
     terms = list(result.feature_names) or [f"f{k}" for k in range(lin.shape[1])]
-    ax = one_axes(ax)
+    ax = common.one_axes(ax)
     _coefficient_bars(ax, lin, non, terms, [f"x{i}" for i in range(lin.shape[0])], labels)
     verdict = "nonlinear" if bool(result) else "linear"
     ax.set_title(
@@ -272,16 +262,19 @@ def _from_result(result, ax, labels) -> Axes:
 
 def _from_models(model_linear, model_nonlinear, ax, column, labels) -> np.ndarray:
     """Figure 13 from two fitted models: their filtered states over time, their coefficients."""
-    models = [fitted_sindy(model_linear, "model_linear"), fitted_sindy(model_nonlinear, "model_nonlinear")]
+    models = [
+        common.fitted_sindy(model_linear, "model_linear"),
+        common.fitted_sindy(model_nonlinear, "model_nonlinear"),
+    ]
     coefs = [np.asarray(m.coefficients(), dtype=float) for m in models]
     term_lists = [list(m.get_feature_names()) for m in models]
     if coefs[0].shape != coefs[1].shape or term_lists[0] != term_lists[1]:
         raise ValueError("the two models have different libraries: their coefficients cannot be compared")
-    axes = many_axes(ax, 2)
+    axes = common.many_axes(ax, 2)
     n_states = coefs[0].shape[0]
-    column = check_int(column, "column", 0, n_states)
-    states = resolve_state_names(models[0], n_states)
-    curves = [(first(m.t_), first(m.x_filtered_)[:, column]) for m in models]
+    column = common.check_int(column, "column", 0, n_states)
+    states = common.resolve_state_names(models[0], n_states)
+    curves = [(common.first(m.t_), common.first(m.x_filtered_)[:, column]) for m in models]
     _ring_downs(axes[0], curves, states[column], labels)
     _coefficient_bars(axes[1], coefs[0], coefs[1], term_lists[0], states, labels)
     return axes
@@ -295,7 +288,7 @@ def _from_signals(t, x_linear, x_nonlinear, ax, column, labels) -> Axes:
         raise ValueError(f"x_nonlinear has shape {xn.shape} but x_linear has shape {xl.shape}")
     n = xl.shape[0]
     time = time_vector(check_time(t, n, "t"), n)
-    column = check_int(column, "column", 0, xl.shape[1])
-    ax = one_axes(ax)
+    column = common.check_int(column, "column", 0, xl.shape[1])
+    ax = common.one_axes(ax)
     _ring_downs(ax, [(time, xl[:, column]), (time, xn[:, column])], f"x{column}", labels)
     return ax

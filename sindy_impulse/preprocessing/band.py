@@ -16,7 +16,7 @@ What :func:`extract_band` does to a record ``y`` (offset removed) for a band ``(
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from numbers import Integral, Real
 
 import numpy as np
@@ -59,11 +59,11 @@ class BandSignal:
         (``20 log10(envelope / (sqrt 2 noise_rms))``).
     """
 
-    band_hz: tuple
+    y: np.ndarray  # the arrays stay out of the repr: __repr__ below says what they hold
+    t: np.ndarray
+    envelope: np.ndarray
     fs: float
-    y: np.ndarray = field(repr=False)
-    t: np.ndarray = field(repr=False)
-    envelope: np.ndarray = field(repr=False)
+    band_hz: tuple
     decimation: int
     samples_per_period: float
     start_index: int
