@@ -26,9 +26,9 @@ from sindy_impulse import DelayEmbedding, ImpulseSINDy
 from sindy_impulse.analysis import complexity_error
 from sindy_impulse.datasets import add_noise, damped_oscillator
 from sindy_impulse.feature_library.terms import term_table
-from sindy_impulse.identification.refinement import refine_coefficients, simulation_gamma
+from sindy_impulse.identification.refinement import refine_coefficients
 from sindy_impulse.identification.selection import HOPELESS, NOISE_TOL, REL_TOL
-from sindy_impulse.simulation import CompiledModel
+from sindy_impulse.simulation import CompiledModel, simulation_gamma
 from sindy_impulse.simulation.scoring import gamma_from_arrays
 
 DT = 0.01
