@@ -56,7 +56,7 @@ def has_nonlinear_terms(model) -> bool:
 def merge_chirps(pre, modes: list, rejected: list, fit_options: dict, first_periods) -> tuple:
     """Groups of close peaks that are one nonlinear mode (module docstring): ``(modes, rejected, notes)``.
 
-    ``fit_options`` are passed to :func:`._fit.fit_band` (template, onset time, record, ...);
+    ``fit_options`` are passed to :func:`.band_fit.fit_band` (template, onset time, record, ...);
     ``first_periods(band)`` cuts a band signal to the periods a mode is identified on.
     """
     notes = []

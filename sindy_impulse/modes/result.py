@@ -31,7 +31,7 @@ class Mode:
     fit_error : float
         How well the model reproduces the mode's prepared signal: the mean absolute deviation of its
         simulation (restarted every few periods for long records) relative to the local amplitude,
-        whatever measure selected the model (``modes._fit.fit_error_of``).
+        whatever measure selected the model (``modes.band_fit.fit_error_of``).
     model : ImpulseSINDy
         Fitted on ``states`` over ``t`` (states ``[y, dy]``: the band signal and its derivative), so every
         :mod:`sindy_impulse.analysis` function works on it.

@@ -2,11 +2,11 @@
 
 For each record (one hit; several sensors allowed): :func:`~sindy_impulse.preprocessing.preprocess` finds
 the impact, removes the offset, picks the spectral peaks and extracts one band-passed, decimated signal per
-peak; each band becomes one mode by the paper's machinery (:func:`._fit.fit_band`: derivative coordinates,
+peak; each band becomes one mode by the paper's machinery (:func:`.band_fit.fit_band`: derivative coordinates,
 TVRegDiff, the threshold sweep scored on the simulation error -- segment-wise for long records -- and the
 bounded refinement); the mode's frequency and damping ratio come from the identified model's linear part.
 Peaks too close for their damping (``Preprocessed.groups``) are also fitted jointly in their group's band
-(:func:`._fit.fit_group`); a joint mode that agrees with its peak's fitted damped sinusoid replaces the
+(:func:`.band_fit.fit_group`); a joint mode that agrees with its peak's fitted damped sinusoid replaces the
 peak's own-band result when that gave no mode or one that agrees less. A peak still without a mode that
 agrees with its sinusoid is fitted once more on the record with the other peaks' sinusoids subtracted, in a
 wide band (:func:`~sindy_impulse.preprocessing.deflation.deflated_band`; :func:`_deflated`). A group of
@@ -156,7 +156,7 @@ def _disagreement(mode, frequency_hz: float, damping_ratio: float) -> float:
 
 def _grouped(pre, own: dict, template, index: int) -> dict:
     """Peaks of each group too close for their damping (``pre.groups``) fitted jointly in the group's band
-    (:func:`._fit.fit_group`): {own band: Mode} where the joint mode agrees with the peak's fitted damped
+    (:func:`.band_fit.fit_group`): {own band: Mode} where the joint mode agrees with the peak's fitted damped
     sinusoid (``pre.peaks``; :func:`_disagreement` at most ``_AGREEMENT``) and better than the mode of its
     own band (``own``: {own band: Mode}), or the own band gave none. An own-band mode with nonlinear terms
     that fits its band better than the joint model stays (e.g. a nonlinear mode grouped with the broad
@@ -216,7 +216,7 @@ def _deflated(pre, modes: list, rejected: list, template, index: int, samples_pe
 
 def _joint(pre, skipped: tuple, template, index: int):
     """A peak whose own band is too narrow for its damping, fitted jointly with its closest neighbour in
-    one wide band holding both (see :func:`._fit.fit_group`); None when it has no neighbour.
+    one wide band holding both (see :func:`.band_fit.fit_group`); None when it has no neighbour.
 
     The joint band reaches out to the geometric midpoints towards the next peaks outside the pair: the
     wider the band, the shorter the band-pass transient that would otherwise swallow a strongly damped mode.
