@@ -22,6 +22,7 @@ def client():
         yield c
 
 
+@pytest.mark.slow  # starts a local dask cluster (6 s): in CI's second step (pytest -m slow)
 def test_features_computed_by_two_dask_workers_equal_the_local_ones(client):
     local = SINDyFeatures(dt=0.01).fit_transform(SERIES)
     with distributed.get_task_stream(client) as stream, joblib.parallel_config(backend="dask"):

@@ -36,6 +36,7 @@ def _survey(rec):
         return identify_modes(rec.y, fs=rec.fs, force=rec.force)
 
 
+@pytest.mark.slow  # 5-10 s per record: in CI's second step (pytest -m slow)
 @pytest.mark.parametrize("case", DUFFING, ids=["158Hz", "88Hz"])
 def test_split_peaks_of_a_nonlinear_mode_are_one_mode_and_its_harmonic_is_named(case):
     rec = _record(case)

@@ -23,6 +23,7 @@ def test_clean_record_has_no_problems():
     assert report.problems == {} and report.ringdown_found and not report.clipped.any()
 
 
+@pytest.mark.slow  # the clipped record's harmonics take 10 s of sinusoid fits: CI's second step
 def test_clipping_is_flagged_with_a_mask_of_the_clipped_samples():
     t, y = record(MODES, noise=1e-4)
     clipped = np.clip(y, -0.9, 0.9)
