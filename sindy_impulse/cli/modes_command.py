@@ -62,7 +62,10 @@ def survey_report(table, args):
             }
             for row, m in zip(rows, survey.modes)
         ],
-        "rejected": [{"band_hz": list(r.band_hz), "reason": r.reason} for r in survey.rejected],
+        "rejected": [
+            {"band_hz": r.band_hz and list(r.band_hz), "reason": r.reason, "record": r.record}
+            for r in survey.rejected
+        ],
         "notes": list(dict.fromkeys(str(w.message) for w in caught)),
     }
     return survey, report
@@ -82,7 +85,8 @@ def print_report(report: dict) -> None:
         for lhs, eq in m["equations"].items():
             print(f"       ({lhs[:-1]})' = {eq}")
     for r in report["rejected"]:
-        print(f"  rejected {r['band_hz'][0]:.4g}-{r['band_hz'][1]:.4g} Hz: {r['reason']}")
+        band = "record" if r["band_hz"] is None else f"{r['band_hz'][0]:.4g}-{r['band_hz'][1]:.4g} Hz"
+        print(f"  rejected {band}: {r['reason']}")
     for note in report["notes"]:
         print(f"note: {note}")
 

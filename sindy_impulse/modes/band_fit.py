@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -47,6 +48,39 @@ SEGMENT_PERIODS = Segmented().segment_periods
 #: free decay is local: on bands of hundreds of periods the segment-wise measure's model stays.
 OUTPUT_ERROR_PERIODS = 150
 _SENSOR_POWER = {"displacement": 0, "velocity": 1, "acceleration": 2}
+
+
+def isolated(bands_of):
+    """A fit whose failure stays its band's: any exception (not ``BaseException``: an interrupt still stops
+    the survey) becomes a :class:`Rejected` of the band it was fitting, or one per band of a group
+    (``bands_of(args)`` names them from the fit's positional arguments), with the error as its reason and
+    evidence, so the rest of the survey stands.
+
+    Examples
+    --------
+    >>> @isolated(lambda args: args[0])
+    ... def fit(band_hz, *, index=0):
+    ...     raise FloatingPointError("overflow")
+    >>> fit((90.0, 110.0), index=1).evidence
+    {'error': 'FloatingPointError', 'message': 'overflow'}
+    """
+
+    def decorate(fit):
+        @functools.wraps(fit)
+        def run(*args, index: int = 0, **kwargs):
+            try:
+                return fit(*args, index=index, **kwargs)
+            except Exception as err:  # noqa: BLE001 - one band's failure must not abort the survey
+                reason = f"the identification failed ({type(err).__name__}: {err})"
+                evidence = {"error": type(err).__name__, "message": str(err)}
+                bands = bands_of(args)
+                if isinstance(bands, list):
+                    return [Rejected(tuple(b), reason, index, evidence) for b in bands]
+                return Rejected(tuple(float(b) for b in bands), reason, index, evidence)
+
+        return run
+
+    return decorate
 
 
 def default_estimator():
@@ -139,6 +173,7 @@ def _shape(record, band, states, omega, channel) -> np.ndarray:
     return out
 
 
+@isolated(lambda args: args[0].band_hz)  # the band signal's band
 def fit_band(
     band,
     template,
@@ -204,6 +239,7 @@ def _without_protection(model):
     return model
 
 
+@isolated(lambda args: args[1])  # the peak's band
 def fit_direct(pre, band_hz, template, *, index: int = 0):
     """Identify the only mode of a record without band-pass: a strongly damped or short ring-down whose
     filter transient would swallow it (the paper's single-sensor route: the offset-removed record from
@@ -243,6 +279,7 @@ def fit_direct(pre, band_hz, template, *, index: int = 0):
     )
 
 
+@isolated(lambda args: list(args[1]))  # every peak band of the group
 def fit_group(band, peak_bands, template, *, onset_time: float, index: int = 0) -> list:
     """Identify close modes jointly: one band holding ``len(peak_bands)`` peaks whose own bands would be too
     narrow for their damping (the band-pass transient would swallow a strongly damped mode next to a lightly

@@ -145,11 +145,24 @@ class Mode:
 
 @dataclass(frozen=True)
 class Rejected:
-    """A spectral peak (band) that gave no mode, and why."""
+    """A spectral peak (band) that gave no mode, or a record that gave none, and why.
 
-    band_hz: tuple
+    Attributes
+    ----------
+    band_hz : (float, float) or None
+        The band; None for a row about a whole record (its identification failed).
+    reason : str
+        Why, in plain words.
+    record : int
+        Index of the hit (0 for one record).
+    evidence : dict
+        What the decision rests on (e.g. the error of a failed fit: ``{"error": ..., "message": ...}``).
+    """
+
+    band_hz: tuple | None
     reason: str
     record: int = 0
+    evidence: dict = field(default_factory=dict, compare=False)
 
 
 @dataclass(eq=False)
@@ -204,6 +217,11 @@ class ModalSurvey:
                 f"  {i:<3d} {m.frequency_hz:<11.6g} {m.damped_frequency_hz:<10.6g} {m.damping_ratio:<9.4g} "
                 f"{m.amplitude:<11.4g} {m.fit_error:<11.3g} {m.band_hz[0]:.4g}-{m.band_hz[1]:.4g}"
             )
-        lines += [f"  rejected {r.band_hz[0]:.4g}-{r.band_hz[1]:.4g} Hz: {r.reason}" for r in self.rejected]
+        lines += [f"  rejected {_band_text(r.band_hz)}: {r.reason}" for r in self.rejected]
         lines += [f"  note: {n}" for n in self.notes]
         return "\n".join(lines)
+
+
+def _band_text(band_hz) -> str:
+    """A band as text; a row about a whole record has none."""
+    return "record" if band_hz is None else f"{band_hz[0]:.4g}-{band_hz[1]:.4g} Hz"

@@ -98,7 +98,12 @@ def _first_periods(band, max_periods):
 
 
 def _survey_record(index, record, t, fs, force, options, template, sensor, channel, max_periods):
-    """Preprocess one hit and fit every band: (modes, rejected, preprocessed, notes)."""
+    """Preprocess one hit and fit every band: (modes, rejected, preprocessed, notes).
+
+    A problem of the input (preprocessing refuses it) raises its clear error; a failure of the
+    identification after that becomes one :class:`Rejected` row of the record (no band), with the error as
+    its evidence, so the other records of a survey stand.
+    """
     ref = _reference_channel(record, channel)
     pre = preprocess(record[:, ref], t, fs=fs, force=force, **options)
     notes = []
@@ -106,10 +111,22 @@ def _survey_record(index, record, t, fs, force, options, template, sensor, chann
         notes.append(f"record {index}: double hit at {', '.join(f'{h[0]:.4g} s' for h in pre.impact.hits)}")
     if len(pre.peaks) == 0:
         notes.append(f"record {index}: no spectral peak significantly above the noise floor: no ring-down")
+    try:
+        modes, rejected, found = _fit_record(index, record, pre, force, template, sensor, ref, max_periods,
+                                             options["samples_per_period"])
+    except Exception as err:  # noqa: BLE001 - one record's failure must not abort the survey
+        evidence = {"error": type(err).__name__, "message": str(err)}
+        reason = f"the identification of record {index} failed ({type(err).__name__}: {err})"
+        return [], [Rejected(None, reason, index, evidence)], pre, notes
+    return modes, rejected, pre, notes + found
+
+
+def _fit_record(index, record, pre, force, template, sensor, ref, max_periods, samples_per_period):
+    """Every band of a preprocessed hit fitted: (modes, rejected, notes)."""
     impulse = _impulse(force, pre)
     if len(pre.peaks) == 1 and not pre.bands:  # one mode the band-pass cannot keep: strongly damped, short
         out = fit_direct(pre, tuple(pre.peaks.band_hz[0]), template, index=index)
-        return ([out], [], pre, notes) if not isinstance(out, Rejected) else ([], [out], pre, notes)
+        return ([out], [], []) if not isinstance(out, Rejected) else ([], [out], [])
     modes, rejected = [], []
     for band in (_first_periods(b, max_periods) for b in pre.bands):
         out = fit_band(
@@ -134,13 +151,13 @@ def _survey_record(index, record, t, fs, force, options, template, sensor, chann
             modes.append(out)
         else:
             rejected.append(out if isinstance(out, Rejected) else Rejected(tuple(skipped), why, index))
-    modes, rejected = _deflated(pre, modes, rejected, template, index, options["samples_per_period"])
+    modes, rejected = _deflated(pre, modes, rejected, template, index, samples_per_period)
     fit_options = dict(template=template, onset_time=pre.impact.onset_time, record=record, channel=ref,
                        impulse=impulse, sensor=sensor, index=index)
     modes, rejected, merged = merge_chirps(pre, modes, rejected, fit_options,
                                            lambda band: _first_periods(band, max_periods))
     modes, rejected, harmonics = name_harmonics(modes, rejected)
-    return modes, rejected, pre, notes + merged + harmonics
+    return modes, rejected, merged + harmonics
 
 
 #: Largest disagreement (:func:`_disagreement`) of a jointly fitted mode with its peak's damped sinusoid.

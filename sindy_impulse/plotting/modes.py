@@ -28,7 +28,8 @@ def _spectrum_panel(ax: Axes, survey) -> None:
             mode.frequency_hz, color=f"C{k % 10}", lw=1.0, label=f"mode {k}: {mode.frequency_hz:.5g} Hz"
         )
     for r in survey.rejected:
-        ax.axvspan(*r.band_hz, color="k", alpha=0.06, lw=0, hatch="//")
+        if r.band_hz is not None:  # a row about a whole record has no band to shade
+            ax.axvspan(*r.band_hz, color="k", alpha=0.06, lw=0, hatch="//")
     high = max([m.band_hz[1] for m in survey.modes] + [spectrum.frequency_hz[-1] * 0.5])
     ax.set_xlim(0, min(spectrum.frequency_hz[-1], 1.2 * high))
     ax.set_xlabel("frequency [Hz]")
