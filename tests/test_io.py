@@ -310,3 +310,49 @@ def test_uff55_bad_modes(tmp_path):
     (tmp_path / "r.uff").write_text("")
     with pytest.raises(ValueError, match="no mode data set 55"):
         read_uff55(tmp_path / "r.uff")
+
+
+# ---------------------------------------------------------------------------------------------------------
+# the modal survey written as UFF 55 (survey.to_uff, sindy-impulse modes --uff)
+# ---------------------------------------------------------------------------------------------------------
+def _two_channel_survey():
+    import warnings
+
+    from sindy_impulse import identify_modes, impact_record
+
+    rec = impact_record([90.0, 210.0], [0.005, 0.008], fs=2048, duration=1.5, snr_db=50,
+                        sensor_dof=[0, 1], random_state=0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return identify_modes(rec.y, fs=rec.fs), rec
+
+
+def test_a_survey_written_as_uff55_reads_back_with_its_modes_and_shapes(tmp_path):
+    pytest.importorskip("pyuff")
+    survey, _ = _two_channel_survey()
+    assert len(survey.modes) == 2 and all(m.shape is not None for m in survey.modes)
+    path = survey.to_uff(tmp_path / "modes.unv", nodes=[11, 12])
+    back = read_uff55(path)
+    assert [b["frequency_hz"] for b in back] == [m.frequency_hz for m in survey.modes]
+    assert [b["damping_ratio"] for b in back] == [m.damping_ratio for m in survey.modes]
+    for b, m in zip(back, survey.modes):
+        assert list(b["nodes"]) == [11, 12]
+        np.testing.assert_allclose(b["shape"], m.shape, rtol=1e-5, atol=1e-6 * np.max(np.abs(m.shape)))
+    with pytest.raises(FileExistsError):
+        survey.to_uff(path)
+
+
+def test_the_modes_command_writes_the_uff55_table(tmp_path):
+    pytest.importorskip("pyuff")
+    import warnings
+
+    from sindy_impulse.cli import main
+
+    _, rec = _two_channel_survey()
+    csv = tmp_path / "hit.csv"
+    np.savetxt(csv, np.column_stack([rec.t, rec.y]), delimiter=",", header="t,a,b", comments="")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["modes", str(csv), "--no-nonlinearity", "--uff", str(tmp_path / "modes.unv")]) == 0
+    back = read_uff55(tmp_path / "modes.unv")
+    assert [round(b["frequency_hz"]) for b in back] == [90, 210]

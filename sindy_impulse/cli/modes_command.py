@@ -31,6 +31,12 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--sensor", choices=_SENSORS, help="kind of sensor (residues with --force)")
     p.add_argument("--no-nonlinearity", action="store_true", help="skip the test for nonlinearity (faster)")
     add_report_options(p)
+    p.add_argument(
+        "--uff",
+        metavar="OUT.unv",
+        help="also write the modal table as UFF 55 (frequency, damping ratio, shape per channel; nodes 1..n "
+        'in +Z; needs pip install "sindy-impulse[io]")',
+    )
     p.set_defaults(func=run)
     return p
 
@@ -92,7 +98,8 @@ def print_report(report: dict) -> None:
 
 
 def run(args) -> int:
-    check_outputs({"--json": args.json, "--plot": args.plot}, [args.file], figures=["--plot"])
+    outputs = {"--json": args.json, "--plot": args.plot, "--uff": args.uff}
+    check_outputs(outputs, [args.file], figures=["--plot"])
     table = read_csv(args.file, **data_options(args), extra=[args.force] if args.force else ())
     if args.force:
         table.extra["force"] = table.extra.pop(args.force)
@@ -108,4 +115,10 @@ def run(args) -> int:
     if args.plot:
         write_figure(args.plot, lambda: survey.plot()[0].figure)
         print(f"Figure of the spectrum and the modes written to {args.plot}")
+    if args.uff:
+        try:  # the file was checked above, as --json is: a named output is replaced
+            survey.to_uff(args.uff, overwrite=True)
+        except ImportError as err:
+            raise CLIError(str(err)) from None
+        print(f"UFF 55 modal table written to {args.uff}")
     return 0

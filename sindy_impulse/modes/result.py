@@ -209,6 +209,45 @@ class ModalSurvey:
 
         return plot_modes(self, axes=axes)
 
+    def to_uff(self, path, *, nodes=None, directions=None, overwrite: bool = False):
+        """Write the modal table as a UFF file of data sets 55 (one complex mode shape per mode).
+
+        Each mode's frequency, damping ratio and shape (one complex value per channel; a mode without a
+        shape is written as one node with ``1 + 0j``). Needs the ``io`` extra
+        (``pip install "sindy-impulse[io]"``); see :func:`sindy_impulse.io.write_uff55`.
+
+        Parameters
+        ----------
+        path : str or path-like
+            The file (``.unv`` or ``.uff``); an existing one is replaced only with ``overwrite=True``.
+        nodes, directions : sequence of int, optional
+            Node and direction (1, 2, 3 = +X, +Y, +Z) of each channel; default: the channel numbers
+            1..n in +Z.
+        overwrite : bool, default=False
+            Replace an existing file (else FileExistsError).
+
+        Returns
+        -------
+        Path
+            The file written.
+
+        Examples
+        --------
+        >>> from sindy_impulse import identify_modes, impact_record
+        >>> from sindy_impulse.io import read_uff55
+        >>> rec = impact_record([120.0, 240.0], [0.005, 0.01], fs=5000, duration=1.0, snr_db=50,
+        ...                     random_state=0)
+        >>> survey = identify_modes(rec.y, fs=rec.fs)
+        >>> import tempfile, os
+        >>> with tempfile.TemporaryDirectory() as folder:
+        ...     back = read_uff55(survey.to_uff(os.path.join(folder, "modes.unv")))
+        >>> [round(m["frequency_hz"], 1) for m in back]
+        [120.0, 240.0]
+        """
+        from ..io import write_uff55
+
+        return write_uff55(path, self.modes, nodes=nodes, directions=directions, overwrite=overwrite)
+
     def __repr__(self) -> str:
         head = f"ModalSurvey({len(self.modes)} mode(s), {len(self.rejected)} rejected)"
         lines = [head, "  #   f_n [Hz]    f_d [Hz]   damping   amplitude   fit error   band [Hz]"]
