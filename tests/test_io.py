@@ -356,3 +356,41 @@ def test_the_modes_command_writes_the_uff55_table(tmp_path):
         assert main(["modes", str(csv), "--no-nonlinearity", "--uff", str(tmp_path / "modes.unv")]) == 0
     back = read_uff55(tmp_path / "modes.unv")
     assert [round(b["frequency_hz"]) for b in back] == [90, 210]
+
+
+@pytest.mark.parametrize("suffix", [".npz", ".uff", ".tdms", ".lvm", ".mat"])
+def test_the_modes_command_reads_modal_testing_files_as_it_reads_csv(tmp_path, suffix):
+    import json
+    import warnings
+
+    from sindy_impulse.cli import main
+
+    if suffix in (".uff", ".tdms", ".lvm"):
+        pytest.importorskip({".uff": "pyuff", ".tdms": "nptdms", ".lvm": "lvm_read"}[suffix])
+    rec = impact_record([90.0, 210.0], [0.005, 0.008], fs=2048, duration=1.5, snr_db=50, random_state=0)
+    data = np.column_stack([rec.y, rec.force])
+    record = Record(data, rec.fs, channel_names=("acc", "hammer"), force_channel=1)
+    write_record(record, tmp_path / f"hit{suffix}")
+    csv = tmp_path / "hit.csv"
+    table = np.column_stack([rec.t, data])
+    np.savetxt(csv, table, delimiter=",", header="t,acc,hammer", comments="", fmt="%.17g")
+    reports = []
+    for path, extra in ((csv, ["--force", "hammer"]), (tmp_path / f"hit{suffix}", [])):
+        out = tmp_path / f"{path.suffix[1:]}.json"
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            assert main(["modes", str(path), "--no-nonlinearity", "--json", str(out), *extra]) == 0
+        reports.append(json.loads(out.read_text()))
+    assert reports[1]["channels"] == ["acc"]
+    by_csv, by_file = ([m["frequency_hz"] for m in r["modes"]] for r in reports)
+    assert [round(f) for f in by_csv] == [90, 210]
+    np.testing.assert_allclose(by_file, by_csv, rtol=1e-4)
+
+
+def test_the_modes_command_names_a_missing_channel(tmp_path, capsys):
+    from sindy_impulse.cli import main
+
+    rec = impact_record(90.0, 0.005, fs=2048, duration=1.0, random_state=0)
+    write_record(Record(rec.y[:, None], rec.fs, channel_names=("acc",)), tmp_path / "hit.npz")
+    assert main(["modes", str(tmp_path / "hit.npz"), "--force", "F"]) != 0
+    assert "no channel 'F'" in capsys.readouterr().err

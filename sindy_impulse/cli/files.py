@@ -29,6 +29,7 @@ __all__ = [
     "list_inputs",
     "open_input",
     "read_csv",
+    "read_measurement",
     "write_figure",
     "write_json",
 ]
@@ -406,3 +407,40 @@ def write_figure(path: str, draw: Callable) -> None:
         )
     finally:
         plt.close(figure)
+
+
+def read_measurement(path: str, columns=None, time=None, dt=None, extra=()) -> Table:
+    """A CSV file (:func:`read_csv`) or a modal-testing file read by :func:`sindy_impulse.io.read_record`
+    (UFF 58, LabVIEW ``.lvm``, TDMS, ``.mat``, ``.npz``), as the same :class:`Table`.
+
+    From a modal-testing file the sampling rate and the channel names come from the file; ``columns``
+    selects response channels by name (default: every channel but the force), ``extra`` names further
+    channels (e.g. ``force``; the file's own force channel is taken when it marks one and ``extra`` is
+    empty), ``dt`` must agree with the file's rate and ``time`` does not apply.
+    """
+    from ..io import FORMATS, read_record
+
+    suffix = os.path.splitext(path)[1].lower()
+    if suffix not in FORMATS or suffix == ".csv":
+        return read_csv(path, columns=columns, time=time, dt=dt, extra=extra)
+    if time is not None:
+        raise CLIError(f"--time names a CSV column; {path} holds its sampling rate itself")
+    try:
+        record = read_record(path, fs=None if dt is None else 1.0 / dt)
+    except ImportError as err:
+        raise CLIError(str(err)) from None
+    except (OSError, ValueError) as err:
+        raise CLIError(f"cannot read {path}: {err}") from None
+    names = list(record.channel_names)
+    for name in [*(columns or []), *extra]:
+        if name not in names:
+            raise CLIError(f"{path} has no channel {name!r}; its channels: {', '.join(names)}")
+    found = {name: record.data[:, names.index(name)] for name in extra}
+    if not extra and record.force is not None:
+        found["force"] = record.force
+    default = [n for k, n in enumerate(names) if k != record.force_channel and n not in extra]
+    chosen = list(columns) if columns else default
+    if not chosen:
+        raise CLIError(f"{path} holds no response channel besides the force")
+    data = record.data[:, [names.index(n) for n in chosen]]
+    return Table(str(path), chosen, data, record.t, None, found)

@@ -7,7 +7,7 @@ import argparse
 import math
 
 from ._options import add_input_options, add_report_options, data_options
-from .files import CLIError, check_outputs, read_csv, write_figure, write_json
+from .files import CLIError, check_outputs, read_measurement, write_figure, write_json
 
 __all__ = ["add_parser", "run"]
 
@@ -25,7 +25,12 @@ DESCRIPTION = (
 
 def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser("modes", help=SUMMARY, description=DESCRIPTION)
-    p.add_argument("file", metavar="FILE.csv", help="CSV file with a header row")
+    p.add_argument(
+        "file",
+        metavar="FILE",
+        help="the record: CSV with a header row, or UFF 58 (.uff/.unv), LabVIEW .lvm, TDMS, .mat, .npz "
+        '(sampling rate, channel names and force channel from the file; pip install "sindy-impulse[io]")',
+    )
     add_input_options(p)
     p.add_argument("--force", metavar="NAME", help="column of the hammer's force (onset, double hits)")
     p.add_argument("--sensor", choices=_SENSORS, help="kind of sensor (residues with --force)")
@@ -100,7 +105,7 @@ def print_report(report: dict) -> None:
 def run(args) -> int:
     outputs = {"--json": args.json, "--plot": args.plot, "--uff": args.uff}
     check_outputs(outputs, [args.file], figures=["--plot"])
-    table = read_csv(args.file, **data_options(args), extra=[args.force] if args.force else ())
+    table = read_measurement(args.file, **data_options(args), extra=[args.force] if args.force else ())
     if args.force:
         table.extra["force"] = table.extra.pop(args.force)
     if table.data.shape[0] < 64:
