@@ -179,6 +179,8 @@ class ModalSurvey:
         What preprocessing found and did, per record (onset, offset removed, peaks, bands, decimation).
     notes : list of str
         Remarks a user should read (double hits, no ring-down found, ...).
+    poles : list of PoleTable
+        The stabilisation diagram of each record (computed when first read).
     """
 
     modes: list
@@ -201,6 +203,24 @@ class ModalSurvey:
         ``nonlinear=True`` adds the verdict of the test for nonlinearity (it refits: slower).
         """
         return [m.row(nonlinear) for m in self.modes]
+
+    @cached_property
+    def poles(self) -> list:
+        """The stabilisation diagram of each record's free decay (offset removed, from the end of the hit):
+        one :class:`~sindy_impulse.poles.PoleTable` per record (frequency, damping ratio, model order,
+        stable or not), computed when first read (:func:`~sindy_impulse.poles.stabilisation`; a record too
+        short for it gives an empty table). ``survey.poles[0].modes()`` are the modes the stable poles make.
+        """
+        from ..poles import PoleTable, stabilisation
+
+        tables = []
+        for pre in self.preprocessing:
+            try:
+                tables.append(stabilisation(pre.y[pre.impact.ringdown_index :], fs=pre.fs))
+            except ValueError:  # fewer samples than a Hankel matrix needs
+                empty = np.empty(0)
+                tables.append(PoleTable(empty, empty, empty.astype(int), empty.astype(bool), ()))
+        return tables
 
     def plot(self, axes=None):
         """Spectrum with the modes marked, and each mode's data against its model

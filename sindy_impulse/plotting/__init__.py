@@ -35,6 +35,7 @@ from .filtering import plot_alpha_curve, plot_filtering
 from .identification import plot_consensus, plot_linear_vs_nonlinear, plot_parameter_dependency
 from .mac import plot_mac
 from .modes import plot_modes
+from .stabilisation import plot_stabilisation
 from .sweep import plot_reconstruction, plot_refinement, plot_sweep
 
 __all__ = [
@@ -51,5 +52,6 @@ __all__ = [
     "plot_parameter_dependency",
     "plot_reconstruction",
     "plot_refinement",
+    "plot_stabilisation",
     "plot_sweep",
 ]

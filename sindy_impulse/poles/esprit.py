@@ -24,7 +24,7 @@ from scipy.signal import correlate
 from .._utils.params import Interval, check_param
 from .._utils.validation import check_signal, check_time
 
-__all__ = ["esprit", "EspritModes"]
+__all__ = ["esprit", "EspritModes", "SignalSpace"]
 
 #: Singular values below this fraction of the largest are rounding (the Gram matrix squares them).
 _RELATIVE_FLOOR = 1e-7
@@ -129,6 +129,48 @@ def _physical(z, s, c, loud, duration) -> np.ndarray:
     return idx[np.argsort(np.abs(s[idx]))]
 
 
+class SignalSpace:
+    """The Hankel matrix's left singular vectors of a free decay, once, for poles at any model order.
+
+    ``L = min(max_rows, n // 3)`` rows; the ``L x L`` Gram matrix is eigen-decomposed (see :func:`esprit`'s
+    cost). :meth:`poles` at ``order`` solves the shift invariance of the first ``order`` vectors, fits the
+    amplitudes and keeps the physical poles; the stabilisation diagram
+    (:func:`~sindy_impulse.poles.stabilisation`) calls it at every order of its range.
+    """
+
+    def __init__(self, Y: np.ndarray, max_rows: int):
+        self.Y = Y
+        n = Y.shape[0]
+        self.rows = max(min(max_rows, n // 3), 3)
+        evals, vecs = np.linalg.eigh(_hankel_gram(Y, self.rows))
+        self.singular_values = np.sqrt(np.maximum(evals[::-1], 0.0))
+        self.vectors = vecs[:, ::-1]
+
+    def default_order(self) -> int:
+        """The singular values above ``1.5 x`` the noise edge (and ``1e-7`` of the largest), <= ``L // 2``."""
+        sv, L, n = self.singular_values, self.rows, self.Y.shape[0]
+        edge = np.median(sv) * (1 + np.sqrt(L / (n - L + 1))) * _NOISE_MARGIN
+        return min(max(int(np.sum(sv > max(edge, _RELATIVE_FLOOR * sv[0]))), 1), L // 2)
+
+    def poles(self, order: int, dt: float, min_snr_db: float):
+        """``(z, s, c, residual, physical)`` at ``order``: every pole, its continuous ``s``, amplitudes, the
+        fit's residual and the indices of the physical poles sorted by frequency."""
+        n, L = self.Y.shape[0], self.rows
+        if order > L - 2:
+            raise ValueError(
+                f"order={order} needs more Hankel rows: at most {L - 2} with {n} samples and max_rows"
+            )
+        U = self.vectors[:, :order]
+        z = np.linalg.eigvals(np.linalg.lstsq(U[:-1], U[1:], rcond=None)[0]).astype(complex)
+        z = z[np.isfinite(z) & (np.abs(z) > 1e-12)]  # a pole at 0 is a one-sample transient, not a mode
+        if z.size == 0 or self.singular_values[0] == 0:
+            z = np.ones(1, dtype=complex)  # fit the mean only: no physical mode
+        c, resid, energy = _fit_amplitudes(self.Y, z)
+        s = np.log(z) / dt
+        snr_db = _band_snr_db(s, energy, resid, dt)
+        return z, s, c, resid, _physical(z, s, c, snr_db >= min_snr_db, n * dt)
+
+
 def _sampling_step(t, fs, n) -> float:
     if (t is None) == (fs is None):
         raise ValueError("esprit: give either t (a time step or vector) or fs (the sampling rate), not both")
@@ -213,25 +255,9 @@ def esprit(
     check_param("subtract_tail_mean", subtract_tail_mean, [None, Interval(Real, 0, 0.5, "right")], "esprit")
     if subtract_tail_mean is not None:
         Y = Y - Y[n - max(1, int(np.ceil(subtract_tail_mean * n))) :].mean(axis=0)
-    L = max(min(max_rows, n // 3), 3)
-    evals, vecs = np.linalg.eigh(_hankel_gram(Y, L))
-    sv = np.sqrt(np.maximum(evals[::-1], 0.0))
-    if order is None:
-        edge = np.median(sv) * (1 + np.sqrt(L / (n - L + 1))) * _NOISE_MARGIN
-        order = min(max(int(np.sum(sv > max(edge, _RELATIVE_FLOOR * sv[0]))), 1), L // 2)
-    if order > L - 2:
-        raise ValueError(
-            f"order={order} needs more Hankel rows: at most {L - 2} with {n} samples and max_rows"
-        )
-    U = vecs[:, ::-1][:, :order]
-    z = np.linalg.eigvals(np.linalg.lstsq(U[:-1], U[1:], rcond=None)[0]).astype(complex)
-    z = z[np.isfinite(z) & (np.abs(z) > 1e-12)]  # a pole at 0 is a one-sample transient, not a mode
-    if z.size == 0 or sv[0] == 0:
-        z = np.ones(1, dtype=complex)  # fit the mean only: no physical mode
-    c, resid, energy = _fit_amplitudes(Y, z)
-    s = np.log(z) / dt
-    snr_db = _band_snr_db(s, energy, resid, dt)
-    idx = _physical(z, s, c, snr_db >= min_snr_db, n * dt)
+    space = SignalSpace(Y, max_rows)
+    order = space.default_order() if order is None else order
+    z, s, c, resid, idx = space.poles(order, dt, min_snr_db)
     amps, phases = 2 * np.abs(c[idx]), np.angle(c[idx])
     noise = np.sqrt(np.sum(resid**2, axis=0) / max(n - z.size, 1))
     squeeze = (lambda a: a[..., 0]) if np.ndim(y) == 1 else (lambda a: a)

@@ -1,0 +1,171 @@
+"""The stabilisation diagram of a free decay: ESPRIT poles over a range of model orders, and which are stable.
+
+A physical mode's pole stays put when the model order grows; noise and computational poles wander. The
+experimental modal analysis tools (LSCF, SSI, ERA) show every pole on a chart of order against frequency
+and keep the ones that recur: here a pole is **stable** when, at :data:`MIN_ORDERS` or more orders of the
+range (its own included), some physical pole lies within :data:`FREQUENCY_TOL` (relative) of its
+undamped natural frequency and :data:`DAMPING_TOL` (relative) of its damping ratio. Each order's poles are
+:func:`~sindy_impulse.poles.esprit`'s physical ones (oscillatory, decaying, above the noise in their band,
+not a split of a stronger pole), all from one Hankel decomposition (:class:`~.esprit.SignalSpace`).
+
+:meth:`PoleTable.modes` gathers the stable poles into one mode per cluster of frequencies: the medians of
+its poles' frequencies and damping ratios, and the number of orders that found it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from numbers import Integral, Real
+
+import numpy as np
+
+from .._utils.params import Interval, check_param
+from .._utils.validation import check_signal
+from .esprit import SignalSpace, _sampling_step
+
+__all__ = ["stabilisation", "PoleTable", "StableMode", "ORDERS", "FREQUENCY_TOL", "DAMPING_TOL", "MIN_ORDERS"]
+
+#: Model orders of the diagram (complex exponentials fitted: two per mode).
+ORDERS = tuple(range(10, 61, 2))
+#: A pole recurs at another order within this relative difference of its natural frequency ...
+FREQUENCY_TOL = 0.005
+#: ... and this relative difference of its damping ratio ...
+DAMPING_TOL = 0.1
+#: ... at this many orders (its own included) to be stable.
+MIN_ORDERS = 5
+
+
+@dataclass(frozen=True)
+class StableMode:
+    """One cluster of stable poles: a mode the diagram finds.
+
+    Attributes
+    ----------
+    frequency_hz, damping_ratio : float
+        Medians over the cluster's poles (undamped natural frequency, damping ratio).
+    n_orders : int
+        Orders with a pole in the cluster.
+    """
+
+    frequency_hz: float
+    damping_ratio: float
+    n_orders: int
+
+
+@dataclass(frozen=True)
+class PoleTable:
+    """Every physical pole of the diagram, one row per pole and order.
+
+    Attributes
+    ----------
+    frequency_hz, damping_ratio : ndarray (n_poles,)
+        Undamped natural frequency and damping ratio.
+    order : ndarray of int (n_poles,)
+        The model order the pole was found at.
+    stable : ndarray of bool (n_poles,)
+        Whether it recurs (see the module).
+    orders : tuple of int
+        The orders of the diagram.
+    """
+
+    frequency_hz: np.ndarray
+    damping_ratio: np.ndarray
+    order: np.ndarray
+    stable: np.ndarray
+    orders: tuple
+
+    def __len__(self) -> int:
+        return int(self.order.size)
+
+    def modes(self) -> list[StableMode]:
+        """The stable poles gathered into modes, by frequency: neighbours (sorted by frequency) closer
+        than :data:`FREQUENCY_TOL` belong to one cluster.
+
+        Examples
+        --------
+        >>> from sindy_impulse.datasets import impact_record
+        >>> rec = impact_record([40.0, 110.0], [0.01, 0.004], fs=2000.0, duration=2.0, random_state=0)
+        >>> table = stabilisation(rec.y[rec.free_decay_index:], fs=rec.fs)
+        >>> [(round(m.frequency_hz, 2), round(m.damping_ratio, 4)) for m in table.modes()]
+        [(40.0, 0.01), (110.0, 0.004)]
+        """
+        f, zeta, k = self.frequency_hz[self.stable], self.damping_ratio[self.stable], self.order[self.stable]
+        if f.size == 0:
+            return []
+        sort = np.argsort(f)
+        f, zeta, k = f[sort], zeta[sort], k[sort]
+        breaks = np.flatnonzero(np.diff(f) > FREQUENCY_TOL * f[1:]) + 1
+        return [
+            StableMode(float(np.median(f[g])), float(np.median(zeta[g])), int(np.unique(k[g]).size))
+            for g in np.split(np.arange(f.size), breaks)
+        ]
+
+
+def _stable(f: np.ndarray, zeta: np.ndarray, order: np.ndarray, min_orders: int) -> np.ndarray:
+    """Per pole: whether poles within the tolerances stand at ``min_orders`` orders or more."""
+    close = np.abs(f[:, None] - f[None, :]) <= FREQUENCY_TOL * f[:, None]
+    close &= np.abs(zeta[:, None] - zeta[None, :]) <= DAMPING_TOL * zeta[:, None]
+    levels = np.unique(order)
+    at_order = order[None, :] == levels[:, None]  # (n_orders, n_poles)
+    counts = (close.astype(np.int64) @ at_order.T.astype(np.int64) > 0).sum(axis=1)
+    return counts >= min_orders
+
+
+def stabilisation(
+    y,
+    t=None,
+    *,
+    fs: float | None = None,
+    orders=ORDERS,
+    min_orders: int = MIN_ORDERS,
+    max_rows: int = 512,
+    min_snr_db: float = 10.0,
+) -> PoleTable:
+    """The stabilisation diagram of a free decay: physical ESPRIT poles at each order, stable or not.
+
+    Parameters
+    ----------
+    y : array-like (n,) or (n, n_channels)
+        The free decay (from the end of the hit on), offset removed; channels share the poles.
+    t : float or array-like, optional
+        Time step or uniform time vector; or give ``fs``.
+    fs : float, optional
+        Sampling rate (Hz).
+    orders : sequence of int, default=ORDERS (10, 12, ..., 60)
+        Model orders (complex exponentials: two per mode); orders above what the record's Hankel matrix
+        holds (``L - 2``) are left out.
+    min_orders : int, default=MIN_ORDERS
+        Orders a pole must recur at to be stable.
+    max_rows, min_snr_db
+        As in :func:`~sindy_impulse.poles.esprit`.
+
+    Returns
+    -------
+    PoleTable
+
+    Examples
+    --------
+    >>> from sindy_impulse.datasets import impact_record
+    >>> rec = impact_record(80.0, 0.02, fs=1000.0, duration=1.0, snr_db=40, random_state=1)
+    >>> table = stabilisation(rec.y[rec.free_decay_index:], fs=rec.fs)
+    >>> bool(table.stable.any()), [round(m.frequency_hz) for m in table.modes()]
+    (True, [80])
+    """
+    Y = check_signal(y, "y", min_samples=8)
+    dt = _sampling_step(t, fs, Y.shape[0])
+    check_param("min_orders", min_orders, [Interval(Integral, 1, None)], "stabilisation")
+    check_param("max_rows", max_rows, [Interval(Integral, 3, None)], "stabilisation")
+    check_param("min_snr_db", min_snr_db, [Interval(Real, None, None)], "stabilisation")
+    wanted = np.asarray(list(orders) if not isinstance(orders, np.ndarray) else orders)
+    integers = wanted.ndim == 1 and wanted.size > 0 and np.issubdtype(wanted.dtype, np.integer)
+    if not integers or np.any(wanted < 1):
+        raise ValueError(f"orders must be a non-empty sequence of positive integers, got {orders!r}")
+    space = SignalSpace(Y, max_rows)
+    usable = tuple(int(k) for k in np.unique(wanted) if k <= space.rows - 2)
+    rows = []
+    for k in usable:
+        _, s, _, _, idx = space.poles(k, dt, min_snr_db)
+        rows += [(abs(p) / (2 * np.pi), -p.real / abs(p), k) for p in s[idx]]
+    f, zeta, order = (np.array(col, dtype=float) for col in zip(*rows)) if rows else (np.empty(0),) * 3
+    order = order.astype(int)
+    return PoleTable(f, zeta, order, _stable(f, zeta, order, min_orders), usable)
