@@ -109,8 +109,6 @@ def _survey_record(index, record, t, fs, force, options, template, sensor, chann
     notes = []
     if pre.impact.double_hit:
         notes.append(f"record {index}: double hit at {', '.join(f'{h[0]:.4g} s' for h in pre.impact.hits)}")
-    if len(pre.peaks) == 0:
-        notes.append(f"record {index}: no spectral peak significantly above the noise floor: no ring-down")
     try:
         modes, rejected, found = _fit_record(index, record, pre, force, template, sensor, ref, max_periods,
                                              options["samples_per_period"])
@@ -124,6 +122,8 @@ def _survey_record(index, record, t, fs, force, options, template, sensor, chann
 def _fit_record(index, record, pre, force, template, sensor, ref, max_periods, samples_per_period):
     """Every band of a preprocessed hit fitted: (modes, rejected, notes)."""
     impulse = _impulse(force, pre)
+    if len(pre.peaks) == 0:
+        return _from_stable_poles(index, pre, template)
     if len(pre.peaks) == 1 and not pre.bands:  # one mode the band-pass cannot keep: strongly damped, short
         out = fit_direct(pre, tuple(pre.peaks.band_hz[0]), template, index=index)
         return ([out], [], []) if not isinstance(out, Rejected) else ([], [out], [])
@@ -158,6 +158,39 @@ def _fit_record(index, record, pre, force, template, sensor, ref, max_periods, s
                                            lambda band: _first_periods(band, max_periods))
     modes, rejected, harmonics = name_harmonics(modes, rejected)
     return modes, rejected, merged + harmonics
+
+
+#: Half-power half-widths on each side of a stable pole that make its band (fit_direct's search range).
+_POLE_BAND_WIDTHS = 3.0
+
+
+def _from_stable_poles(index, pre, template):
+    """No spectral peak stands above the noise floor: a short, strongly damped record puts one or two
+    spectral bins on a mode (the paper's oscillator: 4 s at 20 % damping). The stabilisation diagram of
+    the free decay (:func:`~sindy_impulse.poles.stabilisation`) has no bin limit: when it finds exactly
+    one stable mode, that mode is identified directly (:func:`.band_fit.fit_direct`, the single-mode route
+    without band-pass) in the band of :data:`_POLE_BAND_WIDTHS` half-power half-widths around it.
+    (modes, rejected, notes)."""
+    from ..poles import stabilisation
+
+    decay = pre.y[pre.impact.ringdown_index :]
+    try:
+        found = stabilisation(decay, fs=pre.fs).modes()
+    except ValueError:  # too short for a Hankel matrix
+        found = []
+    if len(found) != 1:
+        why = "no stable pole either" if not found else f"{len(found)} stable modes: give bands="
+        return [], [], [f"record {index}: no spectral peak significantly above the noise floor ({why})"]
+    mode = found[0]
+    f, half = mode.frequency_hz, _POLE_BAND_WIDTHS * mode.damping_ratio * mode.frequency_hz
+    band = (max(f - half, 0.05 * f), min(f + half, pre.fs / 2))
+    out = fit_direct(pre, band, template, index=index)
+    note = (
+        f"record {index}: no spectral peak above the noise floor; the stabilisation diagram's stable mode "
+        f"at {mode.frequency_hz:.4g} Hz (damping ratio {mode.damping_ratio:.3g}, {mode.n_orders} orders) "
+        "was identified without band-pass"
+    )
+    return ([out], [], [note]) if isinstance(out, Mode) else ([], [out], [note])
 
 
 #: Largest disagreement (:func:`_disagreement`) of a jointly fitted mode with its peak's damped sinusoid.
