@@ -92,9 +92,36 @@ def test_bandpass_methods_agree_in_the_pass_band():
     assert np.max(np.abs(butter[inner] - fft[inner])) < 0.05
 
 
-def test_too_few_samples_per_period_is_refused():
-    with pytest.raises(ValueError, match="samples per period"):
-        extract_band(_mode(150.0, 0.003), FS, (700.0, 740.0), min_samples_per_period=8)
+def test_a_mode_with_few_samples_per_period_keeps_its_frequency_and_decay_when_resampled():
+    # 720 Hz at 5 kHz: 6.9 samples per period, below min_samples_per_period: the band is resampled x3
+    band = extract_band(_mode(720.0, 0.003), FS, (690.0, 750.0), min_samples_per_period=8)
+    assert band.upsampling == 3 and band.fs == 3 * FS
+    crossings = np.flatnonzero(np.diff(np.sign(band.y)) > 0)
+    frequency = (crossings.size - 1) / (band.t[crossings[-1]] - band.t[crossings[0]])
+    assert frequency == pytest.approx(720.0 * np.sqrt(1 - 0.003**2), rel=2e-4)
+    decay = -np.polyfit(band.t, np.log(band.envelope), 1)[0]
+    assert decay == pytest.approx(2 * np.pi * 720.0 * 0.003, rel=0.02)
+
+
+def test_resampling_a_band_is_exact_interpolation():
+    from sindy_impulse.preprocessing.band import resample_band
+
+    rate, f = 1000.0, 370.0  # 2.7 samples per period
+    k = np.arange(2000)
+    z = np.exp(2j * np.pi * f * k / rate) * np.exp(-0.5 * k / rate)
+    signal, envelope, position = resample_band(z, 200, 1800, rate, 360.0, 6)
+    assert position[0] == 200 and np.allclose(np.diff(position), 1 / 6)
+    truth = np.exp(2j * np.pi * f * position / rate) * np.exp(-0.5 * position / rate)
+    np.testing.assert_allclose(signal, truth.real, atol=1e-9)
+    np.testing.assert_allclose(envelope, np.abs(truth), rtol=1e-9)
+
+
+def test_a_band_above_the_analysers_limit_is_tried_with_a_warning():
+    from sindy_impulse.exceptions import DataWarning
+
+    with pytest.warns(DataWarning, match="fs / 2.56"):
+        band = extract_band(_mode(2100.0, 0.005), FS, (2000.0, 2200.0))
+    assert band.upsampling == 7 and band.samples_per_period >= 16
 
 
 def test_decimation_factor_keeps_the_target():

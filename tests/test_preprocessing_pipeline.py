@@ -67,11 +67,14 @@ def test_preprocess_with_force_and_double_hit():
     assert all(b.start_index > pre.impact.ringdown_index for b in pre.bands)
 
 
-def test_preprocess_skips_a_band_with_too_few_samples_per_period():
+def test_preprocess_resamples_a_band_with_few_samples_per_period():
+    # 1500 Hz at 5 kHz: 3.3 samples per period (below the analysers' fs / 2.56): resampled, not refused
     t, y = record([(120.0, 0.005, 1.0), (1500.0, 0.005, 1.0)], noise=1e-3)
-    with pytest.warns(DataWarning, match="band skipped.*samples per period"):
-        pre = preprocess(y, fs=FS)
-    assert len(pre.bands) == 1 and len(pre.skipped) == 1
+    pre = preprocess(y, fs=FS)
+    assert len(pre.bands) == 2 and not pre.skipped
+    low, high = sorted(pre.bands, key=lambda b: b.band_hz[0])
+    assert low.upsampling == 1 and high.upsampling == 5 and high.samples_per_period >= 16
+    assert high.record_fs == FS and high.fs == 5 * FS
 
 
 def test_preprocess_warns_on_pure_noise():
@@ -175,6 +178,9 @@ def test_two_channels_are_refused(raw):
         preprocess(np.column_stack([raw[1], raw[1]]), fs=FS)
 
 
-def test_not_enough_samples_per_period_for_a_band(raw):
-    with pytest.raises(ValueError, match="only 6.1 samples per period.*min_samples_per_period"):
-        extract_band(raw[1], FS, (780.0, 860.0))
+def test_a_band_of_few_samples_per_period_is_resampled_not_refused():
+    t, y = record([(820.0, 0.003, 1.0)], noise=1e-4)
+    band = extract_band(y, FS, (780.0, 860.0), start=int(0.2 * FS) + 5)  # 6.1 samples per period at FS
+    assert band.upsampling == 3 and band.decimation == 1
+    assert band.samples_per_period == pytest.approx(3 * FS / np.sqrt(780.0 * 860.0))
+    assert np.allclose(np.diff(band.t), 1 / (3 * FS))

@@ -11,6 +11,7 @@ import pysindy as ps
 from ..optimizers import fresh_copy
 from ..poles.modal import modal_parameters
 from ..preprocessing import bandpass
+from ..preprocessing.band import resample_band
 from ..simulation.scoring import AUTO_PERIODS, Auto, Segmented
 from ._states import EDGE, STATE_NAMES, channel_shape, derivative_states, group_states
 from .result import Mode, Rejected
@@ -142,7 +143,7 @@ MAX_TRIM_DECAY, MAX_WIDTH_SHARE = 3.0, 0.5
 
 def _too_narrow(band, frequency: float, zeta: float) -> str | None:
     """Why the band cannot represent a mode this damped (None when it can)."""
-    decay = zeta * 2 * np.pi * frequency * band.trimmed_start / (band.fs * band.decimation)
+    decay = zeta * 2 * np.pi * frequency * band.trimmed_start / band.record_fs
     width = 2 * zeta * frequency / (band.band_hz[1] - band.band_hz[0])
     if decay > MAX_TRIM_DECAY or width > MAX_WIDTH_SHARE:
         return (
@@ -163,12 +164,18 @@ def _poor_fit(band_hz, fit_error: float, index: int) -> Rejected:
 def _shape(record, band, states, omega, channel) -> np.ndarray:
     """Complex amplitude of the mode in every channel relative to the reference channel."""
     out = np.empty(record.shape[1], dtype=complex)
+    span = (band.start_index, band.stop_index)
     for c in range(record.shape[1]):
         if c == channel:
             out[c] = 1.0
             continue
-        z = bandpass(record[:, c], band.fs * band.decimation, band.band_hz)
-        other = z[band.start_index : band.stop_index : band.decimation][EDGE : EDGE + len(states)]
+        if band.upsampling > 1:  # the other channel resampled as the band signal was
+            z = bandpass(record[:, c], band.record_fs, band.band_hz, analytic=True)
+            centre = float(np.sqrt(band.band_hz[0] * band.band_hz[1]))
+            other = resample_band(z, *span, band.record_fs, centre, band.upsampling)[0]
+        else:
+            other = bandpass(record[:, c], band.record_fs, band.band_hz)[span[0] : span[1] : band.decimation]
+        other = other[EDGE : EDGE + len(states)]
         out[c] = channel_shape(states[: len(other), 0], states[: len(other), 1], omega, other)
     return out
 

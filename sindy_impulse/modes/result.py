@@ -81,6 +81,12 @@ class Mode:
         return self.frequency_hz * math.sqrt(max(1.0 - self.damping_ratio**2, 0.0))
 
     @property
+    def fitted_fs(self) -> float:
+        """The sampling rate (Hz) the mode's model was fitted at: the record's, divided by the band's
+        decimation, or multiplied by its resampling for a mode with few samples per period."""
+        return float(1.0 / np.median(np.diff(self.t))) if len(self.t) > 1 else math.nan
+
+    @property
     def diagnostics(self):
         """The checks and verdict of the mode's identification (the model's
         :class:`~sindy_impulse.diagnostics.FitDiagnostics`: fit error, terms, frequencies, data problems).

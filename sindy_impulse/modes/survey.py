@@ -85,7 +85,7 @@ def _first_periods(band, max_periods):
     keep = None if max_periods is None else int(np.ceil(max_periods * band.samples_per_period))
     if keep is None or keep >= band.y.size:
         return band
-    stop = band.start_index + keep * band.decimation
+    stop = band.start_index + int(np.ceil(keep * band.decimation / band.upsampling))
     return replace(
         band,
         y=band.y[:keep],
@@ -128,6 +128,13 @@ def _fit_record(index, record, pre, force, template, sensor, ref, max_periods, s
         out = fit_direct(pre, tuple(pre.peaks.band_hz[0]), template, index=index)
         return ([out], [], []) if not isinstance(out, Rejected) else ([], [out], [])
     modes, rejected = [], []
+    resampled = [
+        f"record {index}: band {b.band_hz[0]:.4g}-{b.band_hz[1]:.4g} Hz has "
+        f"{b.samples_per_period / b.upsampling:.3g} samples per period at fs; its signal was resampled "
+        f"x{b.upsampling} (the model is fitted at {b.fs:.6g} Hz)"
+        for b in pre.bands
+        if b.upsampling > 1
+    ]
     for band in (_first_periods(b, max_periods) for b in pre.bands):
         out = fit_band(
             band,
@@ -157,7 +164,7 @@ def _fit_record(index, record, pre, force, template, sensor, ref, max_periods, s
     modes, rejected, merged = merge_chirps(pre, modes, rejected, fit_options,
                                            lambda band: _first_periods(band, max_periods))
     modes, rejected, harmonics = name_harmonics(modes, rejected)
-    return modes, rejected, merged + harmonics
+    return modes, rejected, resampled + merged + harmonics
 
 
 #: Half-power half-widths on each side of a stable pole that make its band (fit_direct's search range).

@@ -12,22 +12,34 @@ What :func:`extract_band` does to a record ``y`` (offset removed) for a band ``(
 4. keep every ``q``-th sample, ``q`` the largest integer leaving ``samples_per_period`` (16) samples per
    period of the band's centre ``sqrt(low high)``. The band-pass is the anti-alias filter: above
    ``high`` its gain falls as a Gaussian, far below the new Nyquist frequency (8 times the centre).
+   A band whose centre has fewer than ``min_samples_per_period`` (8) samples per period at the record's
+   rate is **resampled** instead, by the integer factor that gives it ``samples_per_period``: the band
+   signal's complex envelope about the centre, ``z(t) exp(-2 pi i f_c t)``, holds frequencies up to the
+   band's half-width only, far below the record's rate, so a quintic spline interpolates it (error 4e-12
+   of the amplitude for a component 10 Hz off the centre at 1 kHz, 7e-5 at 150 Hz off) and it is
+   modulated back (``upsampling`` says by how much). Analysers
+   record up to ``fs / 2.56``: a band centred above that (up to ``fs / 2``) is tried, with a
+   :class:`~sindy_impulse.exceptions.DataWarning`.
 """
 
 from __future__ import annotations
 
+import math
+import warnings
 from dataclasses import dataclass
 from numbers import Integral, Real
 
 import numpy as np
+from scipy.interpolate import make_interp_spline
 from scipy.ndimage import uniform_filter1d
 
 from .._utils.params import Interval, check_param
+from ..exceptions import DataWarning
 from ._record import check_fs, check_signal_1d
 from .filters import _METHODS, _ORDER, bandpass, check_band, decimation_factor, filter_gain, transient_samples
 from .spectrum import Spectrum, ringdown_spectrum
 
-__all__ = ["BandSignal", "band_noise_rms", "record_end", "extract_band"]
+__all__ = ["BandSignal", "band_noise_rms", "record_end", "extract_band", "resample_band"]
 
 
 @dataclass(frozen=True)
@@ -54,6 +66,8 @@ class BandSignal:
         Samples (original rate) dropped at the end (noise floor and filter transient).
     end_reason : str
         ``"noise floor"`` or ``"filter transient"`` (the record ended before the noise floor).
+    upsampling : int
+        The band signal is at ``upsampling`` times the record's rate (1: not resampled; see the module).
     noise_rms, snr_db : float
         Noise standard deviation in the band, and the signal-to-noise ratio at the first kept sample
         (``20 log10(envelope / (sqrt 2 noise_rms))``).
@@ -73,6 +87,12 @@ class BandSignal:
     end_reason: str
     noise_rms: float
     snr_db: float
+    upsampling: int = 1
+
+    @property
+    def record_fs(self) -> float:
+        """The sampling rate (Hz) of the record the band was extracted from."""
+        return self.fs * self.decimation / self.upsampling
 
     @property
     def n_periods(self) -> float:
@@ -135,14 +155,48 @@ def record_end(envelope, noise_rms: float, *, fs: float, frequency_hz: float, ba
     return int(start + below[0]) if below.size else int(env.size)
 
 
+#: Highest band centre, as a fraction of the sampling rate, identified without a warning: analysers record
+#: up to ``fs / 2.56`` (their anti-alias filter's pass band).
+ANALYSER_LIMIT = 1 / 2.56
+#: Samples of the band signal resampled beyond each end of the kept stretch (the interpolator's edges).
+_RESAMPLE_PAD = 32
+
+
 def _check_extract(arr, rate, band_hz, start, samples_per_period, min_samples_per_period, min_periods):
+    """The band, its centre, the decimation factor and the upsampling factor (one of them is 1)."""
     band = check_band(band_hz, rate)
     check_param("start", start, [Interval(Integral, 0, arr.size - 1)], "extract_band")
     check_param("min_periods", min_periods, [Interval(Real, 1, None)], "extract_band")
     centre = float(np.sqrt(band[0] * band[1]))
-    q = decimation_factor(rate, centre, samples_per_period=samples_per_period,
-                          min_samples_per_period=min_samples_per_period)
-    return band, centre, q
+    if rate / centre >= min_samples_per_period:
+        q = decimation_factor(rate, centre, samples_per_period=samples_per_period,
+                              min_samples_per_period=min_samples_per_period)
+        return band, centre, q, 1
+    positive = [Interval(Real, 2, None, "neither")]
+    check_param("samples_per_period", samples_per_period, positive, "extract_band")
+    if centre > ANALYSER_LIMIT * rate:
+        limit = ANALYSER_LIMIT * rate
+        warnings.warn(
+            f"band ({band[0]:.4g}, {band[1]:.4g}) Hz is centred above fs / 2.56 = {limit:.4g} Hz, where an "
+            "analyser's anti-alias filter may already act on it: its mode is identified, but check its "
+            "damping against a record sampled faster",
+            DataWarning,
+            stacklevel=4,
+        )
+    return band, centre, 1, math.ceil(samples_per_period * centre / rate)
+
+
+def resample_band(z: np.ndarray, first: int, stop: int, rate: float, centre: float, up: int):
+    """``z[first:stop]`` (the analytic band signal) at ``up`` times the rate: its complex envelope about
+    ``centre`` interpolated (quintic spline) and modulated back. Returns the signal, its envelope and the
+    sample times (in samples of the record's rate, from ``z[0]``)."""
+    lo, hi = max(first - _RESAMPLE_PAD, 0), min(stop + _RESAMPLE_PAD, z.size)
+    k = np.arange(lo, hi)
+    carrier = np.exp(-2j * np.pi * centre * k / rate)
+    position = np.arange(first * up, stop * up) / up
+    envelope = make_interp_spline(k, z[lo:hi] * carrier, k=5)(position)
+    signal = (envelope * np.exp(2j * np.pi * centre * position / rate)).real
+    return signal, np.abs(envelope), position
 
 
 def _too_short(band: tuple, periods: float, trim: int, min_periods: float):
@@ -205,8 +259,9 @@ def extract_band(y, fs: float, band_hz, *, start: int = 0, t0: float = 0.0, samp
     """
     arr = check_signal_1d(y, "y")
     rate = check_fs(fs)
-    band, centre, q = _check_extract(arr, rate, band_hz, start, samples_per_period, min_samples_per_period,
-                                     min_periods)
+    band, centre, q, up = _check_extract(
+        arr, rate, band_hz, start, samples_per_period, min_samples_per_period, min_periods
+    )
     check_param("method", method, _METHODS, "extract_band")
     check_param("order", order, _ORDER, "extract_band")
     check_param("noise_rms", noise_rms, [None, Interval(Real, 0, None)], "extract_band")
@@ -230,11 +285,16 @@ def extract_band(y, fs: float, band_hz, *, start: int = 0, t0: float = 0.0, samp
             stop, reason = end, "noise floor"
     if stop - trim < min_periods * rate / centre:
         _too_short(band, (stop - trim) * centre / rate, trim, min_periods)
-    keep = np.arange(trim, stop, q)
+    if up > 1:
+        signal, envelope, keep = resample_band(z, trim, stop, rate, centre, up)
+    else:
+        keep = np.arange(trim, stop, q)
+        signal, envelope = z.real[keep].copy(), env[keep]
     return BandSignal(
-        y=z.real[keep].copy(), t=t0 + (start + keep) / rate, envelope=env[keep], fs=rate / q, band_hz=band,
-        decimation=q, samples_per_period=rate / (q * centre), start_index=int(start + trim),
+        y=signal, t=t0 + (start + keep) / rate, envelope=envelope, fs=rate * up / q, band_hz=band,
+        decimation=q, samples_per_period=rate * up / (q * centre), start_index=int(start + trim),
         stop_index=int(start + stop), trimmed_start=int(trim), trimmed_end=int(segment.size - stop),
         end_reason=reason, noise_rms=float(noise_rms),
         snr_db=float(20.0 * np.log10(env[trim] / (np.sqrt(2.0) * noise_rms))) if noise_rms > 0 else np.inf,
+        upsampling=up,
     )
