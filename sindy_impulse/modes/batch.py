@@ -31,7 +31,7 @@ from .._utils.progress import progress_bar, wants_progress
 from ..exceptions import DataWarning
 from .survey import check_options, identify_modes
 
-__all__ = ["FailedRecord", "survey_many"]
+__all__ = ["FailedRecord", "run_surveys", "survey_many"]
 
 #: identify_modes' arguments that survey_many sets per record itself.
 _PER_RECORD = ("y", "t", "fs", "force")
@@ -229,6 +229,39 @@ def survey_many(
     >>> [[round(m.frequency_hz) for m in s.modes] for s in surveys]
     [[120, 240], [120, 240]]
     """
+    results = run_surveys(
+        records, fs, t=t, force=force, names=names, nonlinearity=nonlinearity, n_jobs=n_jobs,
+        progress=progress, backend=backend, **identify_modes_kwargs,
+    )
+    return _collect(results)
+
+
+def run_surveys(
+    records,
+    fs=None,
+    *,
+    t=None,
+    force=None,
+    names=None,
+    nonlinearity: bool = False,
+    n_jobs: int | None = None,
+    progress: bool | None = None,
+    backend=None,
+    **identify_modes_kwargs,
+) -> list:
+    """What :func:`survey_many` runs, with each record's warnings handed back instead of re-issued (the
+    command line prints them as the record's notes).
+
+    Same parameters as :func:`survey_many`. Returns one ``(name, survey or FailedRecord, warnings)`` per
+    record, ``warnings`` a list of ``(category, message)`` in the order they were raised (each once).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> ((name, failed, caught),) = run_surveys([np.zeros(10)], fs=1000.0, names=["short.csv"])
+    >>> name, failed.error, caught
+    ('short.csv', 'ValueError', [])
+    """
     records = _check_batch(records, names, identify_modes_kwargs, n_jobs)
     jobs = _inputs(records, fs, t, force, names)
     tasks = (
@@ -240,14 +273,14 @@ def survey_many(
         results = Parallel(n_jobs=n_jobs, return_as="generator")(tasks)
         bar = wants_progress(progress, len(jobs))
         results = list(progress_bar(results, total=len(jobs), desc="records", unit="record", enabled=bar))
-    return _collect(results, [job[0] for job in jobs])
+    return [(job[0], survey, caught) for job, (survey, caught) in zip(jobs, results)]
 
 
-def _collect(results: list, names: list) -> list:
+def _collect(results: list) -> list:
     """The surveys, after re-issuing each record's warnings (prefixed with its name) and one warning
     counting the failed records."""
     surveys = []
-    for (survey, caught), name in zip(results, names):
+    for name, survey, caught in results:
         for category, message in caught:
             warnings.warn(f"{name}: {message}", category, stacklevel=3)
         surveys.append(survey)
