@@ -30,13 +30,14 @@ def serial(records):
 
 
 def _numbers(survey):
-    """Everything numeric a survey hands back: table rows, models' coefficients, onsets."""
-    return (
+    """Everything numeric a survey hands back: table rows, models' coefficients, onsets; as exact text
+    (repr: every digit, and a NaN equals a NaN)."""
+    return repr((
         survey.table(),
         [np.asarray(m.model.coefficients()).tolist() for m in survey.modes],
         [m.states.tolist() for m in survey.modes],
         [p.impact.onset_index for p in survey.preprocessing],
-    )
+    ))
 
 
 def test_each_record_gets_its_own_survey_equal_to_identify_modes(records, serial):
