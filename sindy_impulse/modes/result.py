@@ -235,6 +235,47 @@ class ModalSurvey:
 
         return plot_modes(self, axes=axes)
 
+    def to_html(
+        self, path=None, *, overwrite: bool = False, source: str | None = None, nonlinearity: bool = True
+    ) -> str:
+        """The survey as one self-contained HTML report (:func:`sindy_impulse.report.survey_html`).
+
+        The record(s), the modal table with uncertainties, the stabilisation chart over the spectrum with
+        the bands, and per mode the band signal against the model (whole decay and zoom), the equation,
+        the backbone, the nonlinearity verdict and the diagnostics; figures inline, nothing loaded from
+        the network.
+
+        Parameters
+        ----------
+        path : str or path-like, optional
+            Also write the page there; an existing file is replaced only with ``overwrite=True``.
+        overwrite : bool, default=False
+            Replace an existing file (else FileExistsError).
+        source : str, optional
+            Where the record came from (e.g. its file), shown at the top.
+        nonlinearity : bool, default=True
+            Include the test for nonlinearity (it refits each mode once; cached on the mode).
+
+        Returns
+        -------
+        str
+            The HTML page.
+
+        Examples
+        --------
+        >>> from sindy_impulse import identify_modes, impact_record
+        >>> rec = impact_record([120.0], [0.01], fs=2000, duration=1.0, snr_db=50, random_state=0)
+        >>> page = identify_modes(rec.y, fs=rec.fs).to_html(nonlinearity=False)
+        >>> "<h2>Modal table</h2>" in page, "http://" in page or "https://" in page
+        (True, False)
+        """
+        from ..report import survey_html, write_html
+
+        page = survey_html(self, source=source, nonlinearity=nonlinearity)
+        if path is not None:
+            write_html(path, page, overwrite=overwrite)
+        return page
+
     def to_uff(self, path, *, nodes=None, directions=None, overwrite: bool = False):
         """Write the modal table as a UFF file of data sets 55 (one complex mode shape per mode).
 

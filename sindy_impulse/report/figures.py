@@ -1,0 +1,121 @@
+"""The figures of a report, drawn by :mod:`sindy_impulse.plotting` on off-screen matplotlib figures and
+returned as inline images (``data:image/png;base64,...``): the page needs no other file.
+
+No pyplot: each figure is a :class:`matplotlib.figure.Figure` of its own, so a report neither opens a
+window nor touches the user's current figure.
+"""
+
+from __future__ import annotations
+
+import base64
+import io
+import warnings
+
+import numpy as np
+
+__all__ = ["png_uri", "record_figure", "spectrum_figure", "decay_figure", "backbone_figure", "mode_backbones"]
+
+#: Resolution of the inline images (dots per inch).
+DPI = 90
+
+
+def _figure(width: float, height: float):
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=(width, height), dpi=DPI, layout="constrained")
+
+
+def png_uri(fig) -> str:
+    """A matplotlib figure as an inline PNG (a ``data:`` URI).
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> fig = Figure(figsize=(1, 1))
+    >>> _ = fig.subplots().plot([0, 1])
+    >>> png_uri(fig).startswith("data:image/png;base64,iVBORw0KGgo")
+    True
+    """
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=DPI)
+    return "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
+
+
+def record_figure(pre) -> str:
+    """One record as preprocessed (offset removed), the hit and the start of the free decay marked."""
+    fig = _figure(9, 2.4)
+    ax = fig.subplots()
+    t = pre.t0 + np.arange(len(pre.y)) / pre.fs
+    ax.plot(t, pre.y, color="0.3", lw=0.6)
+    ax.axvline(pre.t0 + pre.impact.onset_index / pre.fs, color="C3", ls=":", lw=1.2, label="hit")
+    ax.axvline(pre.t0 + pre.impact.ringdown_index / pre.fs, color="C2", ls="--", lw=1.0, label="free decay")
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("record, offset removed")
+    ax.legend(loc="upper right", frameon=False, fontsize="small")
+    return png_uri(fig)
+
+
+def spectrum_figure(survey, record: int = 0) -> str:
+    """The stabilisation chart over the free decay's spectrum (:func:`plotting.plot_stabilisation`),
+    each mode's band shaded."""
+    from ..plotting import plot_stabilisation
+
+    fig = _figure(9, 3.6)
+    ax = plot_stabilisation(survey, record=record, ax=fig.subplots())
+    for k, mode in enumerate(survey.modes):
+        ax.axvspan(*mode.band_hz, color=f"C{(k + 1) % 10}", alpha=0.15, lw=0)
+    for r in survey.rejected:
+        if r.band_hz is not None and r.record == record:
+            ax.axvspan(*r.band_hz, color="k", alpha=0.06, lw=0, hatch="//")
+    ax.set_title("stabilisation chart over the spectrum of the free decay; bands shaded", fontsize="small")
+    return png_uri(fig)
+
+
+def decay_figure(mode, label) -> str:
+    """The mode's band signal against its model: whole decay (log envelopes) and zoom
+    (:func:`plotting.plot_mode_decay`)."""
+    from ..plotting import plot_mode_decay
+
+    fig = _figure(9, 2.8)
+    plot_mode_decay(mode, axes=fig.subplots(1, 2), label=label)
+    return png_uri(fig)
+
+
+def _model_curve(mode, nonlinearity: bool):
+    from ..analysis import backbone
+
+    return mode.backbone if nonlinearity else backbone(mode.model, coordinate=mode.coordinate_)
+
+
+def _data_curve(mode, nonlinearity: bool):
+    from ..analysis import hilbert_backbone
+
+    if nonlinearity:
+        return mode.nonlinearity.backbone_data
+    return hilbert_backbone(mode.states[:, mode.coordinate_], mode.t)
+
+
+def mode_backbones(mode, nonlinearity: bool) -> list:
+    """The backbones to show for a mode: the model's (``mode.backbone``, or the model's own when the test
+    for nonlinearity is skipped) and the data's (the test's, else a Hilbert backbone of the band signal);
+    those that cannot be computed are left out."""
+    curves = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the survey has already warned about its modes
+        for make in (_model_curve, _data_curve):
+            try:
+                curve = make(mode, nonlinearity)
+            except (ValueError, RuntimeError, FloatingPointError):
+                continue
+            if curve is not None and len(curve) and np.isfinite(curve.frequency_hz).any():
+                curves.append(curve)
+    return curves
+
+
+def backbone_figure(curves: list) -> str:
+    """Backbones (frequency and damping ratio against amplitude, :func:`plotting.plot_backbone`)."""
+    from ..plotting import plot_backbone
+
+    fig = _figure(9, 2.8)
+    plot_backbone(*curves, axes=list(fig.subplots(1, 2)))
+    return png_uri(fig)
