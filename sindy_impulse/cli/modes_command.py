@@ -2,11 +2,12 @@
 each, in parallel with ``--n-jobs``: ``survey_many``), one line per mode and one per problem on the
 terminal; the details (equations, notes) in ``--json``.
 
-One input: ``--json``, ``--plot``, ``--uff`` (UFF 55 table), ``--uff58`` (band signals and free decays)
-name the files. Several inputs: ``--out-dir DIR`` writes, per input, ``DIR/<stem><suffix>`` for each kind
-of :data:`OUT_DIR_KINDS` chosen with ``--outputs`` (default ``json``). No existing file is replaced without
-``--overwrite``. In a batch, an input that cannot be read or surveyed gets a ``sindy-impulse: skipped:``
-line on stderr and the exit status 1; the others are processed.
+One input: ``--json``, ``--plot``, ``--uff`` (UFF 55 table), ``--uff58`` (band signals and free decays),
+``--report`` (a self-contained HTML report) name the files. Several inputs: ``--out-dir DIR`` writes, per
+input, ``DIR/<stem><suffix>`` for each kind of :data:`OUT_DIR_KINDS` chosen with ``--outputs`` (default
+``json``). No existing file is replaced without ``--overwrite``. In a batch, an input that cannot be read
+or surveyed gets a ``sindy-impulse: skipped:`` line on stderr and the exit status 1; the others are
+processed.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ import sys
 from ._options import add_input_options, add_report_options, data_options, integer
 from .files import (
     CLIError,
+    atomic_write,
     check_outputs,
     outputs_in_folder,
     read_measurement,
@@ -36,6 +38,7 @@ OUT_DIR_KINDS = {
     "unv": (".unv", "--uff"),
     "uff58": ("_signals.unv", "--uff58"),
     "png": (".png", "--plot"),
+    "html": (".html", "--report"),
 }
 
 #: The one-line help and the description of the command.
@@ -74,10 +77,16 @@ def add_parser(sub) -> argparse.ArgumentParser:
         help="also write each mode's band signal and its model's free decay as UFF 58 time records",
     )
     p.add_argument(
+        "--report",
+        metavar="OUT.html",
+        help="also write a self-contained HTML report: the record, the modal table, the stabilisation chart, "
+        "and per mode its fit, equation, backbone, nonlinearity verdict and diagnostics",
+    )
+    p.add_argument(
         "--out-dir",
         metavar="DIR",
         help="write the outputs of each input to DIR, named after it: DIR/<stem>.json, <stem>.unv, "
-        "<stem>_signals.unv, <stem>.png (see --outputs); created when missing",
+        "<stem>_signals.unv, <stem>.png, <stem>.html (see --outputs); created when missing",
     )
     p.add_argument(
         "--outputs",
@@ -143,12 +152,19 @@ def _write_uff58(survey, report, path):
     survey.to_uff58(path, overwrite=True)
 
 
+def _write_html(survey, report, path):
+    nonlinearity = all("nonlinear" in m for m in report["modes"])  # the test was run (no --no-nonlinearity)
+    page = survey.to_html(source=report["file"], nonlinearity=nonlinearity)
+    atomic_write(path, lambda fh: fh.write(page))
+
+
 #: kind -> writer(survey, report, path).
 _WRITERS = {
     "json": lambda survey, report, path: write_json(path, report),
     "unv": _write_uff55,
     "uff58": _write_uff58,
     "png": lambda survey, report, path: write_figure(path, lambda: survey.plot()[0].figure),
+    "html": _write_html,
 }
 
 

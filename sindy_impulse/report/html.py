@@ -80,7 +80,7 @@ def _columns(survey, nonlinearity: bool) -> list[tuple[str, object]]:
         ("f_n [Hz]", lambda m: plus_minus(m.frequency_hz, uncertainty(m, "frequency_std_hz"))),
         (
             "damping ratio [%]",
-            lambda m: plus_minus(m.damping_ratio, uncertainty(m, "damping_ratio_std"), 100),
+            lambda m: plus_minus(m.damping_ratio, uncertainty(m, "damping_ratio_std"), 100, digits=4),
         ),
         ("f_d [Hz]", lambda m: f"{m.damped_frequency_hz:.6g}"),
         ("amplitude", lambda m: f"{m.amplitude:.4g}"),
@@ -172,7 +172,7 @@ def _nonlinearity(mode, nonlinearity: bool) -> str:
 
 def _mode_section(k: int, mode, nonlinearity: bool) -> str:
     freq = plus_minus(mode.frequency_hz, uncertainty(mode, "frequency_std_hz"))
-    zeta = plus_minus(mode.damping_ratio, uncertainty(mode, "damping_ratio_std"), 100)
+    zeta = plus_minus(mode.damping_ratio, uncertainty(mode, "damping_ratio_std"), 100, digits=4)
     parts = [
         f'<section class="mode" id="mode-{k}">',
         f"<h2>Mode {k}: {escape(freq)} Hz, damping ratio {escape(zeta)} %</h2>",
