@@ -184,3 +184,14 @@ def test_plot_figure_whole_decay_and_no_overlapping_text(survey):
         assert axes[2 + 2 * k].get_xlim()[1] < mode.t[0] + 0.5 * (mode.t[-1] - mode.t[0])  # the zoom
     assert overlapping_texts(fig) == []
     matplotlib.pyplot.close(fig)
+
+
+def test_a_survey_without_modes_still_reports_why(tmp_path):
+    rng = np.random.default_rng(0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        empty = identify_modes(rng.standard_normal(4000) + 2.0, fs=1000.0)
+    page = empty.to_html(tmp_path / "empty.html")
+    assert len(empty) == 0 and "<strong>No mode found.</strong>" in page
+    assert all(escape(note) in page for note in empty.notes) and 'id="mode-0"' not in page
+    assert page.count("<img ") == 2  # the record and the stabilisation chart
