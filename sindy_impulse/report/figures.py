@@ -17,6 +17,8 @@ __all__ = ["png_uri", "record_figure", "spectrum_figure", "decay_figure", "backb
 
 #: Resolution of the inline images (dots per inch).
 DPI = 90
+#: Colours of the inline images' palette.
+COLORS = 96
 
 
 def _figure(width: float, height: float):
@@ -26,7 +28,8 @@ def _figure(width: float, height: float):
 
 
 def png_uri(fig) -> str:
-    """A matplotlib figure as an inline PNG (a ``data:`` URI).
+    """A matplotlib figure as an inline PNG (a ``data:`` URI) of :data:`COLORS` colours (line figures lose
+    nothing visible; the file is about a quarter of matplotlib's).
 
     Examples
     --------
@@ -36,9 +39,15 @@ def png_uri(fig) -> str:
     >>> png_uri(fig).startswith("data:image/png;base64,iVBORw0KGgo")
     True
     """
+    from PIL import Image  # matplotlib's own dependency
+
     buffer = io.BytesIO()
     fig.savefig(buffer, format="png", dpi=DPI)
-    return "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
+    buffer.seek(0)
+    image = Image.open(buffer).convert("RGB").quantize(colors=COLORS, method=Image.Quantize.MAXCOVERAGE)
+    small = io.BytesIO()
+    image.save(small, format="PNG", optimize=True)
+    return "data:image/png;base64," + base64.b64encode(small.getvalue()).decode("ascii")
 
 
 def record_figure(pre) -> str:
@@ -68,6 +77,10 @@ def spectrum_figure(survey, record: int = 0) -> str:
         if r.band_hz is not None and r.record == record:
             ax.axvspan(*r.band_hz, color="k", alpha=0.06, lw=0, hatch="//")
     ax.set_title("stabilisation chart over the spectrum of the free decay; bands shaded", fontsize="small")
+    if ax.get_legend() is not None:  # one entry per mode: beside the chart, not over its poles
+        ax.get_legend().remove()
+        handles, labels = ax.get_legend_handles_labels()
+        fig.legend(handles, labels, loc="outside right upper", frameon=False, fontsize="small")
     return png_uri(fig)
 
 
