@@ -68,7 +68,8 @@ def screenshot(report: Path, png: Path, height: int) -> None:
         )
     from PIL import Image
 
-    Image.open(png).convert("RGB").quantize(colors=128).save(png, optimize=True)
+    image = Image.open(png).convert("RGB").quantize(colors=256, method=Image.Quantize.MAXCOVERAGE)
+    image.save(png, optimize=True)
     print(f"screenshot: {png.relative_to(DOCS.parent)} ({png.stat().st_size / 1e3:.0f} kB)")
 
 

