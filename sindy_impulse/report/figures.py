@@ -44,7 +44,8 @@ def png_uri(fig) -> str:
     buffer = io.BytesIO()
     fig.savefig(buffer, format="png", dpi=DPI)
     buffer.seek(0)
-    image = Image.open(buffer).convert("RGB").quantize(colors=COLORS, method=Image.Quantize.MAXCOVERAGE)
+    method = getattr(getattr(Image, "Quantize", None), "MAXCOVERAGE", 1)  # 1 before Pillow 9.1
+    image = Image.open(buffer).convert("RGB").quantize(colors=COLORS, method=method)
     small = io.BytesIO()
     image.save(small, format="PNG", optimize=True)
     return "data:image/png;base64," + base64.b64encode(small.getvalue()).decode("ascii")
@@ -80,7 +81,10 @@ def spectrum_figure(survey, record: int = 0) -> str:
     if ax.get_legend() is not None:  # one entry per mode: beside the chart, not over its poles
         ax.get_legend().remove()
         handles, labels = ax.get_legend_handles_labels()
-        fig.legend(handles, labels, loc="outside right upper", frameon=False, fontsize="small")
+        try:
+            fig.legend(handles, labels, loc="outside right upper", frameon=False, fontsize="small")
+        except ValueError:  # matplotlib before 3.7: no "outside" legends
+            ax.legend(handles, labels, loc="upper right", frameon=False, fontsize="small")
     return png_uri(fig)
 
 
