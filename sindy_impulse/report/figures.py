@@ -17,6 +17,9 @@ __all__ = ["png_uri", "record_figure", "spectrum_figure", "decay_figure", "backb
 
 #: Resolution of the inline images (dots per inch).
 DPI = 90
+#: The smallest relative spans of a backbone's frequency and damping-ratio axes: the changes the test
+#: for nonlinearity resolves (0.1 % and 5 %, ``analysis.nonlinearity_test``).
+BACKBONE_RESOLUTION = (1e-3, 0.05)
 #: Colours of the inline images' palette.
 COLORS = 256
 
@@ -134,5 +137,16 @@ def backbone_figure(curves: list) -> str:
     from ..plotting import plot_backbone
 
     fig = _figure(9, 2.8)
-    plot_backbone(*curves, axes=list(fig.subplots(1, 2)))
+    axes = plot_backbone(*curves, axes=list(fig.subplots(1, 2)))
+    for ax, resolution in zip(axes, BACKBONE_RESOLUTION):
+        _at_least(ax, resolution)
     return png_uri(fig)
+
+
+def _at_least(ax, resolution: float) -> None:
+    """Widen the y axis to ``+-resolution`` (relative) about its middle when the curves span less: a flat
+    backbone is drawn flat, not as its last digits under an offset."""
+    low, high = ax.get_ylim()
+    middle = 0.5 * (low + high)
+    if np.isfinite(middle) and middle > 0 and high - low < 2 * resolution * middle:
+        ax.set_ylim(middle * (1 - resolution), middle * (1 + resolution))

@@ -9,6 +9,7 @@ count the images that decoded) for a browser test; the page reads the same witho
 
 from __future__ import annotations
 
+import math
 import os
 from html import escape
 
@@ -149,7 +150,9 @@ def _diagnostics(diag) -> str:
     good = diag.verdict == "ok"
     parts = [
         f'<p>Verdict: <span class="verdict-{"ok" if good else "bad"}">{escape(diag.verdict)}</span> '
-        f"(fit error {float(max(diag.fit_error)):.3g} of the RMS, SNR {diag.snr_db:.1f} dB)</p>"
+        f"(fit error {float(max(diag.fit_error)):.3g} of the RMS"
+        + (f", SNR {diag.snr_db:.1f} dB" if math.isfinite(diag.snr_db) else "")
+        + ")</p>"
     ]
     problems = problem_lines(diag.reasons)
     if problems:
