@@ -55,7 +55,16 @@ def png_uri(fig) -> str:
 
 
 def record_figure(pre) -> str:
-    """One record as preprocessed (offset removed), the hit and the start of the free decay marked."""
+    """One record as preprocessed (offset removed), the hit and the start of the free decay marked.
+
+    Examples
+    --------
+    >>> from sindy_impulse import identify_modes, impact_record
+    >>> rec = impact_record([120.0], [0.01], fs=2000, duration=0.5, snr_db=50, random_state=0)
+    >>> survey = identify_modes(rec.y, fs=rec.fs)
+    >>> record_figure(survey.preprocessing[0])[:22]
+    'data:image/png;base64,'
+    """
     fig = _figure(9, 2.4)
     ax = fig.subplots()
     t = pre.t0 + np.arange(len(pre.y)) / pre.fs
@@ -70,7 +79,16 @@ def record_figure(pre) -> str:
 
 def spectrum_figure(survey, record: int = 0) -> str:
     """The stabilisation chart over the free decay's spectrum (:func:`plotting.plot_stabilisation`),
-    each mode's band shaded."""
+    each mode's band shaded.
+
+    Examples
+    --------
+    >>> from sindy_impulse import identify_modes, impact_record
+    >>> rec = impact_record([120.0], [0.01], fs=2000, duration=0.5, snr_db=50, random_state=0)
+    >>> survey = identify_modes(rec.y, fs=rec.fs)
+    >>> spectrum_figure(survey)[:22]
+    'data:image/png;base64,'
+    """
     from ..plotting import plot_stabilisation
 
     fig = _figure(9, 3.6)
@@ -93,7 +111,16 @@ def spectrum_figure(survey, record: int = 0) -> str:
 
 def decay_figure(mode, label) -> str:
     """The mode's band signal against its model: whole decay (log envelopes) and zoom
-    (:func:`plotting.plot_mode_decay`)."""
+    (:func:`plotting.plot_mode_decay`).
+
+    Examples
+    --------
+    >>> from sindy_impulse import identify_modes, impact_record
+    >>> rec = impact_record([120.0], [0.01], fs=2000, duration=0.5, snr_db=50, random_state=0)
+    >>> survey = identify_modes(rec.y, fs=rec.fs)
+    >>> decay_figure(survey.modes[0], 0)[:22]
+    'data:image/png;base64,'
+    """
     from ..plotting import plot_mode_decay
 
     fig = _figure(9, 2.8)
@@ -118,7 +145,16 @@ def _data_curve(mode, nonlinearity: bool):
 def mode_backbones(mode, nonlinearity: bool) -> list:
     """The backbones to show for a mode: the model's (``mode.backbone``, or the model's own when the test
     for nonlinearity is skipped) and the data's (the test's, else a Hilbert backbone of the band signal);
-    those that cannot be computed are left out."""
+    those that cannot be computed are left out.
+
+    Examples
+    --------
+    >>> from sindy_impulse import identify_modes, impact_record
+    >>> rec = impact_record([120.0], [0.01], fs=2000, duration=0.5, snr_db=50, random_state=0)
+    >>> survey = identify_modes(rec.y, fs=rec.fs)
+    >>> [curve.source for curve in mode_backbones(survey.modes[0], nonlinearity=False)]
+    ['model', 'data']
+    """
     curves = []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the survey has already warned about its modes
@@ -133,7 +169,16 @@ def mode_backbones(mode, nonlinearity: bool) -> list:
 
 
 def backbone_figure(curves: list) -> str:
-    """Backbones (frequency and damping ratio against amplitude, :func:`plotting.plot_backbone`)."""
+    """Backbones (frequency and damping ratio against amplitude, :func:`plotting.plot_backbone`).
+
+    Examples
+    --------
+    >>> from sindy_impulse import identify_modes, impact_record
+    >>> rec = impact_record([120.0], [0.01], fs=2000, duration=0.5, snr_db=50, random_state=0)
+    >>> survey = identify_modes(rec.y, fs=rec.fs)
+    >>> backbone_figure(mode_backbones(survey.modes[0], nonlinearity=False))[:22]
+    'data:image/png;base64,'
+    """
     from ..plotting import plot_backbone
 
     fig = _figure(9, 2.8)
