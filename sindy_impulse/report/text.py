@@ -77,7 +77,9 @@ def _shift_words(result) -> str:
     for name, value in (("frequency", result.frequency_shift), ("damping ratio", result.damping_ratio_shift)):
         if math.isfinite(value):
             parts.append(f"{name} {100 * value:+.3g} %")
-    return ", ".join(parts) or "no backbone"
+    if not parts:
+        return "no nonlinear alternative's backbone to compare (no nonlinear term lowered the error)"
+    return "over the decay the nonlinear alternative's backbone moves by " + ", ".join(parts)
 
 
 def nonlinearity_words(result) -> tuple[str, str]:
@@ -98,8 +100,7 @@ def nonlinearity_words(result) -> tuple[str, str]:
     text = (
         f"statistic {result.statistic:.3g} {comparison} threshold {result.threshold:.3g} (significance of "
         f"the nonlinear terms {result.significance:.3g}, amplitude dependence "
-        f"{result.amplitude_dependence:.3g}); "
-        f"over the decay the nonlinear alternative's backbone moves by {_shift_words(result)}"
+        f"{result.amplitude_dependence:.3g}); {_shift_words(result)}"
     )
     if terms:
         text += f"; its strongest nonlinear terms: {terms}"
