@@ -140,14 +140,25 @@ def _csv(tmp_path):
 
 def test_cli_report_flag(tmp_path, capsys):
     data, out = _csv(tmp_path), tmp_path / "report.html"
-    out.write_text("old")  # replaced, as --json and --plot replace theirs
-    assert main(["modes", str(data), "--fs", "2000", "--no-nonlinearity", "--report", str(out)]) == 0
-    assert f"HTML report written to {out}" in capsys.readouterr().out
+    out.write_text("old")
+    command = ["modes", str(data), "--fs", "2000", "--no-nonlinearity", "--report", str(out)]
+    assert main(command) != 0 and out.read_text() == "old"  # not replaced without --overwrite
+    assert "exists" in capsys.readouterr().err
+    assert main([*command, "--overwrite"]) == 0
+    assert str(out) in capsys.readouterr().out
     page = out.read_text(encoding="utf-8")
     assert page.startswith("<!DOCTYPE html>") and f"Modal survey of {data}" in page
     assert len(_modal_table_rows(page)) == 2 and "test for nonlinearity was skipped" in page
-    assert main(["modes", str(data), "--fs", "2000", "--report", str(data)]) != 0  # never the input
+    assert main(["modes", str(data), "--fs", "2000", "--report", str(data), "--overwrite"]) != 0  # an input
     assert "refusing to overwrite an input" in capsys.readouterr().err
+
+
+def test_cli_out_dir_holds_the_reports(tmp_path):
+    data, folder = _csv(tmp_path), tmp_path / "out"
+    command = ["modes", str(data), "--fs", "2000", "--out-dir", str(folder), "--outputs", "html"]
+    assert main(command) == 0
+    page = (folder / "hit.html").read_text(encoding="utf-8")
+    assert "The mode is <strong>" in page  # the test for nonlinearity ran: its verdict is on the page
 
 
 def _texts(ax) -> list:
