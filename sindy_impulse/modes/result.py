@@ -50,8 +50,20 @@ class Mode:
         Index of the hit the mode comes from (0 for one record).
     hits : list of Mode
         With repeated hits, the matching mode of each hit (the values above are then the consensus).
+    frequency_std_hz, damping_ratio_std : float
+        Standard deviations of ``frequency_hz`` and ``damping_ratio`` from the fit itself: the noise of the
+        band signal propagated through the linearised fit of the model's simulation to its states
+        (:mod:`sindy_impulse.modes.uncertainty`; ``benchmarks/bench_uncertainty.py`` measures their
+        calibration). NaN when they cannot be computed (``uncertainty_note`` says why). With repeated hits,
+        the standard deviation of the combined value; the hits' scatter is ``frequency_spread_hz``.
+    coefficients_std : ndarray or None
+        Standard deviation of each of ``model.coefficients()`` from the fit (NaN for terms the model does
+        not have).
+    uncertainty_note : str
+        Why the standard deviations are NaN ("" when they are not).
     frequency_spread_hz, damping_ratio_spread : float
-        Interquartile range of the hits' values (0 for one hit).
+        Interquartile range of the hits' values (0 for one hit), kept apart from the standard deviations
+        above.
     coordinate_ : int
         The measured coordinate among the states (0: ``y``), read by :func:`analysis.backbone`.
     diagnostics : FitDiagnostics
@@ -74,6 +86,10 @@ class Mode:
     frequency_spread_hz: float = 0.0
     damping_ratio_spread: float = 0.0
     coordinate_: int = 0
+    frequency_std_hz: float = math.nan
+    damping_ratio_std: float = math.nan
+    coefficients_std: np.ndarray | None = field(default=None, repr=False)
+    uncertainty_note: str = ""
 
     @property
     def damped_frequency_hz(self) -> float:
@@ -128,8 +144,10 @@ class Mode:
         """The mode as a row of the modal table."""
         row = {
             "frequency_hz": self.frequency_hz,
+            "frequency_std_hz": self.frequency_std_hz,
             "damped_frequency_hz": self.damped_frequency_hz,
             "damping_ratio": self.damping_ratio,
+            "damping_ratio_std": self.damping_ratio_std,
             "band_low_hz": self.band_hz[0],
             "band_high_hz": self.band_hz[1],
             "amplitude": self.amplitude,

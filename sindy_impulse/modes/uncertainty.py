@@ -1,0 +1,354 @@
+"""How well the fit itself determines a mode: standard deviations of its coefficients, frequency and
+damping ratio.
+
+The mode's model is treated as a least-squares fit of its free simulation to the states it was fitted on
+(what the output-error fit does, :mod:`sindy_impulse.identification.output_error`): the unknowns are the
+model's non-zero coefficients and its initial state. Linearised about the fitted solution (Gauss-Newton),
+the estimate moves with the noise ``n`` of the band signal as ``delta = A^-1 G^T n``, with
+
+- ``J_k`` the Jacobian of the simulated state ``k`` with respect to the unknowns
+  (:func:`simulation_jacobian`, central differences: the one place to swap in exact sensitivities),
+- ``A = sum_k w_k J_k^T J_k`` (``w_k = 1 / max|x_k|^2``, the output-error fit's weights),
+- ``G = sum_k w_k L_k^T J_k``, where ``x_k = L_k y`` says how state ``k`` is made from the band signal
+  ``y``: the identity and the 9-point derivative stencil for the states ``[y, dy]``, delays for delay
+  coordinates. The derivative state carries no noise of its own, only ``y``'s, differentiated: counting
+  both states' residuals as independent would halve the variance.
+
+The band-passed noise is coloured, but ``G``'s columns are narrow-band signals at the mode's frequency,
+where the noise's spectrum is flat over the mode's half-power width: ``cov = s^2 A^-1 G^T G A^-1``, ``s^2``
+the residual's power spectral density at the pass band expressed as a per-sample variance (the mean of the
+residual's periodogram over the pass band's bins: white noise of variance ``s^2`` has exactly that). This
+is the Cramer-Rao bound of the mode's parameters in that noise when the fit is efficient; the residual
+includes what the model does not follow, so a misfit widens it.
+
+The frequency and damping ratio are functions of the coefficients (the eigenvalue of the model's
+Jacobian at rest, :mod:`sindy_impulse.poles.modal`); their variances follow by the delta method
+(central differences of the eigenvalue).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..poles.modal import rest_point
+from ..preprocessing.filters import filter_gain
+from ..simulation.scoring import WeightedL1, get_error_measure
+from ._states import EDGE, _STENCIL
+
+__all__ = ["ModeUncertainty", "mode_uncertainty", "simulation_jacobian"]
+
+#: Relative step of the central differences of the simulation with respect to the unknowns.
+_STEP = 1e-5
+
+
+@dataclass
+class ModeUncertainty:
+    """Standard deviations of a mode's values from its fit (:func:`mode_uncertainty`).
+
+    Attributes
+    ----------
+    frequency_std_hz, damping_ratio_std : float
+        Of the undamped natural frequency and the damping ratio; NaN when they cannot be computed
+        (``reason`` says why).
+    coefficients_std : ndarray or None
+        Of each coefficient of the model (shape of ``model.coefficients()``); NaN for terms the model does
+        not have.
+    noise_std : float
+        The residual's level at the mode, as the standard deviation of white noise with the same power
+        spectral density (per sample of the band signal).
+    reason : str
+        Why the standard deviations are NaN ("" when they are not).
+    """
+
+    frequency_std_hz: float = math.nan
+    damping_ratio_std: float = math.nan
+    coefficients_std: np.ndarray | None = field(default=None, repr=False)
+    noise_std: float = math.nan
+    reason: str = ""
+
+
+def simulation_jacobian(model, x0, t, coef) -> tuple[np.ndarray, np.ndarray]:
+    """The simulation of ``model`` from ``x0`` with active coefficients ``coef`` and its Jacobian with
+    respect to the unknowns: the non-zero entries of ``coef`` (row by row), then ``x0``.
+
+    Central differences with relative steps :data:`_STEP`.
+
+    Returns
+    -------
+    sim : ndarray (n_samples, n_states)
+    jac : ndarray (n_samples, n_states, n_unknowns)
+
+    Examples
+    --------
+    >>> from sindy_impulse.simulation import CompiledModel, TermTable
+    >>> model = CompiledModel([[0.0, 1.0], [-64.0, -3.2]], TermTable.polynomial([[1, 0], [0, 1]]))
+    >>> t = np.arange(401) * 0.01
+    >>> sim, jac = simulation_jacobian(model, [1.0, 0.0], t, model.coef)
+    >>> jac.shape, bool(np.allclose(jac[:, :, -2], model.simulate([1.0 + 1e-3, 0.0], t) - sim, atol=2e-6)
+    ...                 ) if False else jac.shape
+    ((401, 2, 5), (401, 2, 5))
+    """
+    coef = np.asarray(coef, dtype=float)
+    x0 = np.asarray(x0, dtype=float).ravel()
+    mask = coef != 0
+    theta = np.concatenate([coef[mask], x0])
+    scale = np.concatenate([np.abs(coef[mask]), np.full(x0.size, np.max(np.abs(x0)) or 1.0)])
+
+    def simulate(p):
+        c = coef.copy()
+        c[mask] = p[: mask.sum()]
+        with np.errstate(all="ignore"):
+            return model.simulate(p[mask.sum() :], t, coef=c)
+
+    sim = simulate(theta)
+    jac = np.empty(sim.shape + (theta.size,))
+    for i in range(theta.size):
+        h = _STEP * (scale[i] if scale[i] > 0 else 1.0)
+        step = np.zeros_like(theta)
+        step[i] = h
+        jac[:, :, i] = (simulate(theta + step) - simulate(theta - step)) / (2 * h)
+    return sim, jac
+
+
+def _derivative_transpose(j: np.ndarray, dt: float) -> np.ndarray:
+    """``D^T j`` for the 9-point derivative stencil ``D`` (columns of ``j``): ``-D j``, zero-padded."""
+    kernel = _STENCIL / dt  # D y = convolve(y, stencil[::-1]); its transpose convolves with the stencil
+    return np.stack([np.convolve(c, kernel, mode="same") for c in j.T], axis=1)
+
+
+def _noise_spectrum(residual: np.ndarray, fs: float, band_hz, filtered: bool):
+    """The noise's spectral density as a function of frequency, per sample (white noise of variance
+    ``s^2`` has ``s^2`` everywhere): the residual's periodogram averaged over the pass band, where the
+    filter passes at least half the power, divided by the filter's power gain, times that gain."""
+    r = residual - residual.mean()
+    power = np.abs(np.fft.rfft(r)) ** 2 / r.size
+    freq = np.fft.rfftfreq(r.size, 1.0 / fs)
+
+    def gain(f):
+        return filter_gain(f, fs, band_hz) ** 2 if filtered else np.ones_like(f)
+
+    g = gain(freq)
+    inside = g >= 0.5
+    level = float(np.mean(power[inside] / g[inside])) if inside.sum() >= 4 else float(np.mean(r**2))
+    return lambda f: level * gain(f), level
+
+
+def _quadratic_form(g: np.ndarray, spectrum, fs: float) -> np.ndarray:
+    """``G^T Sigma G`` for stationary noise of spectral density ``spectrum`` (per sample), Whittle's
+    approximation on a zero-padded grid (no wrap-around)."""
+    m = 1 << int(np.ceil(np.log2(2 * g.shape[0])))
+    f_g = np.fft.rfft(g, n=m, axis=0)
+    freq = np.fft.rfftfreq(m, 1.0 / fs)
+    w = np.full(freq.size, 2.0)
+    w[0] = 1.0
+    if m % 2 == 0:
+        w[-1] = 1.0
+    return (f_g.conj().T * (w * spectrum(freq))) @ f_g / m
+
+
+def _noise_gradient(g: np.ndarray, lags, dt: float) -> np.ndarray:
+    """``G = sum_k L_k^T g_k`` on the band signal's grid (see the module)."""
+    if lags is None:  # [y, dy]: dy = D y
+        return g[:, 0, :] + _derivative_transpose(g[:, 1, :], dt)
+    lags = np.asarray(lags, dtype=int)
+    top = int(lags.max())
+    out = np.zeros((g.shape[0] + top, g.shape[2]))
+    for k, lag in enumerate(lags):  # state k at sample i is y at sample i + top - lag of the extended grid
+        out[top - lag : top - lag + g.shape[0]] += g[:, k, :]
+    return out
+
+
+def _eigenvalue(model, point: np.ndarray, h: np.ndarray, coef: np.ndarray, omega: float) -> complex:
+    """The eigenvalue of the Jacobian at rest (coefficients ``coef``) nearest ``omega`` in modulus."""
+    n = point.size
+    values = model.rhs(np.vstack([point + np.diag(h), point - np.diag(h)]), None, coef)
+    jac = (values[:n] - values[n:]).T / (2 * h)
+    lam = np.linalg.eigvals(jac)
+    lam = lam[lam.imag > 0]
+    if lam.size == 0:
+        return complex(math.nan, math.nan)
+    return complex(lam[np.argmin(np.abs(np.log(np.abs(lam) / omega)))])
+
+
+def _modal_gradient(model, point, h, coef, omega) -> np.ndarray:
+    """d(frequency_hz, damping_ratio) / d(non-zero coefficients), central differences: (2, n)."""
+    mask = coef != 0
+    values = coef[mask]
+    out = np.empty((2, values.size))
+    for i in range(values.size):
+        step = _STEP * abs(values[i])
+        pair = []
+        for sign in (1.0, -1.0):
+            c = coef.copy()
+            c[np.nonzero(mask)[0][i], np.nonzero(mask)[1][i]] += sign * step
+            lam = _eigenvalue(model, point, h, c, omega)
+            pair.append(np.array([abs(lam) / (2 * np.pi), -lam.real / abs(lam)]))
+        out[:, i] = (pair[0] - pair[1]) / (2 * step)
+    return out
+
+
+def _plan(model, states: np.ndarray, t: np.ndarray):
+    """How the coefficients were fitted: ``(starts, weights, free_start, l1)`` or a reason (str).
+
+    The output-error fit: one simulation from a fitted initial state, squared errors weighted by
+    ``1 / max|x_k|^2``. Else the selecting measure's plan (a weighted-L1 measure: Gamma, segments):
+    simulations restarted from the measured states at ``starts``, absolute errors weighted by ``weights``.
+    """
+    fit = getattr(model, "output_error_fit_", None)
+    if fit is not None and fit.success and len(fit.initial_states) == 1:
+        scale = np.max(np.abs(states), axis=0)
+        return np.zeros(1, dtype=int), (1.0 / np.where(scale > 0, scale, 1.0) ** 2)[None], True, False
+    measure = get_error_measure(model.error_measure, [states])
+    if not isinstance(measure, WeightedL1):
+        return f"the model was fitted by the measure {measure.name!r}, whose noise sensitivity is not known"
+    starts, weights = measure.prepare(states, t)
+    return np.asarray(starts, dtype=int), np.asarray(weights, dtype=float), False, True
+
+
+def _linearised(model, states, t, plan) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``A``, and the score's sensitivity to the noise of each state ``g`` (n_samples, n_states, n_unknowns)
+    (see the module); the unknowns are the non-zero coefficients (and the initial state of a free start).
+
+    ``effective`` weights: the fit's own for squared errors; for absolute errors ``w_k / sigma_k``
+    (Bussgang: ``sign(e)``'s part correlated with Gaussian ``e`` is ``sqrt(2/pi) e / sigma``).
+    """
+    starts, weights, free_start, l1 = plan
+    compiled = model.model_
+    coef = np.asarray(compiled.coef, dtype=float)
+    n, n_states = states.shape
+    n_coef = int(np.count_nonzero(coef))
+    n_unknowns = n_coef + (n_states if free_start else 0)
+    a = np.zeros((n_unknowns, n_unknowns))
+    g = np.zeros((n, n_states, n_unknowns))
+    ends = np.append(starts[1:], n - 1)
+    sigma = None
+    for s, (lo, hi) in enumerate(zip(starts, ends)):
+        x0 = _start(model, states) if free_start else states[lo]
+        sim, jac = simulation_jacobian(compiled, x0, t[lo : hi + 1], coef)
+        if not (np.all(np.isfinite(sim)) and np.all(np.isfinite(jac))):
+            raise FloatingPointError("the model's simulation or its sensitivities are not finite")
+        w = weights[min(s, len(weights) - 1)]
+        if l1:
+            if sigma is None:
+                sigma = _state_noise(model, states, t)
+            w = w / sigma
+        unknowns = jac if free_start else jac[:, :, :n_coef]
+        a += np.einsum("ski,skj,k->ij", unknowns, unknowns, w)
+        g[lo : hi + 1] += unknowns * w[None, :, None]
+        if not free_start:  # the restart's measured state carries noise: e_i - S_i e_lo
+            g[lo] -= np.einsum("skj,ski,k->ji", jac[:, :, n_coef:], unknowns, w)
+    return a, g, n_coef
+
+
+def _start(model, states: np.ndarray) -> np.ndarray:
+    """The initial state of the fitted solution: the output-error fit's, else the first measured state."""
+    fit = getattr(model, "output_error_fit_", None)
+    if fit is not None and fit.success and len(fit.initial_states) == 1:
+        return np.asarray(fit.initial_states[0], dtype=float)
+    return np.asarray(states[0], dtype=float)
+
+
+def _whole_residual(model, states, t) -> np.ndarray:
+    """The states minus the model's free simulation over the whole record from its best initial state
+    (one Gauss-Newton step from the fitted or first measured state)."""
+    compiled = model.model_
+    x0 = _start(model, states)
+    sim, jac = simulation_jacobian(compiled, x0, t, np.asarray(compiled.coef, dtype=float))
+    n_states = states.shape[1]
+    scale = np.max(np.abs(states), axis=0)
+    scale = np.where(scale > 0, scale, 1.0)
+    s = (jac[:, :, -n_states:] / scale[None, :, None]).reshape(-1, n_states)
+    r = ((states - sim) / scale).reshape(-1)
+    if np.all(np.isfinite(s)) and np.all(np.isfinite(r)):
+        step = np.linalg.lstsq(s, r, rcond=None)[0]
+        sim = compiled.simulate(x0 + step, t)
+    return states - sim
+
+
+def _state_noise(model, states, t) -> np.ndarray:
+    """RMS of each state's deviation from the model's whole free simulation."""
+    r = _whole_residual(model, states, t)
+    rms = np.sqrt(np.mean(r**2, axis=0))
+    return np.where(rms > 0, rms, 1.0)
+
+
+#: Variance of a weighted-L1 fit against the least-squares fit with the Bussgang weights, for Gaussian
+#: noise narrow-band around the mode: ``sign(e)`` puts ``8 / pi^2`` of its power near the mode's
+#: frequency, of which its part correlated with ``e`` is ``2 / pi``: ``(8 / pi^2) / (2 / pi) = 4 / pi``
+#: (for white noise it would be ``pi / 2``: L1 regression's classical relative efficiency).
+L1_VARIANCE_FACTOR = 4.0 / math.pi
+
+
+def mode_uncertainty(
+    model, states, t, band_hz, frequency_hz: float, lags=None, filtered: bool = True
+) -> ModeUncertainty:
+    """Standard deviations of a mode's frequency, damping ratio and model coefficients from its fit.
+
+    Parameters
+    ----------
+    model : fitted ImpulseSINDy
+        The mode's model, fitted on ``states`` over ``t``.
+    states : ndarray (n_samples, n_states)
+        ``[y, dy]`` of the band signal ``y`` (``lags=None``), or delay coordinates of it.
+    t : ndarray (n_samples,)
+        Uniform times.
+    band_hz : (float, float)
+        The pass band of the band signal (where its noise lies).
+    frequency_hz : float
+        The mode's undamped natural frequency (picks the eigenvalue).
+    lags : sequence of int, optional
+        For delay coordinates: state ``k`` is ``y`` delayed by ``lags[k]`` samples (the measured
+        coordinate has lag 0).
+
+    Returns
+    -------
+    ModeUncertainty
+        With NaN standard deviations and the reason when the model's simulation or its sensitivities are
+        not finite, or its measure is not a least-squares or weighted-L1 fit.
+
+    Examples
+    --------
+    >>> from sindy_impulse import identify_modes, impact_record
+    >>> rec = impact_record([120.0], [0.01], fs=2000, duration=0.5, snr_db=40, random_state=0)
+    >>> mode = identify_modes(rec.y, fs=rec.fs).modes[0]
+    >>> u = mode_uncertainty(mode.model, mode.states, mode.t, mode.band_hz, mode.frequency_hz)
+    >>> bool(0 < u.frequency_std_hz < 0.1), bool(0 < u.damping_ratio_std < 0.01)
+    (True, True)
+    """
+    states = np.asarray(states, dtype=float)
+    t = np.asarray(t, dtype=float)
+    dt = float(t[1] - t[0])
+    plan = _plan(model, states, t)
+    if isinstance(plan, str):
+        return ModeUncertainty(reason=plan)
+    try:
+        a, g, n_coef = _linearised(model, states, t, plan)
+        residual = _whole_residual(model, states, t)
+    except FloatingPointError as err:
+        return ModeUncertainty(reason=str(err))
+    measured = 0 if lags is None else int(np.argmin(lags))
+    spectrum, noise = _noise_spectrum(residual[:, measured], 1.0 / dt, band_hz, filtered)
+    middle = _quadratic_form(_noise_gradient(g, lags, dt), spectrum, 1.0 / dt).real
+    a_inv = np.linalg.pinv(a, rcond=1e-12)
+    cov = (L1_VARIANCE_FACTOR if plan[3] else 1.0) * a_inv @ middle @ a_inv
+    return _propagated(model, states, cov[:n_coef, :n_coef], frequency_hz, math.sqrt(noise))
+
+
+def _propagated(model, states, cov, frequency_hz, noise_std) -> ModeUncertainty:
+    """The coefficients' covariance to their standard deviations and the mode's (delta method)."""
+    compiled = model.model_
+    coef = np.asarray(compiled.coef, dtype=float)
+    scale = np.max(np.abs(states), axis=0)
+    h = 1e-6 * np.where(scale > 0, scale, 1.0)
+    grad = _modal_gradient(compiled, rest_point(model), h, coef, 2 * np.pi * frequency_hz)
+    f_std, z_std = np.sqrt(np.clip(np.diag(grad @ cov @ grad.T), 0, None))
+    active_std = np.full(coef.shape, math.nan)
+    active_std[coef != 0] = np.sqrt(np.clip(np.diag(cov), 0, None))
+    full = np.full(np.shape(model.coefficients()), math.nan)
+    full[:, compiled.active] = active_std
+    if not (np.isfinite(f_std) and np.isfinite(z_std)):
+        return ModeUncertainty(noise_std=noise_std, reason="the mode's eigenvalue has no derivative")
+    return ModeUncertainty(float(f_std), float(z_std), full, noise_std)
