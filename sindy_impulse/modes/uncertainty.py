@@ -70,11 +70,15 @@ class ModeUncertainty:
     reason: str = ""
 
 
-def simulation_jacobian(model, x0, t, coef) -> tuple[np.ndarray, np.ndarray]:
-    """The simulation of ``model`` from ``x0`` with active coefficients ``coef`` and its Jacobian with
-    respect to the unknowns: the non-zero entries of ``coef`` (row by row), then ``x0``.
+def simulation_jacobian(
+    model, start_states, t, coef, starts=(0,), coefficients: bool = True
+) -> tuple[np.ndarray, np.ndarray]:
+    """The simulation of ``model`` with active coefficients ``coef``, restarted at the samples ``starts``
+    from ``start_states`` (one row per start), and its Jacobian with respect to the unknowns: the non-zero
+    entries of ``coef`` (row by row; with ``coefficients=False`` none), then the start state (of the
+    segment each sample belongs to).
 
-    Central differences with relative steps :data:`_STEP`.
+    Central differences with relative steps :data:`_STEP` (the one place to swap in exact sensitivities).
 
     Returns
     -------
@@ -86,30 +90,33 @@ def simulation_jacobian(model, x0, t, coef) -> tuple[np.ndarray, np.ndarray]:
     >>> from sindy_impulse.simulation import CompiledModel, TermTable
     >>> model = CompiledModel([[0.0, 1.0], [-64.0, -3.2]], TermTable.polynomial([[1, 0], [0, 1]]))
     >>> t = np.arange(401) * 0.01
-    >>> sim, jac = simulation_jacobian(model, [1.0, 0.0], t, model.coef)
-    >>> jac.shape, bool(np.allclose(jac[:, :, -2], model.simulate([1.0 + 1e-3, 0.0], t) - sim, atol=2e-6)
-    ...                 ) if False else jac.shape
-    ((401, 2, 5), (401, 2, 5))
+    >>> sim, jac = simulation_jacobian(model, [[1.0, 0.0]], t, model.coef)
+    >>> moved = model.simulate([1.0 + 1e-6, 0.0], t)  # the first state's column: a linear model's response
+    >>> jac.shape, bool(np.allclose(jac[:, :, 3], (moved - sim) / 1e-6, atol=1e-6))
+    ((401, 2, 5), True)
     """
     coef = np.asarray(coef, dtype=float)
-    x0 = np.asarray(x0, dtype=float).ravel()
+    starts = np.asarray(starts, dtype=np.int64)
+    x0s = np.asarray(start_states, dtype=float).reshape(starts.size, -1)
     mask = coef != 0
-    theta = np.concatenate([coef[mask], x0])
-    scale = np.concatenate([np.abs(coef[mask]), np.full(x0.size, np.max(np.abs(x0)) or 1.0)])
+    n_coef = int(mask.sum())
+    scale = np.max(np.abs(x0s), axis=0)
+    steps = _STEP * np.concatenate([np.abs(coef[mask]), np.where(scale > 0, scale, 1.0)])
+    first = 0 if coefficients else n_coef
 
-    def simulate(p):
-        c = coef.copy()
-        c[mask] = p[: mask.sum()]
+    def simulate(i: int, h: float):
+        c, x = coef.copy(), x0s.copy()
+        if i < n_coef:
+            c[mask] += np.where(np.arange(n_coef) == i, h, 0.0)
+        elif i >= 0:
+            x[:, i - n_coef] += h
         with np.errstate(all="ignore"):
-            return model.simulate(p[mask.sum() :], t, coef=c)
+            return model.simulate_segments(x, t, starts, coef=c)
 
-    sim = simulate(theta)
-    jac = np.empty(sim.shape + (theta.size,))
-    for i in range(theta.size):
-        h = _STEP * (scale[i] if scale[i] > 0 else 1.0)
-        step = np.zeros_like(theta)
-        step[i] = h
-        jac[:, :, i] = (simulate(theta + step) - simulate(theta - step)) / (2 * h)
+    sim = simulate(-1, 0.0)
+    jac = np.empty(sim.shape + (steps.size - first,))
+    for i in range(first, steps.size):
+        jac[:, :, i - first] = (simulate(i, steps[i]) - simulate(i, -steps[i])) / (2 * steps[i])
     return sim, jac
 
 
@@ -208,38 +215,32 @@ def _plan(model, states: np.ndarray, t: np.ndarray):
     return np.asarray(starts, dtype=int), np.asarray(weights, dtype=float), False, True
 
 
-def _linearised(model, states, t, plan) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``A``, and the score's sensitivity to the noise of each state ``g`` (n_samples, n_states, n_unknowns)
-    (see the module); the unknowns are the non-zero coefficients (and the initial state of a free start).
+def _linearised(model, states, t, plan, sigma) -> tuple[np.ndarray, np.ndarray, int]:
+    """``A``, the score's sensitivity to the noise of each state ``g`` (n_samples, n_states, n_unknowns)
+    (see the module) and the number of coefficients; the unknowns are the non-zero coefficients (and the
+    initial state of a free start).
 
-    ``effective`` weights: the fit's own for squared errors; for absolute errors ``w_k / sigma_k``
-    (Bussgang: ``sign(e)``'s part correlated with Gaussian ``e`` is ``sqrt(2/pi) e / sigma``).
+    The weights are the fit's own for squared errors; for absolute errors ``w_k / sigma_k`` (Bussgang:
+    ``sign(e)``'s part correlated with Gaussian ``e`` is ``sqrt(2 / pi) e / sigma``, ``sigma`` the
+    residual's RMS per state).
     """
     starts, weights, free_start, l1 = plan
     compiled = model.model_
     coef = np.asarray(compiled.coef, dtype=float)
-    n, n_states = states.shape
+    n_states = states.shape[1]
     n_coef = int(np.count_nonzero(coef))
-    n_unknowns = n_coef + (n_states if free_start else 0)
-    a = np.zeros((n_unknowns, n_unknowns))
-    g = np.zeros((n, n_states, n_unknowns))
-    ends = np.append(starts[1:], n - 1)
-    sigma = None
-    for s, (lo, hi) in enumerate(zip(starts, ends)):
-        x0 = _start(model, states) if free_start else states[lo]
-        sim, jac = simulation_jacobian(compiled, x0, t[lo : hi + 1], coef)
-        if not (np.all(np.isfinite(sim)) and np.all(np.isfinite(jac))):
-            raise FloatingPointError("the model's simulation or its sensitivities are not finite")
-        w = weights[min(s, len(weights) - 1)]
-        if l1:
-            if sigma is None:
-                sigma = _state_noise(model, states, t)
-            w = w / sigma
-        unknowns = jac if free_start else jac[:, :, :n_coef]
-        a += np.einsum("ski,skj,k->ij", unknowns, unknowns, w)
-        g[lo : hi + 1] += unknowns * w[None, :, None]
-        if not free_start:  # the restart's measured state carries noise: e_i - S_i e_lo
-            g[lo] -= np.einsum("skj,ski,k->ji", jac[:, :, n_coef:], unknowns, w)
+    x0s = _start(model, states)[None] if free_start else states[starts]
+    sim, jac = simulation_jacobian(compiled, x0s, t, coef, starts)
+    if not (np.all(np.isfinite(sim)) and np.all(np.isfinite(jac))):
+        raise FloatingPointError("the model's simulation or its sensitivities are not finite")
+    segment = np.searchsorted(starts, np.arange(t.size), side="right") - 1
+    w = weights[np.minimum(segment, len(weights) - 1)] / (sigma if l1 else 1.0)
+    unknowns = jac if free_start else jac[:, :, :n_coef]
+    a = np.einsum("ski,skj,sk->ij", unknowns, unknowns, w)
+    g = unknowns * w[:, :, None]
+    if not free_start:  # a restart's measured state carries noise: the residual is e_i - S_i e_start
+        pulled = np.einsum("skj,ski,sk->sji", jac[:, :, n_coef : n_coef + n_states], unknowns, w)
+        g[starts] -= np.add.reduceat(pulled, starts, axis=0)
     return a, g, n_coef
 
 
@@ -256,7 +257,7 @@ def _whole_residual(model, states, t) -> np.ndarray:
     (one Gauss-Newton step from the fitted or first measured state)."""
     compiled = model.model_
     x0 = _start(model, states)
-    sim, jac = simulation_jacobian(compiled, x0, t, np.asarray(compiled.coef, dtype=float))
+    sim, jac = simulation_jacobian(compiled, x0[None], t, compiled.coef, coefficients=False)
     n_states = states.shape[1]
     scale = np.max(np.abs(states), axis=0)
     scale = np.where(scale > 0, scale, 1.0)
@@ -265,14 +266,9 @@ def _whole_residual(model, states, t) -> np.ndarray:
     if np.all(np.isfinite(s)) and np.all(np.isfinite(r)):
         step = np.linalg.lstsq(s, r, rcond=None)[0]
         sim = compiled.simulate(x0 + step, t)
+    if not np.all(np.isfinite(sim)):
+        raise FloatingPointError("the model's simulation is not finite")
     return states - sim
-
-
-def _state_noise(model, states, t) -> np.ndarray:
-    """RMS of each state's deviation from the model's whole free simulation."""
-    r = _whole_residual(model, states, t)
-    rms = np.sqrt(np.mean(r**2, axis=0))
-    return np.where(rms > 0, rms, 1.0)
 
 
 #: Variance of a weighted-L1 fit against the least-squares fit with the Bussgang weights, for Gaussian
@@ -325,8 +321,9 @@ def mode_uncertainty(
     if isinstance(plan, str):
         return ModeUncertainty(reason=plan)
     try:
-        a, g, n_coef = _linearised(model, states, t, plan)
         residual = _whole_residual(model, states, t)
+        sigma = np.sqrt(np.mean(residual**2, axis=0))
+        a, g, n_coef = _linearised(model, states, t, plan, np.where(sigma > 0, sigma, 1.0))
     except FloatingPointError as err:
         return ModeUncertainty(reason=str(err))
     measured = 0 if lags is None else int(np.argmin(lags))
