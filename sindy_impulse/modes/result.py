@@ -294,15 +294,24 @@ class ModalSurvey:
 
     def __repr__(self) -> str:
         head = f"ModalSurvey({len(self.modes)} mode(s), {len(self.rejected)} rejected)"
-        lines = [head, "  #   f_n [Hz]    f_d [Hz]   damping   amplitude   fit error   band [Hz]"]
+        lines = [head, "  #   f_n [Hz]               f_d [Hz]   damping ratio         amplitude   fit error   "
+                       "band [Hz]"]
         for i, m in enumerate(self.modes):
             lines.append(
-                f"  {i:<3d} {m.frequency_hz:<11.6g} {m.damped_frequency_hz:<10.6g} {m.damping_ratio:<9.4g} "
+                f"  {i:<3d} {_plus_minus(m.frequency_hz, m.frequency_std_hz, 7):<22s} "
+                f"{m.damped_frequency_hz:<10.6g} {_plus_minus(m.damping_ratio, m.damping_ratio_std, 4):<21s} "
                 f"{m.amplitude:<11.4g} {m.fit_error:<11.3g} {m.band_hz[0]:.4g}-{m.band_hz[1]:.4g}"
             )
         lines += [f"  rejected {_band_text(r.band_hz)}: {r.reason}" for r in self.rejected]
         lines += [f"  note: {n}" for n in self.notes]
         return "\n".join(lines)
+
+
+def _plus_minus(value: float, std: float, digits: int) -> str:
+    """``value +- std`` (std to two significant digits; ``+- ?`` when it is not known)."""
+    if not (math.isfinite(std) and std > 0):
+        return f"{value:.{digits}g} ± ?"
+    return f"{value:.{digits}g} ± {std:.2g}"
 
 
 def _band_text(band_hz) -> str:
