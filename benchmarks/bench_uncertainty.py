@@ -103,8 +103,9 @@ def run_case(case: dict) -> dict:
             rows.append(dict(found=False))
             continue
         m = min(near, key=lambda m: abs(m.frequency_hz / f - 1))
-        rows.append(dict(found=True, kind=fit_kind(m), f=f, z=z, df=m.frequency_hz - f, dz=m.damping_ratio - z,
-                         f_std=m.frequency_std_hz, z_std=m.damping_ratio_std, note=m.uncertainty_note))
+        rows.append(dict(found=True, kind=fit_kind(m), f=f, z=z, df=m.frequency_hz - f,
+                         dz=m.damping_ratio - z, f_std=m.frequency_std_hz, z_std=m.damping_ratio_std,
+                         note=m.uncertainty_note))
     return dict(snr_db=case["snr_db"], rows=rows, time=elapsed, spent=_SPENT[0])
 
 
@@ -132,7 +133,9 @@ def _table(title: str, groups: dict) -> None:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--n", type=int, default=200, help="records per noise level")
     parser.add_argument("--quick", action="store_true", help="30 records per level")
     parser.add_argument("--seed", type=int, default=0)

@@ -294,8 +294,8 @@ class ModalSurvey:
 
     def __repr__(self) -> str:
         head = f"ModalSurvey({len(self.modes)} mode(s), {len(self.rejected)} rejected)"
-        lines = [head, "  #   f_n [Hz]               f_d [Hz]   damping ratio         amplitude   fit error   "
-                       "band [Hz]"]
+        columns = "f_n [Hz]               f_d [Hz]   damping ratio         amplitude   fit error   band [Hz]"
+        lines = [head, "  #   " + columns]
         for i, m in enumerate(self.modes):
             lines.append(
                 f"  {i:<3d} {_plus_minus(m.frequency_hz, m.frequency_std_hz, 7):<22s} "

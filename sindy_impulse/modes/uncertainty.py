@@ -36,7 +36,7 @@ import numpy as np
 from ..poles.modal import rest_point
 from ..preprocessing.filters import filter_gain
 from ..simulation.scoring import WeightedL1, get_error_measure
-from ._states import EDGE, _STENCIL
+from ._states import _STENCIL
 
 __all__ = ["ModeUncertainty", "mode_uncertainty", "simulation_jacobian"]
 

@@ -176,7 +176,7 @@ class CompiledModel(_SparseModel):
 
     def simulate_segments(self, start_states, t, starts, coef=None) -> np.ndarray:
         """Simulations restarted at ``starts`` from ``start_states``, in one run of the kernel (see
-        :meth:`_SparseModel.simulate_segments <sindy_impulse.simulation.base._SparseModel.simulate_segments>`).
+        ``_SparseModel.simulate_segments`` in ``simulation/base.py``).
 
         Examples
         --------
