@@ -128,8 +128,9 @@ def _derivative_transpose(j: np.ndarray, dt: float) -> np.ndarray:
 
 def _noise_spectrum(residual: np.ndarray, fs: float, band_hz, filtered: bool):
     """The noise's spectral density as a function of frequency, per sample (white noise of variance
-    ``s^2`` has ``s^2`` everywhere): the residual's periodogram averaged over the pass band, where the
-    filter passes at least half the power, divided by the filter's power gain, times that gain."""
+    ``s^2`` has ``s^2`` everywhere), and ``s^2`` in the pass band: the filter's power gain ``g`` times the
+    level ``sum(P) / sum(g)`` of the residual's periodogram ``P`` (``E[P] = s^2 g``: every bin counts by
+    its gain, so a band only a few bins wide still has its skirts' bins to estimate from)."""
     r = residual - residual.mean()
     power = np.abs(np.fft.rfft(r)) ** 2 / r.size
     freq = np.fft.rfftfreq(r.size, 1.0 / fs)
@@ -137,10 +138,9 @@ def _noise_spectrum(residual: np.ndarray, fs: float, band_hz, filtered: bool):
     def gain(f):
         return filter_gain(f, fs, band_hz) ** 2 if filtered else np.ones_like(f)
 
-    g = gain(freq)
-    inside = g >= 0.5
-    level = float(np.mean(power[inside] / g[inside])) if inside.sum() >= 4 else float(np.mean(r**2))
-    return lambda f: level * gain(f), level
+    weight = gain(freq)
+    level = float(np.sum(power) / np.sum(weight)) if np.sum(weight) > 0 else float(np.mean(r**2))
+    return (lambda f: level * gain(f)), level
 
 
 def _quadratic_form(g: np.ndarray, spectrum, fs: float) -> np.ndarray:
