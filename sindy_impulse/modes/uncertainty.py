@@ -1,29 +1,37 @@
 """How well the fit itself determines a mode: standard deviations of its coefficients, frequency and
 damping ratio.
 
-The mode's model is treated as a least-squares fit of its free simulation to the states it was fitted on
-(what the output-error fit does, :mod:`sindy_impulse.identification.output_error`): the unknowns are the
-model's non-zero coefficients and its initial state. Linearised about the fitted solution (Gauss-Newton),
-the estimate moves with the noise ``n`` of the band signal as ``delta = A^-1 G^T n``, with
+The mode's model came out of a fit of its simulation to the states it was fitted on: the output-error fit
+(:mod:`sindy_impulse.identification.output_error`: squared errors of one free simulation, the initial state
+fitted too) or, where that was not run or not kept, the refinement's weighted-L1 measure (Gamma from the
+first sample, or segments restarted every few periods from the measured state). Linearised about the
+fitted solution, the estimate moves with the noise ``n`` of the band signal ``y`` as
+``delta = A^-1 G^T n``, with
 
-- ``J_k`` the Jacobian of the simulated state ``k`` with respect to the unknowns
-  (:func:`simulation_jacobian`, central differences: the one place to swap in exact sensitivities),
-- ``A = sum_k w_k J_k^T J_k`` (``w_k = 1 / max|x_k|^2``, the output-error fit's weights),
-- ``G = sum_k w_k L_k^T J_k``, where ``x_k = L_k y`` says how state ``k`` is made from the band signal
-  ``y``: the identity and the 9-point derivative stencil for the states ``[y, dy]``, delays for delay
-  coordinates. The derivative state carries no noise of its own, only ``y``'s, differentiated: counting
-  both states' residuals as independent would halve the variance.
+- ``J`` the Jacobian of the (segment-restarted) simulation with respect to the unknowns, the non-zero
+  coefficients (and the free initial state) (:func:`simulation_jacobian`, central differences: the one
+  place to swap in exact sensitivities),
+- ``A = sum_k w_k J_k^T J_k`` over the states ``k``, with the fit's weights ``w_k`` (squared errors:
+  ``1 / max|x_k|^2``; absolute errors: the measure's weights over ``sigma_k``, the residual's RMS, by
+  Bussgang's theorem: the part of ``sign(e)`` correlated with Gaussian ``e`` is ``sqrt(2 / pi) e / sigma``),
+- ``G = sum_k L_k^T g_k``, ``g_k`` the weighted ``J_k`` less, at each restart, what the measured start
+  state's noise does through the simulation, and ``x_k = L_k y`` how state ``k`` is made from ``y``: the
+  identity and the 9-point derivative stencil for ``[y, dy]``, delays for delay coordinates. The derivative
+  state carries no noise of its own, only ``y``'s, differentiated: counting both states' residuals as
+  independent would halve the variance.
 
-The band-passed noise is coloured, but ``G``'s columns are narrow-band signals at the mode's frequency,
-where the noise's spectrum is flat over the mode's half-power width: ``cov = s^2 A^-1 G^T G A^-1``, ``s^2``
-the residual's power spectral density at the pass band expressed as a per-sample variance (the mean of the
-residual's periodogram over the pass band's bins: white noise of variance ``s^2`` has exactly that). This
-is the Cramer-Rao bound of the mode's parameters in that noise when the fit is efficient; the residual
-includes what the model does not follow, so a misfit widens it.
+Then ``cov = A^-1 (G^T Sigma G) A^-1`` with ``Sigma`` the covariance of the band-passed noise, coloured:
+``G^T Sigma G`` is evaluated in the frequency domain (Whittle) with the noise's spectral density, the
+filter's power gain times a level estimated from the residual of the model's whole free simulation (its
+periodogram over the gain). For the weighted-L1 fits the variance is multiplied by
+:data:`L1_VARIANCE_FACTOR` (``4 / pi``, derived below). The residual includes what the model does not
+follow, so a misfit widens the standard deviations. No other systematic term is added: the band-pass
+filter's own bias on a decay (relative 1e-7 in frequency and 1e-4 in decay rate on noise-free
+ring-downs, ``benchmarks/bench_preprocessing.py``) is below the noise's effect at the SNRs measured.
 
 The frequency and damping ratio are functions of the coefficients (the eigenvalue of the model's
 Jacobian at rest, :mod:`sindy_impulse.poles.modal`); their variances follow by the delta method
-(central differences of the eigenvalue).
+(central differences of the eigenvalue). ``benchmarks/bench_uncertainty.py`` measures the calibration.
 """
 
 from __future__ import annotations
@@ -298,6 +306,9 @@ def mode_uncertainty(
     lags : sequence of int, optional
         For delay coordinates: state ``k`` is ``y`` delayed by ``lags[k]`` samples (the measured
         coordinate has lag 0).
+    filtered : bool, default=True
+        Whether ``y`` was band-passed by :func:`~sindy_impulse.preprocessing.bandpass` over ``band_hz``
+        (its noise then has the filter's spectrum); False for a raw record (white noise assumed).
 
     Returns
     -------
