@@ -340,9 +340,19 @@ def mode_uncertainty(
     measured = 0 if lags is None else int(np.argmin(lags))
     spectrum, noise = _noise_spectrum(residual[:, measured], 1.0 / dt, band_hz, filtered)
     middle = _quadratic_form(_noise_gradient(g, lags, dt), spectrum, 1.0 / dt).real
-    a_inv = np.linalg.pinv(a, rcond=1e-12)
+    # in relative units (a stiffness of 5e5 and a unit coefficient side by side), then back
+    d = _unknown_scales(model, states, a.shape[0])
+    a_inv = np.linalg.pinv(a * np.outer(d, d), rcond=1e-12) * np.outer(d, d)
     cov = (L1_VARIANCE_FACTOR if plan[3] else 1.0) * a_inv @ middle @ a_inv
     return _propagated(model, states, cov[:n_coef, :n_coef], frequency_hz, math.sqrt(noise))
+
+
+def _unknown_scales(model, states, n_unknowns: int) -> np.ndarray:
+    """The size of each unknown: the coefficients' magnitudes, then the states' largest magnitudes."""
+    coef = np.abs(np.asarray(model.model_.coef, dtype=float))
+    scale = np.max(np.abs(states), axis=0)
+    d = np.concatenate([coef[coef != 0], np.where(scale > 0, scale, 1.0)])
+    return d[:n_unknowns]
 
 
 def _propagated(model, states, cov, frequency_hz, noise_std) -> ModeUncertainty:
