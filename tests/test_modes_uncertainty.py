@@ -69,6 +69,7 @@ def test_fields_in_row_repr_and_json(noisy, tmp_path):
     assert cli_main(["modes", str(path), "--columns", "y", "--no-nonlinearity", "--json", str(out)]) == 0
     row = json.loads(out.read_text())["modes"][0]
     assert 0 < row["frequency_std_hz"] < 0.1 and 0 < row["damping_ratio_std"] < 1e-3
+    assert set(row["coefficients_std"]) == {"y'", "dy'"} and 0 < row["coefficients_std"]["dy'"]["y"]
 
 
 def test_nan_with_a_reason_when_the_fit_is_not_known(noisy):

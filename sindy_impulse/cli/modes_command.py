@@ -51,6 +51,17 @@ def _finite(value):
     return value if math.isfinite(value) else None
 
 
+def _coefficients_std(mode) -> dict:
+    """Per equation, the standard deviation of each of its terms' coefficients (terms the model has)."""
+    if mode.coefficients_std is None:
+        return {}
+    terms = mode.model.get_feature_names()
+    return {
+        f"{n}'": {term: float(std) for term, std in zip(terms, row) if math.isfinite(std)}
+        for n, row in zip(mode.model.feature_names_, mode.coefficients_std)
+    }
+
+
 def survey_report(table, args):
     """Run identify_modes on the table: ``(survey, report)`` with a JSON-ready report."""
     import warnings
@@ -70,6 +81,7 @@ def survey_report(table, args):
             {
                 **{k: (_finite(v) if isinstance(v, float) else v) for k, v in row.items()},
                 "equations": {f"{n}'": eq for n, eq in zip(m.model.feature_names_, m.model.equations(4))},
+                "coefficients_std": _coefficients_std(m),
             }
             for row, m in zip(rows, survey.modes)
         ],
