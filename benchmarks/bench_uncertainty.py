@@ -2,7 +2,8 @@
 
     python benchmarks/bench_uncertainty.py             # 200 records per noise level (30, 45, 60 dB)
     python benchmarks/bench_uncertainty.py --quick     # 30 per level
-    python benchmarks/bench_uncertainty.py --n 100 --seed 3 --jobs 2
+    python benchmarks/bench_uncertainty.py --n 100 --seed 3 --jobs 2 --save results.jsonl
+    python benchmarks/bench_uncertainty.py --summary results.jsonl   # the tables of the records done so far
 
 Each record (``sindy_impulse.datasets.impact_record``): half single-mode, half two-mode, drawn as
 ``benchmarks/bench_modes.py`` draws them (modes between 2 and 25 % of the Nyquist frequency, at least 3 %
@@ -23,6 +24,7 @@ the levels; and the time the standard deviations took as a share of the survey's
 from __future__ import annotations
 
 import argparse
+import json
 import time
 import warnings
 from concurrent.futures import ProcessPoolExecutor
@@ -132,29 +134,10 @@ def _table(title: str, groups: dict) -> None:
                   f"{bad:7d}")
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(
-        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
-    )
-    parser.add_argument("--n", type=int, default=200, help="records per noise level")
-    parser.add_argument("--quick", action="store_true", help="30 records per level")
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--jobs", type=int, default=1)
-    parser.add_argument("--levels", type=float, nargs="+", default=list(LEVELS))
-    args = parser.parse_args()
-    n = 30 if args.quick else args.n
-    rng = np.random.default_rng(args.seed)
-    cases = [draw_case(rng, 1 + i % 2, level) for level in args.levels for i in range(n)]
-    start = time.perf_counter()
-    if args.jobs > 1:
-        with ProcessPoolExecutor(args.jobs) as pool:
-            results = list(pool.map(run_case, cases, chunksize=4))
-    else:
-        results = [run_case(c) for c in cases]
+def summarise(results: list, levels) -> None:
+    """Print the calibration tables of ``results`` (one dict per record, from :func:`run_case`)."""
     by_level = {f"{level:g} dB": [r for res in results if res["snr_db"] == level for r in res["rows"]]
-                for level in args.levels}
-    print(f"{len(cases)} records ({n} per level, half single-, half two-mode), seed {args.seed}, "
-          f"{time.perf_counter() - start:.0f} s")
+                for level in levels}
     missed = sum(not r["found"] for rows in by_level.values() for r in rows)
     print(f"true modes: {sum(map(len, by_level.values()))}, not found: {missed}")
     _table("per noise level (marks: within 2 std 90-98 %, RMS(err/std) 0.8-1.25)", by_level)
@@ -169,6 +152,49 @@ def main() -> None:
     share = spent / np.maximum(total - spent, 1e-12)
     print(f"\ntime of the standard deviations / survey time without them: median {np.median(share):.1%}, "
           f"90th percentile {np.percentile(share, 90):.1%}, total {spent.sum() / (total - spent).sum():.1%}")
+
+
+def _records(cases: list, jobs: int):
+    """The results of the cases, in order, as they come."""
+    if jobs <= 1:
+        yield from map(run_case, cases)
+        return
+    with ProcessPoolExecutor(jobs) as pool:
+        yield from pool.map(run_case, cases, chunksize=2)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    parser.add_argument("--n", type=int, default=200, help="records per noise level")
+    parser.add_argument("--quick", action="store_true", help="30 records per level")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--jobs", type=int, default=1)
+    parser.add_argument("--levels", type=float, nargs="+", default=list(LEVELS))
+    parser.add_argument("--save", help="append each record's result to this JSON-lines file")
+    parser.add_argument("--summary", help="only print the tables of a --save file")
+    args = parser.parse_args()
+    if args.summary:
+        with open(args.summary) as f:
+            results = [json.loads(line) for line in f if line.strip()]
+        print(f"{len(results)} records from {args.summary}")
+        summarise(results, sorted({r["snr_db"] for r in results}))
+        return
+    n = 30 if args.quick else args.n
+    rng = np.random.default_rng(args.seed)
+    drawn = {level: [draw_case(rng, 1 + i % 2, level) for i in range(n)] for level in args.levels}
+    cases = [drawn[level][i] for i in range(n) for level in args.levels]  # levels interleaved
+    start = time.perf_counter()
+    results = []
+    for res in _records(cases, args.jobs):
+        results.append(res)
+        if args.save:
+            with open(args.save, "a") as f:
+                f.write(json.dumps(res, default=float) + "\n")
+    print(f"{len(cases)} records ({n} per level, half single-, half two-mode), seed {args.seed}, "
+          f"{time.perf_counter() - start:.0f} s")
+    summarise(results, args.levels)
 
 
 if __name__ == "__main__":
