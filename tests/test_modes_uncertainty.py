@@ -100,3 +100,19 @@ def test_calibrated_over_seeds():
     rms = np.sqrt(np.mean(errors**2, axis=0))
     assert np.all((rms > 0.5) & (rms < 2.0)), rms
     assert np.all(np.mean(np.abs(errors) <= 2, axis=0) >= 0.7), errors
+
+
+def test_systematic_term_zero_for_a_linear_model_and_grows_with_a_cubic_term():
+    from sindy_impulse.modes.uncertainty import _model_form
+    from sindy_impulse.simulation import CompiledModel, TermTable
+
+    terms = TermTable.polynomial([[1, 0], [0, 1], [3, 0]])
+    t = np.arange(2000) * 0.005
+    moved = []
+    for k3 in (0.0, 5.0, 20.0):
+        model = CompiledModel([[0.0, 1.0, 0.0], [-400.0, -0.4, -k3]], terms)
+        states = model.simulate([1.0, 0.0], t)
+        moved.append(_model_form(model, states, np.zeros(2), np.full(2, 1e-6), 20 / (2 * np.pi)))
+    assert np.all(moved[0] < 1e-9)
+    # a hardening spring raises the frequency over the data: the shift grows with k3
+    assert 0 < moved[1][0] < moved[2][0]

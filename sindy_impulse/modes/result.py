@@ -55,8 +55,9 @@ class Mode:
         band signal propagated through the linearised fit of the model's simulation to its states
         (:mod:`sindy_impulse.modes.uncertainty`; ``benchmarks/bench_uncertainty.py`` measures their
         calibration), plus, for a model with nonlinear terms, how far those move the values over the
-        data (a stated systematic term). NaN when they cannot be computed (``uncertainty_note`` says why). With repeated hits,
-        the standard deviation of the combined value; the hits' scatter is ``frequency_spread_hz``.
+        data (a stated systematic term). NaN when they cannot be computed (``uncertainty_note`` says
+        why). With repeated hits, the standard deviation of the combined value; the hits' scatter is
+        ``frequency_spread_hz``.
     coefficients_std : ndarray or None
         Standard deviation of each of ``model.coefficients()`` from the fit (NaN for terms the model does
         not have).
