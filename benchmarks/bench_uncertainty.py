@@ -19,6 +19,24 @@ and the median relative std; then the same by how the mode's model was fitted (o
 restarted on segments or from the first sample; jointly with a neighbour in delay coordinates), pooled over
 the levels; and the time the standard deviations took as a share of the survey's time without them
 (both measured in the same run).
+
+Measured (seed 0, 200 records per level, ``--jobs 2``, 22 min on a loaded 2-core machine; 3 of 900 true
+modes not found):
+
+    level  quantity   n    within 2 std  RMS(err/std)
+    30 dB  frequency  298  94.3 %        1.03
+    30 dB  damping    298  94.0 %        1.02
+    45 dB  frequency  299  94.3 %        1.03
+    45 dB  damping    299  94.3 %        1.07
+    60 dB  frequency  300  93.0 %        1.09
+    60 dB  damping    300  94.3 %        1.05
+
+By fit: output error (512 modes) 93.4 % / 95.5 %, RMS 1.03 / 1.01; segments (367) 94.8 % / 92.6 %, RMS
+1.08 / 1.10; joint fits in delay coordinates (17) 94.1 % / 94.1 %, RMS 0.90 / 0.91 (frequency / damping).
+The standard deviations took a median 2.0 % of the survey's time (90th percentile 3.4 %). Without the
+systematic term of models with nonlinear terms (first 366 records of the same draw, an earlier version),
+one linear mode whose model followed a neighbour's leakage with cubic terms was 85 stds off and took the
+60 dB RMS to 6.4 / 4.7 (coverage unchanged).
 """
 
 from __future__ import annotations
