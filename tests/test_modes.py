@@ -200,7 +200,7 @@ def test_cli_modes(tmp_path, capsys):
     )
     printed = capsys.readouterr().out
     assert code == 0 and "1 mode(s)" in printed
-    assert float(re.search(r"\n\s+0\s+([\d.]+)", printed).group(1)) == pytest.approx(150.0, rel=3e-3)
+    assert float(re.search(r"\n  mode 0: ([\d.]+) Hz", printed).group(1)) == pytest.approx(150.0, rel=3e-3)
     import json
 
     report = json.loads(out_json.read_text())

@@ -294,6 +294,64 @@ class ModalSurvey:
 
         return write_uff55(path, self.modes, nodes=nodes, directions=directions, overwrite=overwrite)
 
+    def to_uff58(self, path, *, binary: bool = False, overwrite: bool = False):
+        """Write each mode's band signal and its model's free decay as UFF 58 time records.
+
+        Two data sets per mode (:func:`sindy_impulse.modes.export.signal_records`): the band signal the
+        model was fitted on (``mode.states``' measured coordinate over ``mode.t``, at ``mode.fitted_fs``),
+        and the model simulated from the band's first state over the whole of ``mode.t``, on the record's
+        clock. ASCII ordinates hold 12 significant digits, binary ones the doubles. Written through
+        :func:`sindy_impulse.io.write_record`; needs pyuff (``pip install "sindy-impulse[io]"``).
+
+        Parameters
+        ----------
+        path : str or path-like
+            The file (``.unv`` or ``.uff``); an existing one is replaced only with ``overwrite=True``.
+        binary : bool, default=False
+            Binary data sets (``58b``) instead of ASCII.
+        overwrite : bool, default=False
+            Replace an existing file (else FileExistsError).
+
+        Returns
+        -------
+        Path
+            The file written.
+
+        Examples
+        --------
+        >>> import os, tempfile, pyuff
+        >>> from sindy_impulse import identify_modes, impact_record
+        >>> rec = impact_record([120.0, 240.0], [0.005, 0.01], fs=5000, duration=1.0, snr_db=50,
+        ...                     random_state=0)
+        >>> survey = identify_modes(rec.y, fs=rec.fs)
+        >>> with tempfile.TemporaryDirectory() as folder:
+        ...     sets = pyuff.UFF(survey.to_uff58(os.path.join(folder, "signals.unv"))).read_sets()
+        >>> [s["id1"] for s in sets][:2]
+        ['mode 1 120 Hz band signal', 'mode 1 120 Hz model free decay']
+        """
+        from .export import write_signals
+
+        return write_signals(self, path, binary=binary, overwrite=overwrite)
+
+    def to_frame(self, nonlinear: bool = False):
+        """The modal table as a :class:`pandas.DataFrame`: one row per mode (index ``mode``), the columns
+        of :meth:`table` (frequency, damped frequency, damping ratio, band, amplitude, fit error, SNR;
+        hits and spreads, residue, ``nonlinear`` when present). Needs pandas (an ImportError saying
+        ``pip install pandas`` otherwise).
+
+        Examples
+        --------
+        >>> from sindy_impulse import identify_modes, impact_record
+        >>> rec = impact_record([120.0, 240.0], [0.005, 0.01], fs=5000, duration=1.0, snr_db=50,
+        ...                     random_state=0)
+        >>> frame = identify_modes(rec.y, fs=rec.fs).to_frame()
+        >>> frame["frequency_hz"].round(1).tolist(), frame.index.name
+        ([120.0, 240.0], 'mode')
+        """
+        from .export import modal_frame
+
+        return modal_frame(self, nonlinear=nonlinear)
+
     def __repr__(self) -> str:
         head = f"ModalSurvey({len(self.modes)} mode(s), {len(self.rejected)} rejected)"
         columns = "f_n [Hz]               f_d [Hz]   damping ratio         amplitude   fit error   band [Hz]"
