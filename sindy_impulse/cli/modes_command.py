@@ -198,6 +198,17 @@ def _finite(value):
     return value if math.isfinite(value) else None
 
 
+def _coefficients_std(mode) -> dict:
+    """Per equation, the standard deviation of each of its terms' coefficients (terms the model has)."""
+    if mode.coefficients_std is None:
+        return {}
+    terms = mode.model.get_feature_names()
+    return {
+        f"{n}'": {term: float(std) for term, std in zip(terms, row) if math.isfinite(std)}
+        for n, row in zip(mode.model.feature_names_, mode.coefficients_std)
+    }
+
+
 def survey_report(table, survey, caught, nonlinear: bool) -> dict:
     """The JSON-ready report of one input's survey (``caught``: its warnings as (category, message))."""
     rows = survey.table(nonlinear=nonlinear)
@@ -208,6 +219,7 @@ def survey_report(table, survey, caught, nonlinear: bool) -> dict:
             {
                 **{k: (_finite(v) if isinstance(v, float) else v) for k, v in row.items()},
                 "equations": {f"{n}'": eq for n, eq in zip(m.model.feature_names_, m.model.equations(4))},
+                "coefficients_std": _coefficients_std(m),
             }
             for row, m in zip(rows, survey.modes)
         ],

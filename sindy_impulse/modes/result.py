@@ -50,8 +50,22 @@ class Mode:
         Index of the hit the mode comes from (0 for one record).
     hits : list of Mode
         With repeated hits, the matching mode of each hit (the values above are then the consensus).
+    frequency_std_hz, damping_ratio_std : float
+        Standard deviations of ``frequency_hz`` and ``damping_ratio`` from the fit itself: the noise of the
+        band signal propagated through the linearised fit of the model's simulation to its states
+        (:mod:`sindy_impulse.modes.uncertainty`; ``benchmarks/bench_uncertainty.py`` measures their
+        calibration), plus, for a model with nonlinear terms, how far those move the values over the
+        data (a stated systematic term). NaN when they cannot be computed (``uncertainty_note`` says
+        why). With repeated hits, the standard deviation of the combined value; the hits' scatter is
+        ``frequency_spread_hz``.
+    coefficients_std : ndarray or None
+        Standard deviation of each of ``model.coefficients()`` from the fit (NaN for terms the model does
+        not have).
+    uncertainty_note : str
+        Why the standard deviations are NaN ("" when they are not).
     frequency_spread_hz, damping_ratio_spread : float
-        Interquartile range of the hits' values (0 for one hit).
+        Interquartile range of the hits' values (0 for one hit), kept apart from the standard deviations
+        above.
     coordinate_ : int
         The measured coordinate among the states (0: ``y``), read by :func:`analysis.backbone`.
     diagnostics : FitDiagnostics
@@ -74,6 +88,10 @@ class Mode:
     frequency_spread_hz: float = 0.0
     damping_ratio_spread: float = 0.0
     coordinate_: int = 0
+    frequency_std_hz: float = math.nan
+    damping_ratio_std: float = math.nan
+    coefficients_std: np.ndarray | None = field(default=None, repr=False)
+    uncertainty_note: str = ""
 
     @property
     def damped_frequency_hz(self) -> float:
@@ -128,8 +146,10 @@ class Mode:
         """The mode as a row of the modal table."""
         row = {
             "frequency_hz": self.frequency_hz,
+            "frequency_std_hz": self.frequency_std_hz,
             "damped_frequency_hz": self.damped_frequency_hz,
             "damping_ratio": self.damping_ratio,
+            "damping_ratio_std": self.damping_ratio_std,
             "band_low_hz": self.band_hz[0],
             "band_high_hz": self.band_hz[1],
             "amplitude": self.amplitude,
@@ -375,15 +395,24 @@ class ModalSurvey:
 
     def __repr__(self) -> str:
         head = f"ModalSurvey({len(self.modes)} mode(s), {len(self.rejected)} rejected)"
-        lines = [head, "  #   f_n [Hz]    f_d [Hz]   damping   amplitude   fit error   band [Hz]"]
+        columns = "f_n [Hz]               f_d [Hz]   damping ratio         amplitude   fit error   band [Hz]"
+        lines = [head, "  #   " + columns]
         for i, m in enumerate(self.modes):
             lines.append(
-                f"  {i:<3d} {m.frequency_hz:<11.6g} {m.damped_frequency_hz:<10.6g} {m.damping_ratio:<9.4g} "
+                f"  {i:<3d} {_plus_minus(m.frequency_hz, m.frequency_std_hz, 7):<22s} "
+                f"{m.damped_frequency_hz:<10.6g} {_plus_minus(m.damping_ratio, m.damping_ratio_std, 4):<21s} "
                 f"{m.amplitude:<11.4g} {m.fit_error:<11.3g} {m.band_hz[0]:.4g}-{m.band_hz[1]:.4g}"
             )
         lines += [f"  rejected {_band_text(r.band_hz)}: {r.reason}" for r in self.rejected]
         lines += [f"  note: {n}" for n in self.notes]
         return "\n".join(lines)
+
+
+def _plus_minus(value: float, std: float, digits: int) -> str:
+    """``value +- std`` (std to two significant digits; ``+- ?`` when it is not known)."""
+    if not (math.isfinite(std) and std > 0):
+        return f"{value:.{digits}g} ± ?"
+    return f"{value:.{digits}g} ± {std:.2g}"
 
 
 def _band_text(band_hz) -> str:

@@ -407,6 +407,11 @@ def identify_modes(
     modes.sort(key=lambda m: m.frequency_hz)
     for note in notes:
         warnings.warn(note, DataWarning, stacklevel=2)
+    notes += [
+        f"mode at {m.frequency_hz:.6g} Hz: no standard deviation from the fit ({m.uncertainty_note})"
+        for m in modes
+        if m.uncertainty_note
+    ]
     if not modes:
         warnings.warn(
             "no mode found: "
