@@ -21,8 +21,10 @@ __all__ = ["FRAME_COLUMNS", "modal_frame", "signal_records", "write_signals"]
 #: spreads, ``residue``, ``nonlinear``) follow when the survey has them.
 FRAME_COLUMNS = (
     "frequency_hz",
+    "frequency_std_hz",
     "damped_frequency_hz",
     "damping_ratio",
+    "damping_ratio_std",
     "band_low_hz",
     "band_high_hz",
     "amplitude",
