@@ -26,7 +26,8 @@ e      a 1:2 or 1:3 near-resonant linear pair (the second frequency 0.5-2 % abov
        oscillator with a quadratic spring (its second harmonic 26-40 dB below the fundamental in
        displacement) or a cubic spring (third harmonic 40-50 dB below, hardening or softening); the
        lowest frequency 2-8 % (1:3) or 2-12 % (1:2) of Nyquist. Pairs must give two modes; a harmonic
-       record one mode and a rejected row naming ``harmonic 2`` / ``harmonic 3``
+       record one mode and a rejected row naming ``harmonic 2`` / ``harmonic 3`` where the harmonic's band
+       SNR (:func:`harmonic_snr_db`: within 1 % of the harmonic or its half-power band) is >= 20 dB
 f      a close pair 1-3 half-power bandwidths apart (``f2 - f1 = k (zeta1 f1 + zeta2 f2)``), amplitudes
        within 10 dB, the record at least 2 / (f2 - f1) long; with even odds a third mode well apart
 g      1-4 modes and a nonlinear element at mass 0: a cubic spring (the linear frequency squared moved by
@@ -284,6 +285,36 @@ def band_snr_db(rec) -> np.ndarray:
         signal = np.sum(np.abs(np.fft.rfft(s)[band]) ** 2)
         out.append(10 * np.log10(signal / max(np.sum(np.abs(noise[band]) ** 2), 1e-300)))
     return np.asarray(out)
+
+
+def _band_energy(rec, centre: float, half: float, of_noise: bool = False) -> float:
+    """Energy of the clean ring-down (or of the noise) of channel 0 within ``centre -+ half`` Hz."""
+    y = rec.y if rec.y.ndim == 1 else rec.y[:, 0]
+    clean = rec.y_clean if rec.y_clean.ndim == 1 else rec.y_clean[:, 0]
+    if of_noise:
+        x = y - np.atleast_1d(rec.offset)[0] - clean
+    else:
+        start = int(np.searchsorted(rec.t, rec.onset_time))
+        x = np.where(np.arange(y.size) >= start, clean - np.mean(clean[start:]), 0.0)
+    band = np.abs(np.fft.rfftfreq(y.size, 1 / rec.fs) - centre) <= half
+    return float(np.sum(np.abs(np.fft.rfft(x)[band]) ** 2))
+
+
+def harmonic_snr_db(rec, order: int) -> float:
+    """Is the harmonic there to be named? The energy that the nonlinear terms add to the clean record in a
+    band about ``order`` times its single mode's frequency (the record's minus that of the same record
+    without them: the mode's own spectral skirt left out), over the noise's in that band, in dB (channel
+    0). The band: ``order`` times the mode's half-power band, at least 1 % of the harmonic and 3 bins."""
+    f, zeta = float(rec.modes.frequency_hz[0]), float(rec.modes.damping_ratio[0])
+    half = max(order * zeta * f, 1.5 * rec.fs / rec.t.size, 0.01 * order * f)
+    linear = impact_record(**{k: v for k, v in rec.params.items() if k in _LINEAR_ARGS})
+    added = _band_energy(rec, order * f, half) - _band_energy(linear, order * f, half)
+    noise = _band_energy(rec, order * f, half, of_noise=True)
+    return float(10 * np.log10(max(added, 1e-300) / max(noise, 1e-300)))
+
+
+_LINEAR_ARGS = ("frequencies_hz", "damping_ratios", "amplitudes", "fs", "duration", "sensor",
+                "pre_trigger", "offset", "contact_time", "force_amplitude", "double_hit")
 
 
 def random_config(seed: int) -> dict:

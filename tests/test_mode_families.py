@@ -122,3 +122,14 @@ def test_the_scorer_matches_one_to_one_and_names_what_is_wrong():
     single = (np.array([100.0]), np.array([0.001]), np.array([True]))
     assert judge(harmonic, *single, [(100.0, 0.001)], rows)["passed"]
     assert not judge(harmonic, *single, [(100.0, 0.001)], [])["passed"]
+
+
+def test_harmonic_snr_sees_the_quadratic_springs_second_harmonic():
+    case = next(c for c in _cases("e", n=8) if c["kind"] == "quadratic")
+    cfg = dict(case["config"], duration=min(case["config"]["duration"], 0.5), snr_db=50.0)
+    f = cfg["frequencies_hz"][0]
+    a = mf._displacement_amplitude(1.0, f, cfg["sensor"])
+    cfg["quadratic_stiffness"] = 6 * (2 * np.pi * f) ** 2 * 10 ** (-32 / 20) / a  # harmonic 32 dB down
+    linear = {k: v for k, v in cfg.items() if k != "quadratic_stiffness"}
+    with_harmonic = mf.harmonic_snr_db(impact_record(**cfg), 2)
+    assert with_harmonic > 15 and with_harmonic > mf.harmonic_snr_db(impact_record(**linear), 2) + 15
