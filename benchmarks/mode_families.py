@@ -19,8 +19,10 @@ b      2-4 modes; one at 0 dB, at least one weak mode 20-40 dB below it (each fu
        20 dB with even odds). A mode is scored only where its own band SNR (its energy over the noise's in
        its half-power band, at least 3 bins wide) is >= 20 dB (:func:`band_snr_db`)
 d      1-3 modes, damping ratios 2-25 % (log-uniform), 3-15 periods of the lowest mode after the hit (at
-       12-100 samples per period of the lowest mode), spacing at least 10 % and the half-power bands
-       apart, the three sensors in turn; marks 0.5 % / 10 %
+       12-100 samples per period of the lowest mode, more where needed for at least 150 samples), the
+       others 1.1-4 times its frequency (below fs / 4), spacing at least 10 % and the half-power bands
+       apart, the three sensors in turn; marks 0.5 % / 10 %. ``bench_modes.py`` adds the paper's
+       oscillator (seeds 0-99 at 40 dB, ``bench_short_decays.py``)
 e      a 1:2 or 1:3 near-resonant linear pair (the second frequency 0.5-2 % above or below the exact ratio,
        the second mode 0-20 dB weaker; damping independent, or equal ratios) against one nonlinear
        oscillator with a quadratic spring (its second harmonic 26-40 dB below the fundamental in
