@@ -388,14 +388,24 @@ def show_failures(name: str, results: list[dict], seed: int) -> None:
         print(f"      config {json.dumps(r['case']['config'])}")
 
 
-def run_families(names: list[str], n: int | None, seed: int, failures: bool) -> None:
+def run_families(names: list[str], n: int | None, seed: int, failures: bool, budget: float = np.inf) -> None:
+    """Each family in turn: its records (at most ``budget`` seconds of drawing new ones; Ctrl-C also stops
+    the family early), then its failures and its table row."""
     rows = {}
     for name in names:
         rng = np.random.default_rng(seed)
         count = n or FAMILY_SIZES[name]
         rows[name] = []
+        start = time.perf_counter()
         for i in range(count):
-            r = run_family_case(draw(name, rng, i))
+            if time.perf_counter() - start > budget:
+                print(f"  family {name}: time budget spent after {i} of {count} records")
+                break
+            try:
+                r = run_family_case(draw(name, rng, i))
+            except KeyboardInterrupt:
+                print(f"  family {name}: interrupted after {i} of {count} records")
+                break
             rows[name].append(r)
             print(f"  [{name} #{i}] survey {'right' if r['ours']['passed'] else 'WRONG'}, baseline "
                   f"{'right' if r['theirs']['passed'] else 'wrong'}, "
@@ -423,12 +433,15 @@ def main() -> None:
     parser.add_argument("--family", choices=("a", "high", *NEW_FAMILIES, "all"), default="a")
     parser.add_argument("--show-failures", action="store_true",
                         help="list every record the survey got wrong (index, config, what went wrong)")
+    parser.add_argument("--budget", type=float, default=np.inf, metavar="SECONDS",
+                        help="per family: draw no new record after this long (the table covers those done)")
     parser.add_argument("--table", action="store_true",
                         help="family a / high: also the per-family table (one-to-one matching, as b-h)")
     args = parser.parse_args()
     if args.family not in ("a", "high") or args.table:
         names = [*FAMILY_SIZES] if args.family == "all" else [args.family]
-        run_families(names, args.n or (5 if args.quick else None), args.seed, args.show_failures)
+        run_families(names, args.n or (5 if args.quick else None), args.seed, args.show_failures,
+                     args.budget)
         return
     if args.output_error_cost:
         output_error_cost(args.output_error_cost, np.random.default_rng(args.seed))
