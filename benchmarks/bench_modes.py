@@ -5,6 +5,8 @@
     python benchmarks/bench_modes.py --seed 3 --n 50
     python benchmarks/bench_modes.py --output-error-cost 20   # time of the output-error fit (see below)
     python benchmarks/bench_modes.py --family high --n 60      # family (c): modes between fs/8 and fs/2.56
+    python benchmarks/bench_modes.py --family e --show-failures   # one family of the modal-table issue
+    python benchmarks/bench_modes.py --family all --show-failures # every family (a, high, b, d, e, f, g, h)
 
 Each record (``sindy_impulse.datasets.impact_record``): 1-4 modes between 2 and 25 % of the Nyquist
 frequency (>= 8 samples per period), at least 3 % apart with non-overlapping half-power bands, damping
@@ -27,6 +29,23 @@ with every mode within the marks (ESPRIT 59, stabilised ESPRIT 59), none with a 
 3.7e-4); 0.88 s a record (ESPRIT 0.05 s). The miss: a mode 3 % from its neighbour at 3.4 samples per
 period (604 Hz at 2,048 Hz). Before the bands were resampled, every mode above fs / 8 was refused.
 
+``--family b|d|e|f|g|h|all`` draws the other families of the modal-table issue from
+:mod:`mode_families` (its docstring gives every generator's ranges): (b) weak modes 20-40 dB below the
+strongest, scored where their own band SNR is >= 20 dB; (d) short, strongly damped records (3-15 periods,
+damping 2-25 %, marks 0.5 % / 10 %) plus the paper's oscillator on seeds 0-99 at 40 dB
+(:mod:`bench_short_decays`); (e) 1:2 and 1:3 near-resonant pairs (two modes) against the harmonics of single
+quadratic and cubic oscillators (one mode and a rejected row naming ``harmonic 2`` / ``harmonic 3``); (f)
+close pairs 1-3 half-power bandwidths apart; (g) 1-4 modes with a nonlinear element; (h) clipped records.
+Default sizes: a 200, high 60, b 60, d 100 (+ 100 oscillator records), e 80, f 60, g 60, h 60 (740). These
+runs (and ``--table`` for a / high) score both answers alike: true and found modes paired one to one
+(closest first, within 1 %), a record right when every counted mode is within the marks and no found mode
+is left unpaired (spurious); the baseline is the stabilised ESPRIT above, unchanged. Per family the table
+gives n, records right (survey, baseline), records with a spurious mode, exceptions raised by
+``identify_modes``, records with a failure caught inside the survey (a ``Rejected`` row of band None or with
+an error in its evidence), median errors of the paired modes and the median seconds per record;
+``--show-failures`` lists each record the survey got wrong with its index, its ``impact_record`` config
+(a reproducer: ``impact_record(**config)``) and what went wrong.
+
 ``--output-error-cost N`` instead times ``identify_modes`` on the first N records with the modes' output-error
 fit (bands of at most ``modes._fit.OUTPUT_ERROR_PERIODS`` periods) and without it (the threshold set to 0),
 alternating, three times each, and prints the median time ratio with / without.
@@ -35,50 +54,32 @@ alternating, three times each, and prints the median time ratio with / without.
 from __future__ import annotations
 
 import argparse
+import json
+import sys
 import time
 import warnings
+from pathlib import Path
 
 import numpy as np
+from scipy.optimize import linear_sum_assignment
 
 from sindy_impulse import identify_modes, impact_record
 from sindy_impulse.analysis import esprit
 from sindy_impulse.poles import stabilisation
 from sindy_impulse.preprocessing import find_impact
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from mode_families import band_snr_db, draw, family_a, harmonic_snr_db  # noqa: E402
+
+NEW_FAMILIES = ("b", "d", "e", "f", "g", "h")
+
 F_TOL, Z_TOL, MATCH = 0.003, 0.10, 0.01
 
 
 def random_case(rng: np.random.Generator, family: str = "a") -> dict:
-    """Parameters of one random record satisfying the study's constraints (family ``"a"`` or ``"high"``)."""
-    n_samples = int(rng.integers(2000, 40001))
-    fs = float(rng.choice([1000.0, 2048.0, 5000.0, 10000.0, 25600.0]))
-    nyquist = fs / 2
-    n_modes = int(rng.integers(1, 5 if family == "a" else 4))
-    top = 0.25 if family == "a" else 2 / 2.56
-    for _ in range(1000):
-        f = np.sort(rng.uniform(0.02 * nyquist, top * nyquist, n_modes))
-        if family == "high" and f[-1] <= 0.25 * nyquist:
-            continue
-        z = np.exp(rng.uniform(np.log(1e-3), np.log(3e-2), n_modes))
-        ok = all(
-            f[i + 1] / f[i] - 1 >= 0.03 and f[i + 1] - f[i] > z[i] * f[i] + z[i + 1] * f[i + 1]
-            for i in range(n_modes - 1)
-        )
-        if ok:
-            break
-    amplitudes = 10 ** (-rng.uniform(0, 20, n_modes) / 20)
-    return dict(
-        frequencies_hz=f,
-        damping_ratios=z,
-        amplitudes=amplitudes,
-        fs=fs,
-        duration=n_samples / fs,
-        sensor=str(rng.choice(["displacement", "velocity", "acceleration"])),
-        pre_trigger=float(rng.uniform(0, 0.1)),
-        offset=float(rng.uniform(0, 5)),
-        snr_db=float(rng.uniform(30, 60)),
-        random_state=int(rng.integers(2**31)),
-    )
+    """Parameters of one random record satisfying the study's constraints (family ``"a"`` or ``"high"``;
+    the draw is :func:`mode_families.family_a`)."""
+    return family_a(rng, high=family == "high")["config"]
 
 
 def _match(true_f, true_z, found_f, found_z):
@@ -237,14 +238,211 @@ def output_error_cost(n: int, rng: np.random.Generator) -> None:
           f"{np.median(ratios):.3f} (range {min(ratios):.3f}-{max(ratios):.3f})")
 
 
+# --------------------------------------------------------------------------------------------------------
+# the families of the modal-table issue (b, d, e, f, g, h; a and high scored alike in the table)
+# --------------------------------------------------------------------------------------------------------
+#: A harmonic is required to be named only where its band SNR reaches this (family e).
+MIN_HARMONIC_SNR_DB = 20.0
+FAMILY_SIZES = {"a": 200, "high": 60, "b": 60, "d": 100, "e": 80, "f": 60, "g": 60, "h": 60}
+
+
+def _assign(f_true, found_f) -> dict:
+    """One-to-one: true mode index -> found mode index, the closest pairs first, only within ``MATCH``."""
+    if len(f_true) == 0 or len(found_f) == 0:
+        return {}
+    cost = np.abs(np.asarray(found_f, float)[None, :] / np.asarray(f_true, float)[:, None] - 1)
+    rows, cols = linear_sum_assignment(np.where(cost <= MATCH, cost, 1e6))
+    return {int(i): int(j) for i, j in zip(rows, cols) if cost[i, j] <= MATCH}
+
+
+def judge(case: dict, f_true, z_true, counted, found, rejected=None) -> dict:
+    """Score one answer (``found``: (frequency_hz, damping_ratio) pairs) against the truth: every counted
+    mode within the case's marks, no found mode left unassigned (spurious), and for family e's harmonic
+    records (``rejected`` given: the survey's) a rejected row naming the harmonic."""
+    pairs = _assign(f_true, [f for f, _ in found])
+    errors, problems = [], []
+    for i, (f, z) in enumerate(zip(f_true, z_true)):
+        if i not in pairs:
+            errors.append((np.inf, np.inf))
+            problems.append(f"{f:.5g} Hz missed" + ("" if counted[i] else " (not counted)"))
+            continue
+        g, zeta = found[pairs[i]]
+        errors.append((abs(g / f - 1), abs(zeta / z - 1)))
+        if errors[-1][0] > case["f_tol"] or errors[-1][1] > case["z_tol"]:
+            problems.append(f"{f:.5g} Hz found at {g:.5g} Hz (df/f {g / f - 1:+.1e}), "
+                            f"zeta {zeta:.4g} for {z:.4g} (dz/z {zeta / z - 1:+.2f})")
+    spurious = [found[j][0] for j in range(len(found)) if j not in pairs.values()]
+    problems += [f"spurious mode at {g:.5g} Hz" for g in spurious]
+    ok = all(e[0] <= case["f_tol"] and e[1] <= case["z_tol"] for e, c in zip(errors, counted) if c)
+    harmonic = case.get("harmonic")
+    if harmonic and rejected is not None and case.get("harmonic_snr_db", np.inf) >= MIN_HARMONIC_SNR_DB:
+        named = any(f"harmonic {harmonic}" in r.reason for r in rejected)
+        if not named:
+            problems.append(f"harmonic {harmonic} not named among the rejected rows")
+        ok = ok and named
+    counted_errors = [e for e, c in zip(errors, counted) if c]
+    return {"passed": ok and not spurious, "errors": counted_errors, "spurious": len(spurious),
+            "problems": problems}
+
+
+def _survey_answer(rec) -> tuple:
+    start = time.perf_counter()
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            survey = identify_modes(rec.y, fs=rec.fs)
+        found = [(m.frequency_hz, m.damping_ratio) for m in survey.modes]
+        rejected, error = list(survey.rejected), None
+    except Exception as exc:  # noqa: BLE001 - an exception is a finding, reported as such
+        found, rejected, error = [], [], f"{type(exc).__name__}: {exc}"
+    return found, rejected, error, time.perf_counter() - start
+
+
+def _baseline_answer(rec) -> tuple:
+    """The stabilised ESPRIT baseline (unchanged): orders 10-60, from the detected onset."""
+    start = time.perf_counter()
+    try:
+        onset = esprit_start(rec.y, rec.fs)
+        stable = stabilisation(rec.y[onset:], fs=rec.fs).modes()
+        found = [(m.frequency_hz, m.damping_ratio) for m in stable]
+    except Exception:  # noqa: BLE001 - a failing baseline is a data point
+        found = []
+    return found, time.perf_counter() - start
+
+
+def run_family_case(case: dict) -> dict:
+    """One record of a family through the survey and the stabilised ESPRIT baseline, both scored."""
+    rec = impact_record(**case["config"])
+    f_true = np.asarray(rec.modes.frequency_hz, float)
+    z_true = np.asarray(rec.modes.damping_ratio, float)
+    counted = np.ones(f_true.size, bool)
+    if "min_band_snr_db" in case:
+        counted = band_snr_db(rec) >= case["min_band_snr_db"]
+    if "harmonic" in case:
+        case = dict(case, harmonic_snr_db=harmonic_snr_db(rec, case["harmonic"]))
+    found, rejected, error, elapsed = _survey_answer(rec)
+    base, base_time = _baseline_answer(rec)
+    ours = judge(case, f_true, z_true, counted, found, rejected)
+    if error:
+        ours["passed"] = False
+        ours["problems"].insert(0, f"exception {error}")
+    caught = [r.reason for r in rejected if r.band_hz is None or "error" in r.evidence]
+    ours["problems"] += [f"caught failure: {r}" for r in caught]
+    return {"case": case, "ours": ours, "theirs": judge(case, f_true, z_true, counted, base),
+            "time": elapsed, "base_time": base_time, "error": error, "caught": len(caught),
+            "counted": int(counted.sum()), "found": found, "baseline": base}
+
+
+def oscillator_results(seeds: int = 100, snr_db: float = 40.0) -> list[dict]:
+    """Family d's second part: the paper's oscillator (benchmarks/bench_short_decays.py) as family rows."""
+    from bench_short_decays import F_TRUE, Z_TRUE, run
+
+    out = run(seeds, snr_db)
+    case = {"family": "d", "f_tol": 0.005, "z_tol": 0.10, "config": {"damped_oscillator": True}}
+    results = []
+    for seed, (ours, base, t, tb) in enumerate(zip(out["rows"]["survey"], out["rows"]["baseline"],
+                                                   out["times"]["survey"], out["times"]["baseline"])):
+        c = dict(case, config={"damped_oscillator": {"snr_db": snr_db, "random_state": seed}})
+        one = (np.array([F_TRUE]), np.array([Z_TRUE]), np.array([True]))
+        results.append({"case": c, "ours": judge(c, *one, ours), "theirs": judge(c, *one, base), "time": t,
+                        "base_time": tb, "error": None, "caught": 0, "counted": 1, "found": ours,
+                        "baseline": base})
+    return results
+
+
+def _median_errors(results, who) -> tuple:
+    e = np.array([x for r in results for x in r[who]["errors"] if np.all(np.isfinite(x))]).reshape(-1, 2)
+    return tuple(np.median(e, axis=0)) if e.size else (np.nan, np.nan)
+
+
+def family_table(rows: dict) -> None:
+    """The per-family table: n, survey right, baseline right, spurious, failures, median errors, s/record."""
+    print("| family | n | survey right | baseline right | survey spurious | baseline spurious | exceptions "
+          "| caught failures | median df/f (survey / baseline) | median dz/z (survey / baseline) "
+          "| s/record (survey / baseline) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for name, results in rows.items():
+        n = len(results)
+        right = sum(r["ours"]["passed"] for r in results)
+        base = sum(r["theirs"]["passed"] for r in results)
+        sp = sum(r["ours"]["spurious"] > 0 for r in results)
+        bsp = sum(r["theirs"]["spurious"] > 0 for r in results)
+        exc = sum(r["error"] is not None for r in results)
+        caught = sum(r["caught"] > 0 for r in results)
+        (mf, mz), (bf, bz) = _median_errors(results, "ours"), _median_errors(results, "theirs")
+        t = np.median([r["time"] for r in results])
+        tb = np.median([r["base_time"] for r in results])
+        print(f"| {name} | {n} | {right} ({100 * right / n:.1f} %) | {base} ({100 * base / n:.1f} %) "
+              f"| {sp} | {bsp} | {exc} | {caught} | {mf:.1e} / {bf:.1e} | {mz:.1e} / {bz:.1e} "
+              f"| {t:.2f} / {tb:.2f} |")
+
+
+def show_failures(name: str, results: list[dict], seed: int) -> None:
+    """Every record the survey got wrong: its index, the reproducer config and what went wrong."""
+    bad = [(i, r) for i, r in enumerate(results) if not r["ours"]["passed"]]
+    print(f"failures of family {name} (seed {seed}): {len(bad)} of {len(results)}")
+    for i, r in bad:
+        extra = {k: v for k, v in r["case"].items() if k not in ("config", "family")}
+        print(f"  [{name} #{i}] {'; '.join(r['ours']['problems'])}")
+        print(f"      baseline {'right' if r['theirs']['passed'] else 'wrong'}; scoring {extra}")
+        print(f"      config {json.dumps(r['case']['config'])}")
+
+
+def run_families(names: list[str], n: int | None, seed: int, failures: bool, budget: float = np.inf) -> None:
+    """Each family in turn: its records (at most ``budget`` seconds of drawing new ones; Ctrl-C also stops
+    the family early), then its failures and its table row."""
+    rows = {}
+    for name in names:
+        rng = np.random.default_rng(seed)
+        count = n or FAMILY_SIZES[name]
+        rows[name] = []
+        start = time.perf_counter()
+        for i in range(count):
+            if time.perf_counter() - start > budget:
+                print(f"  family {name}: time budget spent after {i} of {count} records")
+                break
+            try:
+                r = run_family_case(draw(name, rng, i))
+            except KeyboardInterrupt:
+                print(f"  family {name}: interrupted after {i} of {count} records")
+                break
+            rows[name].append(r)
+            print(f"  [{name} #{i}] survey {'right' if r['ours']['passed'] else 'WRONG'}, baseline "
+                  f"{'right' if r['theirs']['passed'] else 'wrong'}, "
+                  f"{r['time']:.1f} s / {r['base_time']:.1f} s"
+                  + (f": {'; '.join(r['ours']['problems'])}" if not r["ours"]["passed"] else ""), flush=True)
+        if failures:
+            show_failures(name, rows[name], seed)
+        if name == "d":
+            rows["d oscillator"] = oscillator_results(100 if n is None or n >= 20 else n)
+            if failures:
+                show_failures("d oscillator", rows["d oscillator"], seed)
+        family_table({k: v for k, v in rows.items() if k.startswith(name)})
+        sys.stdout.flush()
+    if len(rows) > 1:
+        print("all families:")
+        family_table(rows)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--n", type=int, default=None)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--output-error-cost", type=int, default=0, metavar="N")
-    parser.add_argument("--family", choices=("a", "high"), default="a")
+    parser.add_argument("--family", choices=("a", "high", *NEW_FAMILIES, "all"), default="a")
+    parser.add_argument("--show-failures", action="store_true",
+                        help="list every record the survey got wrong (index, config, what went wrong)")
+    parser.add_argument("--budget", type=float, default=np.inf, metavar="SECONDS",
+                        help="per family: draw no new record after this long (the table covers those done)")
+    parser.add_argument("--table", action="store_true",
+                        help="family a / high: also the per-family table (one-to-one matching, as b-h)")
     args = parser.parse_args()
+    if args.family not in ("a", "high") or args.table:
+        names = [*FAMILY_SIZES] if args.family == "all" else [args.family]
+        run_families(names, args.n or (5 if args.quick else None), args.seed, args.show_failures,
+                     args.budget)
+        return
     if args.output_error_cost:
         output_error_cost(args.output_error_cost, np.random.default_rng(args.seed))
         return
