@@ -104,13 +104,17 @@ def build(group: str, mark=lambda entry: None) -> None:
         basis.evaluate(np.ones(basis.n_coef))
         mark(_spline._evaluate)
         return
-    from ..simulation import CompiledModel, TermTable, integrators, two_state_cubic
+    from ..simulation import CompiledModel, TermTable, integrators, sensitivity, two_state_cubic
 
     grid = np.linspace(0.0, 1.0, 5)
     # two-state cubic models (the paper's first fit needs only this kernel): linear and nonlinear
     linear = CompiledModel([[0.0, 1.0], [-1.0, -0.1]], TermTable.polynomial([[1, 0], [0, 1]]), [[1.0, 1.0]])
     linear.simulate([1.0, 0.0], grid)
     mark(two_state_cubic.integrate_cubic2)
+    # their exact gradients (the refinement's and the output-error fit's): error and stored trajectory
+    sensitivity.weighted_l1_gradient(linear, np.ones((5, 2)), grid, [0], np.ones((1, 2)))
+    sensitivity.simulate_sensitivity(linear, [1.0, 0.0], grid)
+    mark(sensitivity.cubic2_sensitivity)
     # three states: the general kernel, then the refinement's batch kernel
     terms = TermTable.polynomial([[1, 0, 0], [0, 0, 1], [2, 1, 0]])
     coef = [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [-1.0, -0.1, 0.01]]

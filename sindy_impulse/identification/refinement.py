@@ -109,6 +109,7 @@ class _Objective(Multipliers):
         self.best = (np.inf, None)
         self.last = (None, None)
         self.last_gradient = (None, None)
+        self.exact = None  # whether the model and the measure have exact gradients (None: not yet known)
 
     def scores(self, coefs, check_budget: bool = True) -> np.ndarray:
         if check_budget and self.budget.exhausted:
@@ -129,11 +130,16 @@ class _Objective(Multipliers):
         return g
 
     def gradient(self, w) -> np.ndarray:
-        """Forward differences, all perturbed models scored in one call."""
+        """The exact gradient (forward sensitivities, :meth:`exact_gradient`) where the model and the
+        measure have one, else forward differences, all perturbed models scored in one call."""
         w = np.asarray(w, dtype=float)
         if self.last_gradient[0] is not None and np.array_equal(w, self.last_gradient[0]):
             return self.last_gradient[1]
         g = self(w)
+        exact = self.exact_gradient(w, g)
+        if exact is not None:
+            self.last_gradient = (w.copy(), exact)
+            return exact
         perturbed = np.repeat(self.coef_of(w)[None], self.values.size, axis=0)
         rows, cols = np.nonzero(self.mask)
         perturbed[np.arange(self.values.size), rows, cols] += self.values * _STEP
@@ -141,6 +147,22 @@ class _Objective(Multipliers):
         out = (np.where(np.isfinite(gp), gp, self.penalty) - g) / _STEP
         self.last_gradient = (w.copy(), out)
         return out
+
+
+    def exact_gradient(self, w, g: float):
+        """The measure's gradient by the multipliers from the model's sensitivities (None where there are
+        none: another library, control inputs, a measure other than the built-in weighted L1 ones)."""
+        if self.exact is False:
+            return None
+        if self.budget.exhausted:
+            raise OutOfBudget
+        exact = getattr(self.measure, "gradient", None)
+        out = None if exact is None else exact(self.model, self.coef_of(w), self.mask)
+        self.budget.charge_model(self.model)
+        self.exact = out is not None
+        if out is None:
+            return None
+        return out[1][self.mask] * self.values if np.isfinite(g) and np.isfinite(out[0]) else np.zeros(w.size)
 
 
 def _check(bound_factor, max_iter, name: str = "max_iter") -> None:
