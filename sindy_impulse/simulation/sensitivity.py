@@ -26,9 +26,9 @@ from .._utils.jit import jit, kernel
 __all__ = ["cubic2_sensitivity", "SENSITIVITY_COST"]
 
 #: Work (in plain simulations of the model) of carrying one sensitivity along: each RK4 stage adds a 2x2
-#: Jacobian-vector product and one monomial per unknown (measured: 8 unknowns cost 2.9 plain
-#: simulations of a 5-term Duffing model over the paper's 401 samples).
-SENSITIVITY_COST = 0.25
+#: Jacobian-vector product and one monomial per unknown (measured, CPU time: 5 unknowns cost 3.4 plain
+#: simulations of a 5-term cubic model of ``identify_modes``, 4069 samples, 16 sub-steps).
+SENSITIVITY_COST = 0.5
 
 
 @jit(_nrt=False)
@@ -96,8 +96,8 @@ def _rk4_sensitivity(x, t, s, substeps, c, params, n_s, work):
 
 
 @kernel
-def cubic2_sensitivity(ref, t, starts, weights, substeps, dense, params, initial, bound, x, work, out,
-                       sens, grad, result):
+def cubic2_sensitivity(ref, t, starts, weights, substeps, dense, params, initial, props, dprops, bound, x,
+                       work, out, sens, grad, result):
     """Simulate one two-state cubic model (dense row ``dense``, :func:`.two_state_cubic.dense_coefficients`)
     with the sensitivities to its coefficients at dense positions ``params`` and, if ``initial``, to the
     initial state of the first segment (the last two columns).
@@ -107,6 +107,10 @@ def cubic2_sensitivity(ref, t, starts, weights, substeps, dense, params, initial
     n_sens) are stored, NaN after a divergence; else the weighted L1 error is accumulated with its
     gradient (``grad``: n_sens). ``result`` receives the error (``inf`` once diverged) and the grid
     intervals simulated. ``work``: (9, max(n_sens, 10)) floats; ``x``: 2.
+
+    A linear model on a uniform grid is stepped by RK4's map over an interval instead (``props``: (2, 3),
+    the state's and the constant's columns) and its sensitivities by the map's derivatives by the
+    coefficients (``dprops``: (n_params, 2, 3)): the same numbers as the stages, without the sub-steps.
     """
     S = work[0:2]
     n_s = grad.shape[0]
@@ -125,7 +129,10 @@ def cubic2_sensitivity(ref, t, starts, weights, substeps, dense, params, initial
         if store:
             _store(x, S, s0, out, sens)
         for s in range(s0 + 1, s1 + 1):
-            _rk4_sensitivity(x, t, s, substeps, dense, params, n_s, work)
+            if props.shape[0] > 0:
+                _propagate_sensitivity(x, props, dprops, n_s, work)
+            else:
+                _rk4_sensitivity(x, t, s, substeps, dense, params, n_s, work)
             done += 1
             if not (abs(x[0]) <= bound[0] and abs(x[1]) <= bound[1]):  # diverged (also for NaN)
                 total = np.inf
@@ -147,6 +154,23 @@ def cubic2_sensitivity(ref, t, starts, weights, substeps, dense, params, initial
         if total == np.inf:
             break
     result[0], result[1] = total, done
+
+
+@jit(_nrt=False)
+def _propagate_sensitivity(x, props, dprops, n_s, work):
+    """One interval of a linear model by RK4's map: ``x <- M [x, 1]``, ``S <- M S + dM_j [x, 1]`` (the
+    forcing only for the coefficient columns ``j < len(dprops)``)."""
+    S0, S1 = work[0], work[1]
+    p, q = x[0], x[1]
+    for j in range(n_s):
+        a, b = S0[j], S1[j]
+        S0[j] = props[0, 0] * a + props[0, 1] * b
+        S1[j] = props[1, 0] * a + props[1, 1] * b
+        if j < dprops.shape[0]:
+            S0[j] += dprops[j, 0, 0] * p + dprops[j, 0, 1] * q + dprops[j, 0, 2]
+            S1[j] += dprops[j, 1, 0] * p + dprops[j, 1, 1] * q + dprops[j, 1, 2]
+    x[0] = props[0, 0] * p + props[0, 1] * q + props[0, 2]
+    x[1] = props[1, 0] * p + props[1, 1] * q + props[1, 2]
 
 
 @jit(_nrt=False)
@@ -183,11 +207,43 @@ def _run(model, ref, t, starts, weights, c, entries, initial: bool, store: bool)
     n_out = len(t) if store else 0
     out, sens = np.empty((n_out, 2)), np.empty((n_out, 2, n_s))
     grad, result = np.empty(n_s), np.empty(2)
+    props, dprops = _linear_map(model, c, dense, params, t, steps)
     work = np.empty((9, max(n_s, 10)))
-    cubic2_sensitivity(ref, t, starts, weights, steps, dense, params, initial, bound, np.empty(2), work, out,
-                       sens, grad, result)
-    model.work_done += model.work(t, steps, int(result[1])) * (1.0 + SENSITIVITY_COST * n_s)
+    cubic2_sensitivity(ref, t, starts, weights, steps, dense, params, initial, props, dprops, bound,
+                       np.empty(2), work, out, sens, grad, result)
+    charged = 1 if props.size else steps  # (a linear model's map: one step per interval, as in integrate)
+    model.work_done += model.work(t, charged, int(result[1])) * (1.0 + SENSITIVITY_COST * n_s)
     return (rows, cols), out, sens, grad, float(result[0])
+
+
+_NO_MAP, _NO_MAPS = np.empty((0, 3)), np.empty((0, 0, 3))
+
+
+def _linear_map(model, c, dense, params, t, steps):
+    """RK4's map over one interval of a linear model on a uniform grid, (2, 3), and its derivatives by the
+    coefficients at ``params``, (n_params, 2, 3), from the stages over one interval started at the unit
+    states and at the origin (empty arrays for other models and grids)."""
+    from .program import propagators
+
+    dt = model._grid(t)[1]
+    if not model.is_linear or dt is None:
+        return _NO_MAP, _NO_MAPS
+    m = propagators(model.program, c[None], dt, steps)[0]
+    props = np.zeros((2, 3))
+    props[:, : m.shape[1]] = m[:2]
+    grid, n_p = np.array([0.0, dt]), params.size
+    no_weights, first, work = np.zeros((1, 2)), np.zeros(1, dtype=np.int64), np.empty((9, max(n_p, 10)))
+    columns = np.empty((3, 2, n_p))
+    for j, start in enumerate(np.vstack([np.eye(2), np.zeros(2)])):
+        out, sens = np.empty((2, 2)), np.empty((2, 2, n_p))
+        cubic2_sensitivity(start[None], grid, first, no_weights, steps, dense, params, False, _NO_MAP,
+                           _NO_MAPS, np.full(2, np.inf), np.empty(2), work, out, sens, np.empty(n_p),
+                           np.empty(2))
+        columns[j] = sens[1]
+    dprops = np.empty((n_p, 2, 3))
+    dprops[:, :, 2] = columns[2].T
+    dprops[:, :, 0], dprops[:, :, 1] = (columns[0] - columns[2]).T, (columns[1] - columns[2]).T
+    return props, dprops
 
 
 def weighted_l1_gradient(model, reference, t, starts, weights, coef=None, entries=None):
