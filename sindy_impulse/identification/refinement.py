@@ -5,7 +5,9 @@ best values for the simulated response. The refinement minimizes an error measur
 the non-zero coefficients with SciPy's SLSQP (the analogue of MATLAB's fmincon 'sqp'), each coefficient
 bounded to ``[0, 1.5 xi]`` (``[1.5 xi, 0]`` for negative ones), so a term may shrink to zero and drop out,
 but never change sign. Internally the unknowns are the multipliers ``w = xi_new / xi`` in ``[0, 1.5]``,
-which makes the problem unit-free.
+which makes the problem unit-free. The gradient is exact where the model and the measure allow (a two-state
+cubic model scored by a built-in measure: one simulation carrying its sensitivities,
+:mod:`sindy_impulse.simulation.sensitivity`), else forward differences.
 
 :func:`refine` works on any scoring function it is handed (a bound
 :class:`~sindy_impulse.simulation.ErrorMeasure`); :func:`refine_coefficients` is the convenience form that
@@ -27,7 +29,7 @@ from ..simulation import OutOfBudget, WorkBudget, get_error_measure
 
 __all__ = ["refine", "refine_coefficients", "RefinementResult", "Multipliers"]
 
-#: Forward-difference step on the multipliers (of order 1).
+#: Forward-difference step on the multipliers (of order 1), for models without exact gradients.
 _STEP = 1e-7
 #: Largest change of a multiplier SLSQP's first step may propose: the objective is scaled by its initial
 #: gradient so that the first quasi-Newton step (identity Hessian) is this long, whatever the record's length.
