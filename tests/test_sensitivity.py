@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from sindy_impulse.datasets import damped_oscillator
+from sindy_impulse.identification import refinement
 from sindy_impulse.identification.output_error import fit_output_error
 from sindy_impulse.identification.refinement import _Objective, refine_coefficients
 from sindy_impulse.simulation import CompiledModel, TermTable, WorkBudget
@@ -19,6 +20,12 @@ MODELS = {
     "damping terms": ([[1, 0], [0, 1], [2, 1], [0, 3], [1, 1]],
                       [[0, 1.0, 0, 0, 0], [-62.0, -3.0, -1.5, -0.02, 0.3]], 10.0),
 }
+
+
+@pytest.fixture
+def exact(monkeypatch):
+    """The refinement and the output-error fit with exact gradients (off by default)."""
+    monkeypatch.setattr(refinement, "EXACT_GRADIENTS", True)
 
 
 def _case(name):
@@ -84,7 +91,7 @@ def test_models_without_exact_gradients_are_named():
     assert has_sensitivities(_case("linear")[0], t)
 
 
-def test_the_refinement_uses_the_exact_gradient_and_a_diverged_point_has_none():
+def test_the_refinement_uses_the_exact_gradient_and_a_diverged_point_has_none(exact):
     model, t, x = _case("linear")
     objective = _Objective(model, Gamma().bind([x], [t]), WorkBudget(), 1.0)
     gradient = objective.gradient(np.ones(3))
@@ -94,7 +101,7 @@ def test_the_refinement_uses_the_exact_gradient_and_a_diverged_point_has_none():
     assert np.all(objective.exact_gradient(np.ones(3), np.inf) == 0)
 
 
-def test_the_paper_oscillator_is_refined_as_before():
+def test_the_paper_oscillator_is_refined_as_before(exact):
     """test_refinement's assertion on the paper's oscillator, with the exact gradient."""
     t, x, _ = damped_oscillator()
     start = CompiledModel([[0, 1.0], [-60.0, -4.0]], TermTable.polynomial([[1, 0], [0, 1]]), x)
@@ -102,7 +109,7 @@ def test_the_paper_oscillator_is_refined_as_before():
     np.testing.assert_allclose(res.coefficients[1, :2], [-64, -3.2], rtol=1e-4)
 
 
-def test_the_output_error_fit_with_the_exact_jacobian_recovers_damping_and_initial_state():
+def test_the_output_error_fit_with_the_exact_jacobian_recovers_damping_and_initial_state(exact):
     t, x, _ = damped_oscillator()
     noisy = x + 0.01 * np.random.default_rng(0).standard_normal(x.shape) * np.max(np.abs(x), axis=0)
     start = CompiledModel([[0, 1.0], [-64.0, -3.84]], TermTable.polynomial([[1, 0], [0, 1]]))

@@ -111,10 +111,6 @@ def build(group: str, mark=lambda entry: None) -> None:
     linear = CompiledModel([[0.0, 1.0], [-1.0, -0.1]], TermTable.polynomial([[1, 0], [0, 1]]), [[1.0, 1.0]])
     linear.simulate([1.0, 0.0], grid)
     mark(two_state_cubic.integrate_cubic2)
-    # their exact gradients (the refinement's and the output-error fit's): error and stored trajectory
-    sensitivity.weighted_l1_gradient(linear, np.ones((5, 2)), grid, [0], np.ones((1, 2)))
-    sensitivity.simulate_sensitivity(linear, [1.0, 0.0], grid)
-    mark(sensitivity.cubic2_sensitivity)
     # three states: the general kernel, then the refinement's batch kernel
     terms = TermTable.polynomial([[1, 0, 0], [0, 0, 1], [2, 1, 0]])
     coef = [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [-1.0, -0.1, 0.01]]
@@ -123,6 +119,10 @@ def build(group: str, mark=lambda entry: None) -> None:
     mark(integrators.integrate)
     nonlinear.weighted_l1(np.ones((5, 3)), grid, [0], np.ones((1, 3)), np.ones((3, 3, 3)))
     mark(integrators.integrate_batch)
+    # exact gradients of two-state cubic models (refinement.EXACT_GRADIENTS): error and stored trajectory
+    sensitivity.weighted_l1_gradient(linear, np.ones((5, 2)), grid, [0], np.ones((1, 2)))
+    sensitivity.simulate_sensitivity(linear, [1.0, 0.0], grid)
+    mark(sensitivity.cubic2_sensitivity)
 
 
 def main(argv=None) -> int:

@@ -18,6 +18,7 @@ from scipy.optimize import least_squares
 
 from ..simulation.scoring import compare_stride
 from ..simulation.sensitivity import has_sensitivities, simulate_sensitivity
+from . import refinement
 from .refinement import Multipliers, _check
 
 __all__ = ["fit_output_error", "OutputErrorResult"]
@@ -74,9 +75,10 @@ def fit_output_error(
     itself a fitted unknown, and the squared deviations from the reference (each state divided by its
     largest magnitude over the references) are minimised over the coefficients' multipliers, bounded to
     ``[0, bound_factor]`` as in :func:`refine` (a term may vanish, never change sign), and the initial
-    states (free), by SciPy's trust-region reflective least squares, with the exact Jacobian from one
+    states (free), by SciPy's trust-region reflective least squares, with finite-difference Jacobians or,
+    with :data:`~sindy_impulse.identification.refinement.EXACT_GRADIENTS`, the exact Jacobian from one
     simulation with sensitivities (:mod:`~sindy_impulse.simulation.sensitivity`) for a two-state cubic
-    model, else finite differences.
+    model.
     Started from a refined model, it removes what the measured first state's noise did to the
     coefficients: on ``benchmarks/bench_model_backbone.py``'s amplitude-dependent dampers (40-105
     periods) the damping backbones within the marks went from 40 to 45 of 50 records.
@@ -163,7 +165,8 @@ def fit_output_error(
     upper = np.concatenate([np.full(n_w, float(bound_factor)), np.full(p0.size - n_w, np.inf)])
     try:
         jac = "2-point"
-        if all(u is None for u in inputs) and all(has_sensitivities(model, t) for t in times):
+        exact = refinement.EXACT_GRADIENTS and all(u is None for u in inputs)
+        if exact and all(has_sensitivities(model, t) for t in times):
             jac = _jacobian(model, unknowns, times, strides, scale, initial_states, n_sims)
         res = least_squares(residuals, p0, jac=jac, bounds=(lower, upper),
                             method="trf", diff_step=1e-7, max_nfev=int(max_evaluations))

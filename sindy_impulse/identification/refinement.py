@@ -5,9 +5,9 @@ best values for the simulated response. The refinement minimizes an error measur
 the non-zero coefficients with SciPy's SLSQP (the analogue of MATLAB's fmincon 'sqp'), each coefficient
 bounded to ``[0, 1.5 xi]`` (``[1.5 xi, 0]`` for negative ones), so a term may shrink to zero and drop out,
 but never change sign. Internally the unknowns are the multipliers ``w = xi_new / xi`` in ``[0, 1.5]``,
-which makes the problem unit-free. The gradient is exact where the model and the measure allow (a two-state
-cubic model scored by a built-in measure: one simulation carrying its sensitivities,
-:mod:`sindy_impulse.simulation.sensitivity`), else forward differences.
+which makes the problem unit-free. The gradient is by forward differences, or, with
+:data:`EXACT_GRADIENTS`, exact where the model and the measure allow (a two-state cubic model scored by a
+built-in measure: one simulation carrying its sensitivities, :mod:`sindy_impulse.simulation.sensitivity`).
 
 :func:`refine` works on any scoring function it is handed (a bound
 :class:`~sindy_impulse.simulation.ErrorMeasure`); :func:`refine_coefficients` is the convenience form that
@@ -29,6 +29,13 @@ from ..simulation import OutOfBudget, WorkBudget, get_error_measure
 
 __all__ = ["refine", "refine_coefficients", "RefinementResult", "Multipliers"]
 
+#: Whether the refinement and the output-error fit use exact gradients where a model has them
+#: (:mod:`sindy_impulse.simulation.sensitivity`). Off: measured (CPU time, ``identify_modes`` on issue 26's
+#: records, median of 3) they cost as much as the batched forward differences per gradient (78 vs 73 ms on
+#: the two-mode record) and SLSQP takes more iterations with them (65 gradients against 39), so the two-mode
+#: survey took 1.25 s against 1.07 s, the three-mode one 1.73 s against 1.27 s, the nonlinear one 2.45 s
+#: against 2.22 s (its work budget runs out either way).
+EXACT_GRADIENTS = False
 #: Forward-difference step on the multipliers (of order 1), for models without exact gradients.
 _STEP = 1e-7
 #: Largest change of a multiplier SLSQP's first step may propose: the objective is scaled by its initial
@@ -111,7 +118,8 @@ class _Objective(Multipliers):
         self.best = (np.inf, None)
         self.last = (None, None)
         self.last_gradient = (None, None)
-        self.exact = None  # whether the model and the measure have exact gradients (None: not yet known)
+        # whether the model and the measure have exact gradients (None: not yet known; False: not used)
+        self.exact = None if EXACT_GRADIENTS else False
 
     def scores(self, coefs, check_budget: bool = True) -> np.ndarray:
         if check_budget and self.budget.exhausted:
