@@ -93,3 +93,43 @@ def feature_study(n_series: int = 80):
     ks = rng.uniform(36, 400, n_series)
     k_nl = np.repeat([0.0, 50.0], [n_series // 2, n_series - n_series // 2])
     return [damped_oscillator(k=k, c=3.2, k_nl=kn).x for k, kn in zip(ks, k_nl)]
+
+
+def issue26_records() -> dict:
+    """The records of issue 26's speed goals (a modal survey in the time a hammer hit takes).
+
+    ``nonlinear``: one mode at 122.4 Hz (damping ratio 0.1 %) whose cubic spring raises the frequency by
+    0.1 % and whose ``x^2 x'`` damper doubles the damping ratio at the displacement amplitude 1e-4
+    (``impact_record``'s formulas: ``sqrt(omega**2 + 3/4 k3 a**2)`` and ``c2 a**2 / (8 omega)``);
+    ``two modes``, ``three modes`` and ``three modes, clipped`` as in the issue.
+    """
+    from sindy_impulse import impact_record
+
+    omega, a = 2 * np.pi * 122.4, 1e-4
+    k3 = (1.001**2 - 1) * omega**2 / (0.75 * a**2)
+    c2 = 8 * 0.001 * omega / a**2
+    three = dict(fs=50000, duration=0.11, pre_trigger=0.005, sensor="acceleration", snr_db=40, random_state=3)
+    return {
+        "nonlinear": impact_record(122.4, 0.001, [1e-4], fs=5000, duration=3, sensor="displacement",
+                                   snr_db=50, cubic_stiffness=k3, damping_amplitude=c2, random_state=5),
+        "two modes": impact_record([88.6, 156.7], [0.002, 0.004], fs=5120, duration=3, sensor="displacement",
+                                   offset=0.3, snr_db=50, random_state=9),
+        "three modes": impact_record([804.0, 2400.0, 4800.0], [0.01, 0.005, 0.006], **three),
+        "three modes, clipped": impact_record([804.0, 2400.0, 4800.0], [0.01, 0.005, 0.006], clip=0.6,
+                                              **three),
+    }
+
+
+def median_beside(function, baseline, repeat: int = 5) -> tuple[float, float]:
+    """Medians of ``repeat`` warm runs of ``function``, each followed by one of ``baseline`` (seconds)."""
+    function()
+    baseline()
+    ours, base = [], []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        function()
+        ours.append(time.perf_counter() - start)
+        start = time.perf_counter()
+        baseline()
+        base.append(time.perf_counter() - start)
+    return float(np.median(ours)), float(np.median(base))

@@ -218,3 +218,43 @@ def modal_survey(quick: bool) -> list:
     rows.append(("identify_modes in a fresh process (kernels cached) vs warm", cold, median, median / cold,
                  "(info)"))
     return rows
+
+
+def _esprit_of(rec):
+    """ESPRIT on the record's free decay (after the hammer's contact, as bench_modes does)."""
+    onset = rec.free_decay_index + int(0.002 * rec.fs)
+    return lambda: esprit(rec.y[onset:], fs=rec.fs)
+
+
+def survey_speed(quick: bool) -> list:
+    """Issue 26's goals: identify_modes on four records and the 2-DOF fit at 100 and 500 Hz, each the
+    median of warm runs beside ESPRIT on the same record."""
+    from perf_cases import issue26_records, median_beside
+
+    repeat = 3 if quick else 5
+    records = issue26_records()
+    rows = []
+    goals = {"nonlinear": "<= 1 s", "two modes": "<= 0.5 s", "three modes": "<= 0.5 s",
+             "three modes, clipped": "<= 0.5 s"}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for name, rec in records.items():
+            survey = lambda rec=rec: identify_modes(rec.y, fs=rec.fs)  # noqa: E731
+            ours, base = median_beside(survey, _esprit_of(rec), repeat)
+            found = ", ".join(f"{m.frequency_hz:.1f} Hz" for m in identify_modes(rec.y, fs=rec.fs).modes)
+            rows.append((f"identify_modes, {name} ({found}) vs ESPRIT", ours, base, base / ours, goals[name]))
+        rec = records["nonlinear"]
+
+        def verdict():
+            return [mode.nonlinear for mode in identify_modes(rec.y, fs=rec.fs).modes]
+
+        ours, base = median_beside(verdict, _esprit_of(rec), repeat)
+        name = f"identify_modes and the nonlinear verdict ({verdict()}) vs ESPRIT"
+        rows.append((name, ours, base, base / ours, "<= 2 s"))
+        for rate in (100, 500):
+            t, x = two_dof(dt=1.0 / rate)
+            baseline = lambda x=x, rate=rate: esprit(x[:, 0], fs=rate)  # noqa: E731
+            ours, base = median_beside(lambda x=x, t=t: ImpulseSINDy().fit(x, t=t), baseline, repeat)
+            name = f"fit 2-DOF, 4 states, 1500 samples at {rate} Hz, 40 dB vs ESPRIT on its first state"
+            rows.append((name, ours, base, base / ours, "<= 0.5 s"))
+    return rows

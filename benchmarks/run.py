@@ -61,6 +61,7 @@ def _sections(quick: bool):
         ("many states", perf_figures.many_states),
         ("long records", perf_figures.long_records),
         ("modal survey", perf_figures.modal_survey),
+        ("survey speed", perf_figures.survey_speed),
         ("feature study", perf_figures.feature_study_rows),
         ("dask", perf_dask.dask_rows),
         ("batch", perf_batch.batch_rows),

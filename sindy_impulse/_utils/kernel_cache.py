@@ -36,6 +36,7 @@ KERNEL_FILES = (
     "_utils/jit.py",
     "simulation/integrators.py",
     "simulation/two_state_cubic.py",
+    "simulation/sensitivity.py",
     "differentiation/_banded.py",
     "differentiation/_spline.py",
     "differentiation/_smoother.py",

@@ -37,6 +37,7 @@ from collections.abc import Callable
 import numpy as np
 
 from .._utils.validation import check_signal
+from .sensitivity import weighted_l1_gradient
 
 __all__ = [
     "gamma",
@@ -193,6 +194,19 @@ class WeightedL1(ErrorMeasure):
     def evaluate(self, model, reference, t, coefs, u, plan) -> np.ndarray:
         starts, weights = plan
         return model.weighted_l1(reference, t, starts, weights, coefs, u)[0]
+
+    def gradient(self, model, coef=None, entries=None):
+        """The error of one active-coefficient matrix and its exact gradient by its ``entries`` (forward
+        sensitivities, :func:`.sensitivity.weighted_l1_gradient`), summed over the bound trajectories; None
+        where the model has no exact gradients (the caller differentiates numerically)."""
+        total, gradient = 0.0, 0.0
+        for (ref, t, u), (starts, weights) in zip(self.trajectories_, self.plans_):
+            out = None if u is not None else weighted_l1_gradient(model, ref, t, starts, weights, coef,
+                                                                  entries)
+            if out is None:
+                return None
+            total, gradient = total + out[0], gradient + out[1]
+        return total, gradient
 
     def compare(self, x_true, x_other, t) -> float:
         x_true, t, stride = self._compared(x_true, t)
