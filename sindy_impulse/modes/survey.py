@@ -10,8 +10,9 @@ Peaks too close for their damping (``Preprocessed.groups``) are also fitted join
 peak's own-band result when that gave no mode or one that agrees less. A peak still without a mode that
 agrees with its sinusoid is fitted once more on the record with the other peaks' sinusoids subtracted, in a
 wide band (:func:`~sindy_impulse.preprocessing.deflation.deflated_band`; :func:`_deflated`). A group of
-close peaks that one nonlinear oscillator reproduces better is one nonlinear mode, and a mode at 2 or 3
-times a nonlinear mode's backbone frequencies is its harmonic (:mod:`._nonlinear`).
+close peaks that one nonlinear oscillator reproduces better is one nonlinear mode (:mod:`._nonlinear`), and a
+mode near 2 or 3 times another that is phase-locked to it, its amplitude a power (2 or 3) of the other's, is
+that mode's harmonic (:mod:`._harmonics`: decided on the record, not on a model).
 Repeated hits of one structure are matched by frequency and combined by the paper's consensus (section
 3.3.2).
 """
@@ -29,8 +30,9 @@ from .._utils.validation import check_signal
 from ..exceptions import DataWarning, NoDynamicsWarning
 from ..preprocessing import extract_band, preprocess
 from ..preprocessing.deflation import deflated_band
+from ._harmonics import split_harmonics
 from ._hits import merge_hits
-from ._nonlinear import has_nonlinear_terms, merge_chirps, name_harmonics
+from ._nonlinear import has_nonlinear_terms, merge_chirps
 from .band_fit import default_estimator, fit_band, fit_direct, fit_group
 from .result import ModalSurvey, Mode, Rejected
 
@@ -163,7 +165,7 @@ def _fit_record(index, record, pre, force, template, sensor, ref, max_periods, s
                        impulse=impulse, sensor=sensor, index=index)
     modes, rejected, merged = merge_chirps(pre, modes, rejected, fit_options,
                                            lambda band: _first_periods(band, max_periods))
-    modes, rejected, harmonics = name_harmonics(modes, rejected)
+    modes, rejected, harmonics = split_harmonics(pre, modes, rejected)
     return modes, rejected, resampled + merged + harmonics
 
 
