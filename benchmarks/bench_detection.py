@@ -133,7 +133,8 @@ def run_case(family: str, case: dict) -> dict:
         warnings.simplefilter("ignore")
         survey = identify_modes(rec.y, fs=rec.fs)
     elapsed = time.perf_counter() - start
-    ours, spurious = _match(f_true, z_true, [m.frequency_hz for m in survey], [m.damping_ratio for m in survey])
+    ours, spurious = _match(f_true, z_true, [m.frequency_hz for m in survey],
+                            [m.damping_ratio for m in survey])
     stable = stabilisation(rec.y[esprit_start(rec.y, rec.fs):], fs=rec.fs).modes()
     theirs, st_spurious = _match(f_true, z_true, [m.frequency_hz for m in stable],
                                  [m.damping_ratio for m in stable])
@@ -165,7 +166,8 @@ def main() -> None:
         n = len(results)
         print(f"{family}: {n} records; modes within the marks {sum(r['passed'] for r in results)}, "
               f"no spurious mode {sum(r['spurious'] == 0 for r in results)}, fully right "
-              f"{sum(r['right'] for r in results)} (stabilised ESPRIT {sum(r['st_right'] for r in results)}); "
+              f"{sum(r['right'] for r in results)} "
+              f"(stabilised ESPRIT {sum(r['st_right'] for r in results)}); "
               f"median {np.median([r['time'] for r in results]):.2f} s a record", flush=True)
 
 

@@ -30,7 +30,8 @@ from ..preprocessing.filters import bandpass, transient_samples
 from ..preprocessing.partition import peak_bands
 from .result import Rejected
 
-__all__ = ["harmonic_evidence", "split_harmonics", "SIGMAS", "RATIO_TOL", "RESOLVED", "MIN_EXPONENT", "MIN_SNR_DB"]
+__all__ = ["harmonic_evidence", "split_harmonics", "SIGMAS", "RATIO_TOL", "RESOLVED", "MIN_EXPONENT",
+           "MIN_SNR_DB"]
 
 #: Harmonic orders tested.
 ORDERS = (2, 3)

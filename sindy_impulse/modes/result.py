@@ -217,16 +217,7 @@ class ModalSurvey:
         stable or not), computed when first read (:func:`~sindy_impulse.poles.stabilisation`; a record too
         short for it gives an empty table). ``survey.poles[0].modes()`` are the modes the stable poles make.
         """
-        from ..poles import PoleTable, stabilisation
-
-        tables = []
-        for pre in self.preprocessing:
-            try:
-                tables.append(stabilisation(pre.y[pre.impact.ringdown_index :], fs=pre.fs))
-            except ValueError:  # fewer samples than a Hankel matrix needs
-                empty = np.empty(0)
-                tables.append(PoleTable(empty, empty, empty.astype(int), empty.astype(bool), ()))
-        return tables
+        return [pole_table(pre) for pre in self.preprocessing]
 
     def plot(self, axes=None):
         """Spectrum with the modes marked, and each mode's data against its model
@@ -285,6 +276,18 @@ class ModalSurvey:
         lines += [f"  rejected {_band_text(r.band_hz)}: {r.reason}" for r in self.rejected]
         lines += [f"  note: {n}" for n in self.notes]
         return "\n".join(lines)
+
+
+def pole_table(pre):
+    """The stabilisation diagram of a preprocessed record's free decay (offset removed, from the end of the
+    hit); an empty table for a record too short for a Hankel matrix."""
+    from ..poles import PoleTable, stabilisation
+
+    try:
+        return stabilisation(pre.y[pre.impact.ringdown_index :], fs=pre.fs)
+    except ValueError:  # fewer samples than a Hankel matrix needs
+        empty = np.empty(0)
+        return PoleTable(empty, empty, empty.astype(int), empty.astype(bool), ())
 
 
 def _band_text(band_hz) -> str:
