@@ -50,6 +50,12 @@ RATIO_TOL = 2.5e-3
 RESOLVED = 1e-3
 #: Smallest amplitude exponent of a harmonic (``a_2 ~ a_1^p``; a term of power 2 or 3 gives p = 2 or 3).
 MIN_EXPONENT = 1.5
+#: The filters' transients are trimmed down to this share of their peak (not 1e-3 as for the bands: a
+#: harmonic decays p times as fast as its mode and its largest amplitudes would be lost with them).
+_TRANSIENT_TOL = 1e-2
+#: The exponent is fitted where both envelopes stand this much higher still (dB): near the floor the noise
+#: lifts an envelope and flattens its slope (a p = 3 harmonic read 2.3 down to 10 dB).
+_EXPONENT_SNR_DB = 10.0
 #: The stretch is cut into this many pieces, each locked too (a chirping parent crossing ``f_2 / n``
 #: halfway would give ``n`` on average).
 _SEGMENTS = 4
@@ -125,7 +131,7 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
     """
     z1 = bandpass(y, fs, parent_band, analytic=True)
     z2 = bandpass(y, fs, candidate_band, analytic=True)
-    trim = max(transient_samples(fs, parent_band), transient_samples(fs, candidate_band))
+    trim = max(transient_samples(fs, b, tol=_TRANSIENT_TOL) for b in (parent_band, candidate_band))
     floor = 10 ** (MIN_SNR_DB / 20) * np.sqrt(2) * np.asarray(noise_rms, float)
     a1, a2 = np.abs(z1), np.abs(z2)
     keep = _kept(a1, a2, floor[0], floor[1], trim)
@@ -148,7 +154,10 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
     locked = sigma <= RESOLVED * order and all(
         abs(r - order) <= max(SIGMAS * s, RATIO_TOL * order) for r, s, _ in [(ratio, sigma, 0)] + pieces)
     n_eff = max(t.size * bandwidth / fs, 2.0)
-    log1, log2 = np.log(a1), np.log(a2)
+    higher = 10 ** (_EXPONENT_SNR_DB / 20)
+    strong = (a1 >= higher * floor[0]) & (a2 >= higher * floor[1])
+    strong = strong if np.count_nonzero(strong) >= 8 else np.ones(a1.size, bool)
+    log1, log2 = np.log(a1[strong]), np.log(a2[strong])
     _, p, pres = _line(log1, log2, np.ones_like(log1))
     p_sigma = float(np.sqrt(np.mean(pres**2) / max(np.var(log1), np.finfo(float).tiny) / n_eff))
     return dict(order=order, frequency_ratio=float(ratio), ratio_sigma=float(sigma),
