@@ -17,7 +17,8 @@ standard error from the residual with one independent sample per ``1 / bandwidth
 a straight-line fit of ``log a_2`` against ``log a_1``. :func:`split_harmonics` moves a mode that is locked
 (over the whole stretch and over each of its :data:`_SEGMENTS` pieces the ratio within :data:`SIGMAS` standard
 errors of ``n``, or within :data:`RATIO_TOL`; resolved: the whole stretch's relative standard error at most
-:data:`RESOLVED`) and whose exponent is at least :data:`MIN_EXPONENT` to the rejected rows, with
+:data:`RESOLVED`) and whose exponent is at least :data:`MIN_EXPONENT` and at most ``n + 0.5`` (a term of
+power at most ``n`` makes harmonic ``n``) to the rejected rows, with
 the numbers as evidence.
 """
 
@@ -50,6 +51,10 @@ RATIO_TOL = 2.5e-3
 RESOLVED = 1e-3
 #: Smallest amplitude exponent of a harmonic (``a_2 ~ a_1^p``; a term of power 2 or 3 gives p = 2 or 3).
 MIN_EXPONENT = 1.5
+#: A harmonic of order n comes from a term of power at most n (``x^2`` at 2 f; ``x^3``, ``x^2 x'``,
+#: ``|x'| x'`` at 3 f): an exponent above ``n`` by more than this is a mode that decays faster (two linear
+#: modes at exactly 120 and 240 Hz with damping ratios 0.5 and 1 % are locked, with p = 4).
+_EXPONENT_MARGIN = 0.5
 #: The filters' transients are trimmed down to this share of their peak (not 1e-3 as for the bands: a
 #: harmonic decays p times as fast as its mode and its largest amplitudes would be lost with them).
 _TRANSIENT_TOL = 1e-2
@@ -127,7 +132,7 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
     >>> mode = a * np.cos(phase) + 0.05 * a**2 * np.cos(2 * np.pi * 100.6 * t)
     >>> e = harmonic_evidence(mode, fs, (40, 60), (90, 120), 2, (1e-5, 1e-5))
     >>> e["locked"], round(e["frequency_ratio"], 3), round(e["exponent"], 2), e["harmonic"]
-    (False, 1.999, 2.0, False)
+    (False, 2.0, 2.0, False)
     """
     z1 = bandpass(y, fs, parent_band, analytic=True)
     z2 = bandpass(y, fs, candidate_band, analytic=True)
@@ -163,7 +168,7 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
     return dict(order=order, frequency_ratio=float(ratio), ratio_sigma=float(sigma),
                 phase_drift_rad=float(slope * (t[-1] - t[0])), exponent=float(p), exponent_sigma=p_sigma,
                 periods=float(t.size / fs * f2), locked=bool(locked),
-                harmonic=bool(locked and p >= MIN_EXPONENT))
+                harmonic=bool(locked and MIN_EXPONENT <= p <= order + _EXPONENT_MARGIN))
 
 
 def _analysis_bands(pre, modes: list) -> list:

@@ -123,7 +123,7 @@ def with_stable_poles(pre: Preprocessed, stable: list, n_orders: int, *, samples
     >>> pre = preprocess(rec.y, fs=rec.fs, quality_warnings=False)
     >>> table = stabilisation(pre.y[pre.impact.ringdown_index:], fs=pre.fs)
     >>> out, notes = with_stable_poles(pre, table.modes(), len(table.orders))
-    >>> len(pre.peaks) <= len(out.peaks), [round(f, 1) for f in out.peaks.frequency_hz]
+    >>> len(pre.peaks) <= len(out.peaks), [round(float(f), 1) for f in out.peaks.frequency_hz]
     (True, [100.0, 102.5])
     """
     peaks = pre.peaks
