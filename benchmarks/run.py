@@ -50,6 +50,7 @@ def _cold_rows(quick: bool) -> list:
 
 
 def _sections(quick: bool):
+    import perf_batch
     import perf_dask
     import perf_figures
 
@@ -62,6 +63,7 @@ def _sections(quick: bool):
         ("modal survey", perf_figures.modal_survey),
         ("feature study", perf_figures.feature_study_rows),
         ("dask", perf_dask.dask_rows),
+        ("batch", perf_batch.batch_rows),
     ]
 
 

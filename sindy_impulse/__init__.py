@@ -30,6 +30,7 @@ _PUBLIC = {
     "load_flutter_rig": "sindy_impulse.datasets",
     "impact_record": "sindy_impulse.datasets",
     "identify_modes": "sindy_impulse.modes",
+    "survey_many": "sindy_impulse.modes",
     "analysis": "sindy_impulse.analysis",
     "preprocessing": "sindy_impulse.preprocessing",
     "preprocess": "sindy_impulse.preprocessing",

@@ -394,3 +394,26 @@ def test_the_modes_command_names_a_missing_channel(tmp_path, capsys):
     write_record(Record(rec.y[:, None], rec.fs, channel_names=("acc",)), tmp_path / "hit.npz")
     assert main(["modes", str(tmp_path / "hit.npz"), "--force", "F"]) != 0
     assert "no channel 'F'" in capsys.readouterr().err
+
+
+def _labview_lvm(path, fs: float, n: int, delta_text: str) -> None:
+    """A one-channel LVM as LabVIEW writes it: Delta_X and the X column printed to few digits."""
+    head = [
+        "LabVIEW Measurement\t", "Writer_Version\t2", "Reader_Version\t2", "Separator\tTab",
+        "Decimal_Separator\t.", "Multi_Headings\tYes", "X_Columns\tMulti", "Time_Pref\tAbsolute",
+        "***End_of_Header***\t", "\t", "Channels\t1\t", f"Samples\t{n}\t", "Y_Unit_Label\tg\t",
+        "X_Dimension\tTime\t", "X0\t0.0000000000000000E+0\t", f"Delta_X\t{delta_text}\t",
+        "***End_of_Header***\t\t", "X_Value\tAcceleration\tComment",
+    ]
+    t = np.arange(n) / fs
+    y = np.exp(-2.0 * t) * np.sin(2 * np.pi * 40.0 * t)
+    path.write_text("\n".join(head + [f"{a:.6f}\t{b:.6f}" for a, b in zip(t, y)]) + "\n")
+
+
+def test_lvm_rounded_delta_x_gives_way_to_the_x_column(tmp_path):
+    pytest.importorskip("lvm_read")
+    fs = 51200.0 / 31.0  # Delta_X printed as 0.000605: 1 / Delta_X is 0.08 % off
+    _labview_lvm(tmp_path / "tap.lvm", fs, 20000, "0.000605")
+    assert read_record(tmp_path / "tap.lvm").fs == pytest.approx(fs, rel=1e-7)
+    _labview_lvm(tmp_path / "exact.lvm", 2048.0, 500, "4.882812500000000E-4")  # exact: kept
+    assert read_record(tmp_path / "exact.lvm").fs == 2048.0

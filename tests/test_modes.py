@@ -85,7 +85,8 @@ def test_table_and_repr(two_modes):
 def test_plot(two_modes):
     _, survey = two_modes
     axes = survey.plot()
-    assert len(axes) == 3 and len(axes[1].lines) == 2
+    assert len(axes) == 5 and all(len(ax.lines) == 2 for ax in axes[1:])
+    assert axes[1].get_yscale() == "log" and axes[1].get_xlim()[1] >= survey.modes[0].t[-1] * 0.99
 
 
 def test_pure_noise_gives_no_mode_and_says_why():
@@ -200,7 +201,7 @@ def test_cli_modes(tmp_path, capsys):
     )
     printed = capsys.readouterr().out
     assert code == 0 and "1 mode(s)" in printed
-    assert float(re.search(r"\n\s+0\s+([\d.]+)", printed).group(1)) == pytest.approx(150.0, rel=3e-3)
+    assert float(re.search(r"\n  mode 0: ([\d.]+) Hz", printed).group(1)) == pytest.approx(150.0, rel=3e-3)
     import json
 
     report = json.loads(out_json.read_text())

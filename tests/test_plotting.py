@@ -117,8 +117,8 @@ def _n_figures() -> int:
 # module
 # ------------------------------------------------------------------------------------------------------
 def test_all_lists_one_function_per_figure():
-    assert len(plotting.__all__) == 15  # 11 figures of the paper, backbone curves, modal survey, MAC,
-    # stabilisation chart
+    assert len(plotting.__all__) == 16  # 11 figures of the paper, backbone curves, modal survey and one
+    # mode's decay, MAC, stabilisation chart
     for name in plotting.__all__:
         func = getattr(plotting, name)
         assert callable(func)

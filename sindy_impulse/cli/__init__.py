@@ -2,7 +2,7 @@
 
 ``demo`` runs the paper's oscillator case end to end. ``fit`` reconstructs the equations of one measured
 ring-down stored as a CSV file and reports Gamma, the nonlinearity test and the modal parameters. ``modes``
-finds the modes of a raw hammer-test record (a modal table, one equation per mode). ``features``
+finds the modes of raw hammer-test records (a modal table per record, one equation per mode). ``features``
 turns many CSV files into one table of SINDy coefficient features (paper section 3.4).
 
 One module per command (:mod:`.demo`, :mod:`.fit`, :mod:`.features`: each ``add_parser(sub)`` and

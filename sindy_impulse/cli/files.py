@@ -28,6 +28,7 @@ __all__ = [
     "check_outputs",
     "list_inputs",
     "open_input",
+    "outputs_in_folder",
     "read_csv",
     "read_measurement",
     "write_figure",
@@ -280,11 +281,14 @@ def read_csv(path: str, columns=None, time=None, dt=None, extra=()) -> Table:
 # ----------------------------------------------------------------------------------------------------
 # outputs
 # ----------------------------------------------------------------------------------------------------
-def check_outputs(outputs: dict, inputs: Iterable[str] = (), figures: Iterable[str] = ()) -> None:
+def check_outputs(
+    outputs: dict, inputs: Iterable[str] = (), figures: Iterable[str] = (), overwrite: bool = True
+) -> None:
     """Refuse, before any work, outputs that cannot be written or would overwrite an input.
 
     ``outputs`` maps an option (``"--json"``) to its path (empty or None: not written); the options
-    in ``figures`` are figures, whose extension must be a format matplotlib writes.
+    in ``figures`` are figures, whose extension must be a format matplotlib writes. With
+    ``overwrite=False`` an existing file is refused too (the ``modes`` command without ``--overwrite``).
     """
     inputs = list(inputs)
     seen = {}
@@ -301,6 +305,8 @@ def check_outputs(outputs: dict, inputs: Iterable[str] = (), figures: Iterable[s
                 raise CLIError(f"cannot write {path}: it is {kind}, not a regular file")
             if not os.access(target, os.W_OK):
                 raise CLIError(f"cannot write {path}: the file is read-only")
+            if not overwrite:
+                raise CLIError(f"{flag} {path} exists; add --overwrite to replace it")
         elif not os.access(folder, os.W_OK | os.X_OK):
             raise CLIError(f"cannot write {path}: permission denied in {os.path.dirname(path) or '.'}")
         for source in inputs:
@@ -311,6 +317,44 @@ def check_outputs(outputs: dict, inputs: Iterable[str] = (), figures: Iterable[s
         seen[target] = flag
         if flag in figures:
             _check_figure_format(flag, path)
+
+
+def outputs_in_folder(inputs: list[str], folder: str, suffixes: dict) -> list[dict]:
+    """Per input, ``{kind: folder/<stem><suffix>}`` (``stem``: the input's file name without its
+    extension), for ``suffixes`` ``{kind: suffix}``; the folder is created when missing.
+
+    Two inputs with the same stem (``a/hit.csv`` and ``b/hit.csv``, or ``hit.csv`` and ``hit.uff``)
+    would write the same outputs: refused, naming both (as is a file given twice).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as out:
+    ...     plan = outputs_in_folder(["data/hit1.csv", "hit2.uff"], out, {"json": ".json"})
+    ...     [os.path.relpath(p["json"], out) for p in plan]
+    ['hit1.json', 'hit2.json']
+    """
+    if os.path.exists(folder) and not os.path.isdir(folder):
+        raise CLIError(f"--out-dir {folder} is a file, not a directory")
+    stems = {}
+    for path in inputs:
+        stem = os.path.splitext(os.path.basename(path))[0]
+        if stem in stems:
+            if _same_file(stems[stem], path):
+                raise CLIError(f"{path} is given twice")
+            raise CLIError(
+                f"{stems[stem]} and {path} would both write {stem}.* in --out-dir {folder}; rename one"
+            )
+        stems[stem] = path
+    try:
+        os.makedirs(folder, exist_ok=True)
+    except OSError as err:
+        raise CLIError(f"cannot create --out-dir {folder}: {err.strerror}") from None
+    return [
+        {kind: os.path.join(folder, os.path.splitext(os.path.basename(path))[0] + suffix)
+         for kind, suffix in suffixes.items()}
+        for path in inputs
+    ]
 
 
 def _check_figure_format(flag: str, path: str) -> None:

@@ -23,6 +23,7 @@ from sklearn.utils.validation import check_is_fitted
 from threadpoolctl import threadpool_limits
 
 from .._utils.params import HasMethods, Interval, Options, Satisfies, validate_params
+from .._utils.progress import progress_bar
 from .._utils.validation import check_array
 from ..embedding import DelayEmbedding
 from ..exceptions import FitWarning
@@ -91,19 +92,6 @@ def _round_significant(values: np.ndarray, digits: int) -> np.ndarray:
     down = 10.0 ** np.maximum(exponent, 0)
     out[ok] = np.round(values[ok] * up / down) * down / up
     return out
-
-
-def _progress(iterable, total: int):
-    try:
-        from tqdm.auto import tqdm
-    except ImportError:  # pragma: no cover - depends on the environment
-        warnings.warn(
-            "progress=True needs tqdm (pip install sindy-impulse[progress]); continuing without a bar",
-            RuntimeWarning,
-            stacklevel=4,
-        )
-        return iterable
-    return tqdm(iterable, total=total, desc="SINDy fits", unit="batch")
 
 
 def as_series(X) -> list[np.ndarray]:
@@ -422,7 +410,7 @@ class SINDyFeatures(TransformerMixin, BaseEstimator):
         parallel = Parallel(n_jobs=n_jobs, return_as="generator")
         results = parallel(tasks)
         if self.progress:
-            results = _progress(results, total=len(batches))
+            results = progress_bar(results, total=len(batches), desc="SINDy fits", unit="batch")
 
         features = np.full((n, len(self.feature_names_out_)), np.nan)
         failures = {}

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from ._arrays import read_mat, read_npz, write_mat, write_npz
@@ -121,7 +121,7 @@ def read_record(
 
 
 def write_record(
-    record: Record,
+    record: Record | Sequence[Record],
     path: str | os.PathLike,
     *,
     format: str | None = None,
@@ -132,8 +132,11 @@ def write_record(
 
     Parameters
     ----------
-    record : Record
-        What to write.
+    record : Record or sequence of Record
+        What to write. A UFF file may hold several records (their channels one after the other, each
+        with its own sampling rate and start time: e.g. a survey's band signals,
+        :meth:`~sindy_impulse.modes.ModalSurvey.to_uff58`); :func:`read_record` reads back only files whose
+        channels share one sampling rate.
     path : str or path-like
         The file: ``.uff`` / ``.unv`` (one UFF 58 time-response set per channel), ``.lvm``, ``.tdms``,
         ``.mat`` (v5), ``.npz`` or ``.csv``.
@@ -163,10 +166,9 @@ def write_record(
     ...         print("refused")
     refused
     """
-    if not isinstance(record, Record):
-        raise TypeError(f"record must be a sindy_impulse.io.Record, not {type(record).__name__}")
     p = Path(path)
     name = _format_of(p, format)
+    record = _records_to_write(record, name)
     if binary and name != "uff":
         raise ValueError(f"binary=True applies to UFF files only, not {name!r}")
     if name == "uff":
@@ -180,3 +182,15 @@ def write_record(
             _WRITERS[name](record, tmp)
 
     return atomic_write(p, write, overwrite=overwrite)
+
+
+def _records_to_write(record, name: str):
+    """The Record (or, for UFF, the list of Records) to write; TypeError for anything else."""
+    if isinstance(record, Record):
+        return record
+    many = isinstance(record, (list, tuple)) and len(record) > 0
+    if many and all(isinstance(r, Record) for r in record):
+        if name != "uff":
+            raise TypeError(f"only a UFF file holds several records; write one Record to a {name!r} file")
+        return list(record)
+    raise TypeError(f"record must be a sindy_impulse.io.Record, not {type(record).__name__}")

@@ -76,6 +76,22 @@ def read_lvm(path: str | Path, *, fs: float | None = None, force_channel: int | 
     )
 
 
+def _rounded_spacing(fs: float, delta: float, x: np.ndarray, what: str) -> float:
+    """The X column's sampling rate where ``Delta_X`` is that column's spacing rounded to fewer digits than
+    the column resolves over the record (LabVIEW writes 0.000605 s for 31 / 51200 s: 1/Delta_X is then
+    0.08 % off); else ``fs``."""
+    try:
+        fs_x, _ = fs_from_time(x, what)
+    except ValueError:
+        return fs
+    digits = next((d for d in range(1, 16) if float(f"{1.0 / fs_x:.{d}g}") == delta), None)
+    if digits is None:
+        return fs
+    span = float(x[-1] - x[0])
+    off = float(np.max(np.abs(x - (x[0] + np.arange(x.size) * span / (x.size - 1)))))
+    return fs_x if max(off, 1e-15 * span) / span < 0.5 * 10.0 ** (1 - digits) / 10 else fs
+
+
 def _finite(value) -> bool:
     try:
         return math.isfinite(float(value))
@@ -92,7 +108,10 @@ def _timing(seg: dict, block: np.ndarray, names: list, n: int, what: str) -> tup
             raise ValueError(f"{what}: unequal sampling across channels (Delta_X {deltas})")
         if deltas[0] <= 0:
             raise ValueError(f"{what}: Delta_X {deltas[0]!r} is not positive")
-        return snap_fs(1.0 / deltas[0], 1e-6), t0
+        fs = snap_fs(1.0 / deltas[0], 1e-6)
+        if "X_Value" in names:
+            fs = _rounded_spacing(fs, deltas[0], block[:, names.index("X_Value")], what)
+        return fs, t0
     if "X_Value" in names:
         return fs_from_time(block[:, names.index("X_Value")], what)
     return None, t0

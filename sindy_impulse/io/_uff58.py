@@ -185,10 +185,12 @@ def uff58_sets(record: Record, *, binary: bool = False) -> list[dict]:
     return out
 
 
-def write_uff58(record: Record, tmp_path: str, *, binary: bool = False) -> None:
-    """Write the record's channels as data sets 58 to ``tmp_path`` (used by :func:`write_record`)."""
+def write_uff58(record: Record | list[Record], tmp_path: str, *, binary: bool = False) -> None:
+    """Write the record's channels (of each record of a list, in order) as data sets 58 to ``tmp_path``
+    (used by :func:`write_record`)."""
     pyuff = require("pyuff", "writing UFF files")
-    sets = uff58_sets(record, binary=binary)
+    records = record if isinstance(record, list) else [record]
+    sets = [s for r in records for s in uff58_sets(r, binary=binary)]
     try:
         # "add" to the empty temporary file: pyuff's "overwrite" truncates the file at a binary set
         pyuff.UFF(tmp_path).write_sets(sets, mode="add")

@@ -36,8 +36,18 @@ def _iqr(values) -> float:
     return float(q3 - q1)
 
 
+def _combined_std(stds) -> float:
+    """Standard deviation of a combined value from the hits' own: of their mean, and ``sqrt(pi / 2)``
+    times that for three hits or more, whose combination is a median (or the consensus, a median of the
+    coefficients): the large-sample variance of the median of normal values."""
+    stds = np.asarray(stds, dtype=float)
+    factor = np.sqrt(np.pi / 2) if stds.size >= 3 else 1.0
+    return float(factor * np.sqrt(np.mean(stds**2) / stds.size))
+
+
 def _combined(group: list):
-    """One mode from its hits: the consensus model's linear values, the hits' spread."""
+    """One mode from its hits: the consensus model's linear values, their standard deviations, the hits'
+    spread."""
     best = max(group, key=lambda m: m.snr_db)
     frequency = float(np.median([m.frequency_hz for m in group]))
     zeta = float(np.median([m.damping_ratio for m in group]))
@@ -50,6 +60,8 @@ def _combined(group: list):
         best,
         frequency_hz=frequency,
         damping_ratio=zeta,
+        frequency_std_hz=_combined_std([m.frequency_std_hz for m in group]),
+        damping_ratio_std=_combined_std([m.damping_ratio_std for m in group]),
         hits=sorted(group, key=lambda m: m.record),
         frequency_spread_hz=_iqr([m.frequency_hz for m in group]),
         damping_ratio_spread=_iqr([m.damping_ratio for m in group]),

@@ -15,6 +15,7 @@ from ..preprocessing.band import resample_band
 from ..simulation.scoring import AUTO_PERIODS, Auto, Segmented
 from ._states import EDGE, STATE_NAMES, channel_shape, derivative_states, group_states
 from .result import Mode, Rejected
+from .uncertainty import mode_uncertainty
 
 __all__ = ["default_estimator", "fit_band", "fit_direct", "fit_group", "MAX_FIT_ERROR"]
 
@@ -272,9 +273,12 @@ def fit_direct(pre, band_hz, template, *, index: int = 0):
         return _poor_fit(band_hz, fit_error, index)
     period = max(2, int(round(pre.fs / frequency)))
     amplitude = float(np.max(np.abs(y[:period])))
+    lags = [(embedding.dimension_ - 1 - k) * embedding.tau_ for k in range(states.shape[1])]
+    spread = _uncertainty(model, states, t_states, band_hz, frequency, lags=lags, filtered=False)
     return Mode(
         frequency_hz=frequency,
         damping_ratio=zeta,
+        **spread,
         band_hz=tuple(float(b) for b in band_hz),
         amplitude=amplitude,
         fit_error=fit_error,
@@ -315,14 +319,25 @@ def fit_group(band, peak_bands, template, *, onset_time: float, index: int = 0) 
             continue
         frequency, zeta = found
         values = {"frequency_hz": frequency, "damping_ratio": zeta, "fit_error": fit_error}
-        out.append(_mode(band, model, states, t, index, **values))
+        lags = [(n_states - 1 - k) * tau for k in range(n_states)]
+        out.append(_mode(band, model, states, t, index, lags=lags, **values))
     return out
 
 
-def _mode(band, model, states, t, index, **values) -> Mode:
-    """The :class:`Mode` of a band's ``model`` fitted on ``states``; ``values`` are the mode's own
-    (frequency, damping ratio, fit error; amplitude, shape, residue where known)."""
+def _uncertainty(model, states, t, band_hz, frequency: float, **kws) -> dict:
+    """The mode's standard deviations from its fit (:func:`.uncertainty.mode_uncertainty`) as
+    :class:`Mode` fields."""
+    u = mode_uncertainty(model, states, t, band_hz, frequency, **kws)
+    return dict(frequency_std_hz=u.frequency_std_hz, damping_ratio_std=u.damping_ratio_std,
+                coefficients_std=u.coefficients_std, uncertainty_note=u.reason)
+
+
+def _mode(band, model, states, t, index, lags=None, **values) -> Mode:
+    """The :class:`Mode` of a band's ``model`` fitted on ``states`` (delay coordinates of the band
+    signal with ``lags``, else ``[y, dy]``); ``values`` are the mode's own (frequency, damping ratio, fit
+    error; amplitude, shape, residue where known)."""
     values.setdefault("amplitude", math.nan)  # a mode of a joint group's model: no amplitude of its own
     band_hz = tuple(float(b) for b in band.band_hz)
     snr_db = float(band.snr_db)
+    values.update(_uncertainty(model, states, t, band_hz, values["frequency_hz"], lags=lags))
     return Mode(band_hz=band_hz, model=model, states=states, t=t, snr_db=snr_db, record=index, **values)

@@ -50,8 +50,22 @@ class Mode:
         Index of the hit the mode comes from (0 for one record).
     hits : list of Mode
         With repeated hits, the matching mode of each hit (the values above are then the consensus).
+    frequency_std_hz, damping_ratio_std : float
+        Standard deviations of ``frequency_hz`` and ``damping_ratio`` from the fit itself: the noise of the
+        band signal propagated through the linearised fit of the model's simulation to its states
+        (:mod:`sindy_impulse.modes.uncertainty`; ``benchmarks/bench_uncertainty.py`` measures their
+        calibration), plus, for a model with nonlinear terms, how far those move the values over the
+        data (a stated systematic term). NaN when they cannot be computed (``uncertainty_note`` says
+        why). With repeated hits, the standard deviation of the combined value; the hits' scatter is
+        ``frequency_spread_hz``.
+    coefficients_std : ndarray or None
+        Standard deviation of each of ``model.coefficients()`` from the fit (NaN for terms the model does
+        not have).
+    uncertainty_note : str
+        Why the standard deviations are NaN ("" when they are not).
     frequency_spread_hz, damping_ratio_spread : float
-        Interquartile range of the hits' values (0 for one hit).
+        Interquartile range of the hits' values (0 for one hit), kept apart from the standard deviations
+        above.
     coordinate_ : int
         The measured coordinate among the states (0: ``y``), read by :func:`analysis.backbone`.
     diagnostics : FitDiagnostics
@@ -74,6 +88,10 @@ class Mode:
     frequency_spread_hz: float = 0.0
     damping_ratio_spread: float = 0.0
     coordinate_: int = 0
+    frequency_std_hz: float = math.nan
+    damping_ratio_std: float = math.nan
+    coefficients_std: np.ndarray | None = field(default=None, repr=False)
+    uncertainty_note: str = ""
 
     @property
     def damped_frequency_hz(self) -> float:
@@ -128,8 +146,10 @@ class Mode:
         """The mode as a row of the modal table."""
         row = {
             "frequency_hz": self.frequency_hz,
+            "frequency_std_hz": self.frequency_std_hz,
             "damped_frequency_hz": self.damped_frequency_hz,
             "damping_ratio": self.damping_ratio,
+            "damping_ratio_std": self.damping_ratio_std,
             "band_low_hz": self.band_hz[0],
             "band_high_hz": self.band_hz[1],
             "amplitude": self.amplitude,
@@ -227,6 +247,47 @@ class ModalSurvey:
 
         return plot_modes(self, axes=axes)
 
+    def to_html(
+        self, path=None, *, overwrite: bool = False, source: str | None = None, nonlinearity: bool = True
+    ) -> str:
+        """The survey as one self-contained HTML report (:func:`sindy_impulse.report.survey_html`).
+
+        The record(s), the modal table with uncertainties, the stabilisation chart over the spectrum with
+        the bands, and per mode the band signal against the model (whole decay and zoom), the equation,
+        the backbone, the nonlinearity verdict and the diagnostics; figures inline, nothing loaded from
+        the network.
+
+        Parameters
+        ----------
+        path : str or path-like, optional
+            Also write the page there; an existing file is replaced only with ``overwrite=True``.
+        overwrite : bool, default=False
+            Replace an existing file (else FileExistsError).
+        source : str, optional
+            Where the record came from (e.g. its file), shown at the top.
+        nonlinearity : bool, default=True
+            Include the test for nonlinearity (it refits each mode once; cached on the mode).
+
+        Returns
+        -------
+        str
+            The HTML page.
+
+        Examples
+        --------
+        >>> from sindy_impulse import identify_modes, impact_record
+        >>> rec = impact_record([120.0], [0.01], fs=2000, duration=1.0, snr_db=50, random_state=0)
+        >>> page = identify_modes(rec.y, fs=rec.fs).to_html(nonlinearity=False)
+        >>> "<h2>Modal table</h2>" in page, "http://" in page or "https://" in page
+        (True, False)
+        """
+        from ..report import survey_html, write_html
+
+        page = survey_html(self, source=source, nonlinearity=nonlinearity)
+        if path is not None:
+            write_html(path, page, overwrite=overwrite)
+        return page
+
     def to_uff(self, path, *, nodes=None, directions=None, overwrite: bool = False):
         """Write the modal table as a UFF file of data sets 55 (one complex mode shape per mode).
 
@@ -266,12 +327,72 @@ class ModalSurvey:
 
         return write_uff55(path, self.modes, nodes=nodes, directions=directions, overwrite=overwrite)
 
+    def to_uff58(self, path, *, binary: bool = False, overwrite: bool = False):
+        """Write each mode's band signal and its model's free decay as UFF 58 time records.
+
+        Two data sets per mode (:func:`sindy_impulse.modes.export.signal_records`): the band signal the
+        model was fitted on (``mode.states``' measured coordinate over ``mode.t``, at ``mode.fitted_fs``),
+        and the model simulated from the band's first state over the whole of ``mode.t``, on the record's
+        clock. ASCII ordinates hold 12 significant digits, binary ones the doubles. Written through
+        :func:`sindy_impulse.io.write_record`; needs pyuff (``pip install "sindy-impulse[io]"``).
+
+        Parameters
+        ----------
+        path : str or path-like
+            The file (``.unv`` or ``.uff``); an existing one is replaced only with ``overwrite=True``.
+        binary : bool, default=False
+            Binary data sets (``58b``) instead of ASCII.
+        overwrite : bool, default=False
+            Replace an existing file (else FileExistsError).
+
+        Returns
+        -------
+        Path
+            The file written.
+
+        Examples
+        --------
+        >>> import os, tempfile, pyuff
+        >>> from sindy_impulse import identify_modes, impact_record
+        >>> rec = impact_record([120.0, 240.0], [0.005, 0.01], fs=5000, duration=1.0, snr_db=50,
+        ...                     random_state=0)
+        >>> survey = identify_modes(rec.y, fs=rec.fs)
+        >>> with tempfile.TemporaryDirectory() as folder:
+        ...     sets = pyuff.UFF(survey.to_uff58(os.path.join(folder, "signals.unv"))).read_sets()
+        >>> [s["id1"] for s in sets][:2]
+        ['mode 1 120 Hz band signal', 'mode 1 120 Hz model free decay']
+        """
+        from .export import write_signals
+
+        return write_signals(self, path, binary=binary, overwrite=overwrite)
+
+    def to_frame(self, nonlinear: bool = False):
+        """The modal table as a :class:`pandas.DataFrame`: one row per mode (index ``mode``), the columns
+        of :meth:`table` (frequency, damped frequency, damping ratio, band, amplitude, fit error, SNR;
+        hits and spreads, residue, ``nonlinear`` when present). Needs pandas (an ImportError saying
+        ``pip install pandas`` otherwise).
+
+        Examples
+        --------
+        >>> from sindy_impulse import identify_modes, impact_record
+        >>> rec = impact_record([120.0, 240.0], [0.005, 0.01], fs=5000, duration=1.0, snr_db=50,
+        ...                     random_state=0)
+        >>> frame = identify_modes(rec.y, fs=rec.fs).to_frame()
+        >>> frame["frequency_hz"].round(1).tolist(), frame.index.name
+        ([120.0, 240.0], 'mode')
+        """
+        from .export import modal_frame
+
+        return modal_frame(self, nonlinear=nonlinear)
+
     def __repr__(self) -> str:
         head = f"ModalSurvey({len(self.modes)} mode(s), {len(self.rejected)} rejected)"
-        lines = [head, "  #   f_n [Hz]    f_d [Hz]   damping   amplitude   fit error   band [Hz]"]
+        columns = "f_n [Hz]               f_d [Hz]   damping ratio         amplitude   fit error   band [Hz]"
+        lines = [head, "  #   " + columns]
         for i, m in enumerate(self.modes):
             lines.append(
-                f"  {i:<3d} {m.frequency_hz:<11.6g} {m.damped_frequency_hz:<10.6g} {m.damping_ratio:<9.4g} "
+                f"  {i:<3d} {_plus_minus(m.frequency_hz, m.frequency_std_hz, 7):<22s} "
+                f"{m.damped_frequency_hz:<10.6g} {_plus_minus(m.damping_ratio, m.damping_ratio_std, 4):<21s} "
                 f"{m.amplitude:<11.4g} {m.fit_error:<11.3g} {m.band_hz[0]:.4g}-{m.band_hz[1]:.4g}"
             )
         lines += [f"  rejected {_band_text(r.band_hz)}: {r.reason}" for r in self.rejected]
@@ -289,6 +410,13 @@ def pole_table(pre):
     except ValueError:  # fewer samples than a Hankel matrix needs
         empty = np.empty(0)
         return PoleTable(empty, empty, empty.astype(int), empty.astype(bool), ())
+
+
+def _plus_minus(value: float, std: float, digits: int) -> str:
+    """``value +- std`` (std to two significant digits; ``+- ?`` when it is not known)."""
+    if not (math.isfinite(std) and std > 0):
+        return f"{value:.{digits}g} ± ?"
+    return f"{value:.{digits}g} ± {std:.2g}"
 
 
 def _band_text(band_hz) -> str:

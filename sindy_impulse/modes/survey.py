@@ -37,7 +37,7 @@ from ._nonlinear import has_nonlinear_terms, merge_chirps
 from .band_fit import default_estimator, fit_band, fit_direct, fit_group
 from .result import ModalSurvey, Mode, Rejected, pole_table
 
-__all__ = ["identify_modes"]
+__all__ = ["check_options", "identify_modes"]
 
 _SENSORS = Options({"displacement", "velocity", "acceleration"})
 
@@ -305,6 +305,24 @@ def _joint(pre, skipped: tuple, template, index: int):
     return fit_group(band, [skipped, bands[j]], template, onset_time=pre.impact.onset_time, index=index)[0]
 
 
+def check_options(sensor=None, estimator=None, max_periods=200.0) -> None:
+    """The checks of :func:`identify_modes`' options that concern no record (a batch runs them once,
+    before any record: :func:`~sindy_impulse.modes.batch.survey_many`).
+
+    Examples
+    --------
+    >>> check_options(sensor="acceleration")
+    >>> try:
+    ...     check_options(sensor="laser")
+    ... except ValueError as err:
+    ...     print(str(err)[:40])
+    identify_modes: sensor must be None or o
+    """
+    check_param("sensor", sensor, [None, _SENSORS], "identify_modes")
+    check_param("estimator", estimator, [None, HasMethods("fit", "an ImpulseSINDy")], "identify_modes")
+    check_param("max_periods", max_periods, [None, Interval(Real, 10, None)], "identify_modes")
+
+
 def identify_modes(
     y,
     t=None,
@@ -367,9 +385,7 @@ def identify_modes(
     >>> [round(m.frequency_hz, 1) for m in survey.modes], [round(m.damping_ratio, 3) for m in survey.modes]
     ([120.0, 240.0], [0.005, 0.01])
     """
-    check_param("sensor", sensor, [None, _SENSORS], "identify_modes")
-    check_param("estimator", estimator, [None, HasMethods("fit", "an ImpulseSINDy")], "identify_modes")
-    check_param("max_periods", max_periods, [None, Interval(Real, 10, None)], "identify_modes")
+    check_options(sensor=sensor, estimator=estimator, max_periods=max_periods)
     records, forces = _records(y, force)
     options = {
         "n_modes": n_modes,
@@ -393,6 +409,11 @@ def identify_modes(
     modes.sort(key=lambda m: m.frequency_hz)
     for note in notes:
         warnings.warn(note, DataWarning, stacklevel=2)
+    notes += [
+        f"mode at {m.frequency_hz:.6g} Hz: no standard deviation from the fit ({m.uncertainty_note})"
+        for m in modes
+        if m.uncertainty_note
+    ]
     if not modes:
         warnings.warn(
             "no mode found: "

@@ -17,6 +17,7 @@ function                           figure of Stender, Oberst & Hoffmann (2019)
 :func:`plot_feature_space`         14b: 2-D feature space (e.g. PCA of SINDyFeatures) by label
 :func:`plot_backbone`              beyond the paper: backbone curves of data and models overlaid
 :func:`plot_modes`                 beyond the paper: a hammer-test record's spectrum and its modes
+:func:`plot_mode_decay`            beyond the paper: one mode against its model, whole decay and zoom
 :func:`plot_mac`                   beyond the paper: the Modal Assurance Criterion of mode shapes
 =================================  ==============================================================
 
@@ -34,7 +35,7 @@ from .features import plot_feature_space
 from .filtering import plot_alpha_curve, plot_filtering
 from .identification import plot_consensus, plot_linear_vs_nonlinear, plot_parameter_dependency
 from .mac import plot_mac
-from .modes import plot_modes
+from .modes import plot_mode_decay, plot_modes
 from .stabilisation import plot_stabilisation
 from .sweep import plot_reconstruction, plot_refinement, plot_sweep
 
@@ -48,6 +49,7 @@ __all__ = [
     "plot_filtering",
     "plot_linear_vs_nonlinear",
     "plot_mac",
+    "plot_mode_decay",
     "plot_modes",
     "plot_parameter_dependency",
     "plot_reconstruction",

@@ -1,4 +1,5 @@
-"""The modal survey: the record's spectrum with the modes marked, and each mode's data against its model."""
+"""The modal survey: the record's spectrum with the modes marked, and each mode's data against its model,
+over the whole decay (log envelope) and in a zoom on its first periods."""
 
 from __future__ import annotations
 
@@ -6,14 +7,14 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._common import INPUT_STYLE, MODEL_STYLE, many_axes
+from ._common import INPUT_STYLE, MODEL_STYLE, many_axes, positive
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
-__all__ = ["plot_modes"]
+__all__ = ["plot_modes", "plot_mode_decay"]
 
-#: Periods of each mode drawn against its model (from the start of its band signal).
+#: Periods of each mode drawn against its model in the zoom (from the start of its band signal).
 _PERIODS_SHOWN = 12
 
 
@@ -34,22 +35,119 @@ def _spectrum_panel(ax: Axes, survey) -> None:
     ax.set_xlim(0, min(spectrum.frequency_hz[-1], 1.2 * high))
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("PSD")
+    ax.set_title("spectrum of the ring-down, bands shaded", fontsize="small")
     ax.legend(loc="upper right", frameon=False, fontsize="small")
 
 
-def _mode_panel(ax: Axes, k: int, mode) -> None:
-    n = int(min(len(mode.t), round(_PERIODS_SHOWN / (mode.frequency_hz * (mode.t[1] - mode.t[0])))))
-    t, y = mode.t[:n], mode.states[:n, 0]
-    ax.plot(t, y, label="band signal", **INPUT_STYLE)
-    sim = mode.model.simulate(mode.states[0], t)
-    ax.plot(t, sim[:, 0], label="model", **MODEL_STYLE)
+def _simulation(mode) -> np.ndarray:
+    """The mode's model simulated from the band's first state over the whole band signal (NaN if it
+    cannot be simulated)."""
+    try:
+        sim = np.asarray(mode.model.simulate(mode.states[0], mode.t), dtype=float)
+    except (ValueError, RuntimeError, FloatingPointError):
+        return np.full(mode.states.shape, np.nan)
+    if sim.shape != mode.states.shape:  # a simulation stopped early (diverged): pad with NaN
+        sim = np.vstack([sim, np.full((len(mode.t) - len(sim), mode.states.shape[1]), np.nan)])
+    return sim
+
+
+def _envelopes(mode, sim: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The peak envelopes (largest magnitude within one period around each sample) of a mode's band
+    signal and of its model's simulation ``sim``: smooth on a log axis, no end effects."""
+    from scipy.ndimage import maximum_filter1d
+
+    c = getattr(mode, "coordinate_", 0)
+    step = float(np.median(np.diff(mode.t))) if len(mode.t) > 1 else 1.0
+    width = max(1, int(round(1.0 / (max(mode.damped_frequency_hz, 1e-300) * step))))
+    data, model = mode.states[:, c], sim[:, c]
+    envelope = [maximum_filter1d(np.abs(v), size=min(width, len(v)), mode="nearest") for v in (data, model)]
+    return envelope[0], envelope[1]
+
+
+def _decay_panel(ax: Axes, k: int, mode, sim: np.ndarray) -> None:
+    """The whole decay: the peak envelopes of the band signal and of the model on a log axis."""
+    t = np.asarray(mode.t)
+    data, model = _envelopes(mode, sim)
+    ax.semilogy(t, positive(data), label="band signal", **INPUT_STYLE)
+    ax.semilogy(t, positive(model), label="model", **MODEL_STYLE)
     ax.set_title(
         f"mode {k}: {mode.frequency_hz:.5g} Hz, damping ratio {mode.damping_ratio:.3g}, "
         f"fit error {mode.fit_error:.2g}",
         fontsize="small",
     )
     ax.set_xlabel("t [s]")
+    ax.set_ylabel("envelope")
     ax.legend(loc="upper right", frameon=False, fontsize="small")
+
+
+def _zoom_panel(ax: Axes, k: int, mode, sim: np.ndarray) -> None:
+    """The first periods of the band signal against the model."""
+    n = int(min(len(mode.t), round(_PERIODS_SHOWN / (mode.frequency_hz * (mode.t[1] - mode.t[0])))))
+    c = getattr(mode, "coordinate_", 0)
+    t, y = mode.t[:n], mode.states[:n, c]
+    ax.plot(t, y, label="band signal", **INPUT_STYLE)
+    ax.plot(t, sim[:n, c], label="model", **MODEL_STYLE)
+    ax.set_title(f"mode {k}: the first {_PERIODS_SHOWN} periods", fontsize="small")
+    ax.set_xlabel("t [s]")
+    ax.legend(loc="upper right", frameon=False, fontsize="small")
+
+
+def _check_mode(mode) -> None:
+    if not all(hasattr(mode, name) for name in ("model", "states", "t", "frequency_hz")):
+        raise TypeError(f"mode must be a Mode of a ModalSurvey, got {type(mode).__name__}")
+
+
+def plot_mode_decay(mode, axes=None, label: int | str = 0) -> np.ndarray:
+    """One mode's band signal against its model: the whole decay as log envelopes, and a zoom.
+
+    Parameters
+    ----------
+    mode : Mode
+        A mode of :func:`sindy_impulse.identify_modes`'s survey.
+    axes : sequence of two Axes, optional
+        Where to draw the decay and the zoom; default: a new figure (constrained layout).
+    label : int or str, default=0
+        The mode's name in the titles (its index in the table).
+
+    Returns
+    -------
+    ndarray of two Axes
+        The peak envelopes (largest magnitude within one period) of the band signal and of the model
+        simulated from the band's first state over the whole band, on a log axis; then the first 12
+        periods of both.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from sindy_impulse import identify_modes, impact_record
+    >>> rec = impact_record([120.0], [0.01], fs=2000, duration=1.0, snr_db=50, random_state=0)
+    >>> decay, zoom = plot_mode_decay(identify_modes(rec.y, fs=rec.fs).modes[0])
+    >>> decay.get_yscale(), bool(decay.get_xlim()[1] > 0.9), bool(zoom.get_xlim()[1] < 0.3)
+    ('log', True, True)
+    """
+    _check_mode(mode)
+    if axes is None:
+        import matplotlib.pyplot as plt
+
+        _, axes = plt.subplots(1, 2, figsize=(9, 3), layout="constrained")
+    decay, zoom = many_axes(axes, 2, name="axes")
+    sim = _simulation(mode)
+    _decay_panel(decay, label, mode, sim)
+    _zoom_panel(zoom, label, mode, sim)
+    return np.array([decay, zoom], dtype=object)
+
+
+def _new_figure(n_modes: int) -> np.ndarray:
+    """The spectrum across the top, then one row per mode (decay, zoom), in a constrained layout."""
+    import matplotlib.pyplot as plt
+
+    fig = plt.figure(figsize=(9, 2.8 * (1 + n_modes)), layout="constrained")
+    grid = fig.add_gridspec(1 + n_modes, 2)
+    axes = [fig.add_subplot(grid[0, :])]
+    for k in range(n_modes):
+        axes += [fig.add_subplot(grid[k + 1, 0]), fig.add_subplot(grid[k + 1, 1])]
+    return np.array(axes, dtype=object)
 
 
 def plot_modes(survey, axes=None) -> np.ndarray:
@@ -59,13 +157,15 @@ def plot_modes(survey, axes=None) -> np.ndarray:
     ----------
     survey : ModalSurvey
         The result of :func:`sindy_impulse.identify_modes`.
-    axes : sequence of ``1 + len(survey.modes)`` Axes, optional
+    axes : sequence of ``1 + 2 * len(survey.modes)`` Axes, optional
+        Default: a new figure in a constrained layout (no text overlaps).
 
     Returns
     -------
     ndarray of Axes
-        The spectrum (bands shaded, modes marked, rejected bands hatched), then per mode its band signal and
-        the model simulated from the band's first state over the first periods.
+        The spectrum (bands shaded, modes marked, rejected bands hatched), then per mode two panels
+        (:func:`plot_mode_decay`): the whole decay of its band signal and of its model as log envelopes,
+        and the first 12 periods of both.
 
     Examples
     --------
@@ -75,13 +175,14 @@ def plot_modes(survey, axes=None) -> np.ndarray:
     >>> from sindy_impulse.plotting import plot_modes
     >>> rec = impact_record([120.0], [0.01], fs=2000, duration=1.0, snr_db=50, random_state=0)
     >>> axes = plot_modes(identify_modes(rec.y, fs=rec.fs))
-    >>> len(axes), axes[0].get_yscale()
-    (2, 'log')
+    >>> len(axes), axes[0].get_yscale(), axes[1].get_yscale()
+    (3, 'log', 'log')
     """
     if not (hasattr(survey, "modes") and hasattr(survey, "preprocessing")):
         raise TypeError(f"survey must be the result of identify_modes, got {type(survey).__name__}")
-    axes = many_axes(axes, 1 + len(survey.modes), name="axes")
+    n = 1 + 2 * len(survey.modes)
+    axes = _new_figure(len(survey.modes)) if axes is None else many_axes(axes, n, name="axes")
     _spectrum_panel(axes[0], survey)
     for k, mode in enumerate(survey.modes):
-        _mode_panel(axes[k + 1], k, mode)
+        plot_mode_decay(mode, axes=axes[1 + 2 * k : 3 + 2 * k], label=k)
     return axes

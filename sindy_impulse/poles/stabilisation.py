@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from numbers import Integral, Real
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from .._utils.params import Interval, check_param
 from .._utils.validation import check_signal
@@ -160,12 +161,13 @@ def stabilisation(
     integers = wanted.ndim == 1 and wanted.size > 0 and np.issubdtype(wanted.dtype, np.integer)
     if not integers or np.any(wanted < 1):
         raise ValueError(f"orders must be a non-empty sequence of positive integers, got {orders!r}")
-    space = SignalSpace(Y, max_rows)
-    usable = tuple(int(k) for k in np.unique(wanted) if k <= space.rows - 2)
     rows = []
-    for k in usable:
-        _, s, _, _, idx = space.poles(k, dt, min_snr_db)
-        rows += [(abs(p) / (2 * np.pi), -p.real / abs(p), k) for p in s[idx]]
+    with threadpool_limits(limits=1, user_api="blas"):  # a loaded machine: threads made it 100x slower
+        space = SignalSpace(Y, max_rows)
+        usable = tuple(int(k) for k in np.unique(wanted) if k <= space.rows - 2)
+        for k in usable:
+            _, s, _, _, idx = space.poles(k, dt, min_snr_db)
+            rows += [(abs(p) / (2 * np.pi), -p.real / abs(p), k) for p in s[idx]]
     f, zeta, order = (np.array(col, dtype=float) for col in zip(*rows)) if rows else (np.empty(0),) * 3
     order = order.astype(int)
     return PoleTable(f, zeta, order, _stable(f, zeta, order, min_orders), usable)

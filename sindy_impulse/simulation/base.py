@@ -165,6 +165,28 @@ class _SparseModel:
         """Right-hand side at states ``x`` (n_points, n_states) and inputs ``u``; ``coef`` overrides."""
         return self._rhs_z(self._z(x, u), self.coef if coef is None else np.asarray(coef, dtype=float))
 
+    def simulate_segments(self, start_states, t, starts, coef=None) -> np.ndarray:
+        """Simulations restarted at the samples ``starts`` from ``start_states`` (one row per start), each
+        through the next start, whose sample then holds the next segment's start: the trajectories the
+        segment-wise error measures compare. Returns (len(t), n_states); NaN after a divergence.
+
+        Examples
+        --------
+        >>> from sindy_impulse.simulation import CompiledModel, TermTable
+        >>> model = CompiledModel([[0.0, 1.0], [-64.0, -3.2]], TermTable.polynomial([[1, 0], [0, 1]]))
+        >>> t = np.arange(401) * 0.01
+        >>> x = model.simulate([1.0, 0.0], t)
+        >>> bool(np.allclose(model.simulate_segments(x[[0, 200]], t, [0, 200]), x))
+        True
+        """
+        starts = np.asarray(starts, dtype=np.int64)
+        x0s = np.asarray(start_states, dtype=float).reshape(starts.size, self.n_states)
+        t = np.asarray(t, dtype=float)
+        out = np.empty((t.shape[0], self.n_states))
+        for x0, lo, hi in zip(x0s, starts, np.append(starts[1:], t.shape[0] - 1)):
+            out[lo : hi + 1] = self.simulate(x0, t[lo : hi + 1], coef=coef)
+        return out
+
     def _check_x0(self, x0) -> np.ndarray:
         x0 = np.ascontiguousarray(x0, dtype=float).ravel()
         if x0.shape[0] != self.n_states:
