@@ -92,8 +92,8 @@ def test_a_true_mode_near_twice_or_three_times_is_not_locked(seed):
         for zeta2 in (0.004, 0.02):
             e = _tones(seed, f2=order * 50 * (1 + off), order=order, zeta2=zeta2)
             assert not e["locked"] and not e["harmonic"], (order, off, zeta2, e)
-            assert abs(e["frequency_ratio"] / order - 1 - off) < 1e-3
-            if zeta2 == 0.004:
+            if zeta2 == 0.004:  # (at 2 % the mode is under the floor before the transients end: undecided)
+                assert abs(e["frequency_ratio"] / order - 1 - off) < 1e-3
                 assert abs(e["exponent"] - order * (1 + off)) < 0.3
 
 
