@@ -85,31 +85,6 @@ def test_a_harmonic_seen_above_the_backbones_top_is_named():
     assert any("harmonic 3" in r.reason for r in found.rejected)
 
 
-def test_harmonic_is_named_only_near_twice_or_three_times_the_backbone():
-    f = np.array([100.0, 100.4])
-    mode = types.SimpleNamespace(frequency_hz=100.0, record=0, model=object(), band_hz=(90, 110))
-    near = types.SimpleNamespace(frequency_hz=301.0, damping_ratio=0.001, record=0, model=object(),
-                                 band_hz=(280, 320))
-    far = types.SimpleNamespace(frequency_hz=305.0, damping_ratio=0.001, record=0, model=object(),
-                                band_hz=(285, 325))
-    broad = types.SimpleNamespace(frequency_hz=198.0, damping_ratio=0.01, record=0, model=object(),
-                                  band_hz=(180, 220))  # 1 % under 2 f, inside its half-power band
-    # 3 x 100.95 Hz: above the curve's top and margin (100.9 Hz), within its reach (101.0 Hz)
-    above = types.SimpleNamespace(frequency_hz=302.85, damping_ratio=0.001, record=0, model=object(),
-                                  band_hz=(280, 320))
-    original = (_nonlinear.has_nonlinear_terms, _nonlinear._backbone_range)
-    try:
-        _nonlinear.has_nonlinear_terms = lambda model: model is mode.model
-        _nonlinear._backbone_range = lambda m: (float(f.min()), float(f.max()))
-        modes, rejected, notes = _nonlinear.name_harmonics([mode, near, far, broad, above], [])
-    finally:
-        _nonlinear.has_nonlinear_terms, _nonlinear._backbone_range = original
-    assert modes == [mode, far]
-    assert len(rejected) == 3 and len(notes) == 3
-    assert "harmonic 3" in rejected[0].reason and "harmonic 2" in rejected[1].reason
-    assert "harmonic 3" in rejected[2].reason
-
-
 def test_own_bands_keep_the_transient_loss_small_at_any_damping():
     """12 half-power widths: an isolated 1-2 %-damped mode loses about 0.5 neper to the band's filter
     transient (5 widths: 1.2 neper)."""

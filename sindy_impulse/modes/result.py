@@ -206,7 +206,8 @@ class ModalSurvey:
     notes : list of str
         Remarks a user should read (double hits, no ring-down found, ...).
     poles : list of PoleTable
-        The stabilisation diagram of each record (computed when first read).
+        The stabilisation diagram of each record (computed by ``identify_modes``, which completes the
+        spectral peaks with its stable modes; else when first read).
     """
 
     modes: list
@@ -237,16 +238,7 @@ class ModalSurvey:
         stable or not), computed when first read (:func:`~sindy_impulse.poles.stabilisation`; a record too
         short for it gives an empty table). ``survey.poles[0].modes()`` are the modes the stable poles make.
         """
-        from ..poles import PoleTable, stabilisation
-
-        tables = []
-        for pre in self.preprocessing:
-            try:
-                tables.append(stabilisation(pre.y[pre.impact.ringdown_index :], fs=pre.fs))
-            except ValueError:  # fewer samples than a Hankel matrix needs
-                empty = np.empty(0)
-                tables.append(PoleTable(empty, empty, empty.astype(int), empty.astype(bool), ()))
-        return tables
+        return [pole_table(pre) for pre in self.preprocessing]
 
     def plot(self, axes=None):
         """Spectrum with the modes marked, and each mode's data against its model
@@ -406,6 +398,18 @@ class ModalSurvey:
         lines += [f"  rejected {_band_text(r.band_hz)}: {r.reason}" for r in self.rejected]
         lines += [f"  note: {n}" for n in self.notes]
         return "\n".join(lines)
+
+
+def pole_table(pre):
+    """The stabilisation diagram of a preprocessed record's free decay (offset removed, from the end of the
+    hit); an empty table for a record too short for a Hankel matrix."""
+    from ..poles import PoleTable, stabilisation
+
+    try:
+        return stabilisation(pre.y[pre.impact.ringdown_index :], fs=pre.fs)
+    except ValueError:  # fewer samples than a Hankel matrix needs
+        empty = np.empty(0)
+        return PoleTable(empty, empty, empty.astype(int), empty.astype(bool), ())
 
 
 def _plus_minus(value: float, std: float, digits: int) -> str:

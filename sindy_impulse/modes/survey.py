@@ -10,8 +10,9 @@ Peaks too close for their damping (``Preprocessed.groups``) are also fitted join
 peak's own-band result when that gave no mode or one that agrees less. A peak still without a mode that
 agrees with its sinusoid is fitted once more on the record with the other peaks' sinusoids subtracted, in a
 wide band (:func:`~sindy_impulse.preprocessing.deflation.deflated_band`; :func:`_deflated`). A group of
-close peaks that one nonlinear oscillator reproduces better is one nonlinear mode, and a mode at 2 or 3
-times a nonlinear mode's backbone frequencies is its harmonic (:mod:`._nonlinear`).
+close peaks that one nonlinear oscillator reproduces better is one nonlinear mode (:mod:`._nonlinear`), and a
+mode near 2 or 3 times another that is phase-locked to it, its amplitude a power (2 or 3) of the other's, is
+that mode's harmonic (:mod:`._harmonics`: decided on the record, not on a model).
 Repeated hits of one structure are matched by frequency and combined by the paper's consensus (section
 3.3.2).
 """
@@ -29,10 +30,12 @@ from .._utils.validation import check_signal
 from ..exceptions import DataWarning, NoDynamicsWarning
 from ..preprocessing import extract_band, preprocess
 from ..preprocessing.deflation import deflated_band
+from ..preprocessing.stable_poles import PERSISTENCE, with_stable_poles
+from ._harmonics import split_harmonics
 from ._hits import merge_hits
-from ._nonlinear import has_nonlinear_terms, merge_chirps, name_harmonics
+from ._nonlinear import has_nonlinear_terms, merge_chirps
 from .band_fit import default_estimator, fit_band, fit_direct, fit_group
-from .result import ModalSurvey, Mode, Rejected
+from .result import ModalSurvey, Mode, Rejected, pole_table
 
 __all__ = ["check_options", "identify_modes"]
 
@@ -98,7 +101,9 @@ def _first_periods(band, max_periods):
 
 
 def _survey_record(index, record, t, fs, force, options, template, sensor, channel, max_periods):
-    """Preprocess one hit and fit every band: (modes, rejected, preprocessed, notes).
+    """Preprocess one hit (its spectral peaks completed by the stable poles of its stabilisation diagram,
+    :func:`~sindy_impulse.preprocessing.stable_poles.with_stable_poles`) and fit every band:
+    (modes, rejected, preprocessed, notes, pole table).
 
     A problem of the input (preprocessing refuses it) raises its clear error; a failure of the
     identification after that becomes one :class:`Rejected` row of the record (no band), with the error as
@@ -106,24 +111,27 @@ def _survey_record(index, record, t, fs, force, options, template, sensor, chann
     """
     ref = _reference_channel(record, channel)
     pre = preprocess(record[:, ref], t, fs=fs, force=force, **options)
-    notes = []
+    table = pole_table(pre)
+    pre, found = with_stable_poles(pre, table.modes(), len(table.orders),
+                                   samples_per_period=options["samples_per_period"])
+    notes = [f"record {index}: {note}" for note in found]
     if pre.impact.double_hit:
         notes.append(f"record {index}: double hit at {', '.join(f'{h[0]:.4g} s' for h in pre.impact.hits)}")
     try:
         modes, rejected, found = _fit_record(index, record, pre, force, template, sensor, ref, max_periods,
-                                             options["samples_per_period"])
+                                             options["samples_per_period"], table)
     except Exception as err:  # noqa: BLE001 - one record's failure must not abort the survey
         evidence = {"error": type(err).__name__, "message": str(err)}
         reason = f"the identification of record {index} failed ({type(err).__name__}: {err})"
-        return [], [Rejected(None, reason, index, evidence)], pre, notes
-    return modes, rejected, pre, notes + found
+        return [], [Rejected(None, reason, index, evidence)], pre, notes, table
+    return modes, rejected, pre, notes + found, table
 
 
-def _fit_record(index, record, pre, force, template, sensor, ref, max_periods, samples_per_period):
+def _fit_record(index, record, pre, force, template, sensor, ref, max_periods, samples_per_period, table):
     """Every band of a preprocessed hit fitted: (modes, rejected, notes)."""
     impulse = _impulse(force, pre)
     if len(pre.peaks) == 0:
-        return _from_stable_poles(index, pre, template)
+        return _from_stable_poles(index, pre, template, table)
     if len(pre.peaks) == 1 and not pre.bands:  # one mode the band-pass cannot keep: strongly damped, short
         out = fit_direct(pre, tuple(pre.peaks.band_hz[0]), template, index=index)
         return ([out], [], []) if not isinstance(out, Rejected) else ([], [out], [])
@@ -163,7 +171,7 @@ def _fit_record(index, record, pre, force, template, sensor, ref, max_periods, s
                        impulse=impulse, sensor=sensor, index=index)
     modes, rejected, merged = merge_chirps(pre, modes, rejected, fit_options,
                                            lambda band: _first_periods(band, max_periods))
-    modes, rejected, harmonics = name_harmonics(modes, rejected)
+    modes, rejected, harmonics = split_harmonics(pre, modes, rejected)
     return modes, rejected, resampled + merged + harmonics
 
 
@@ -171,11 +179,12 @@ def _fit_record(index, record, pre, force, template, sensor, ref, max_periods, s
 _POLE_BAND_WIDTHS = 3.0
 #: Share of the diagram's orders a stable mode must appear at to be identified without a spectral peak. On
 #: the paper's oscillator (seeds 0-99, 40 dB) the true mode is found at all 26 orders; noise poles that pass
-#: the stability rule by chance at 2-7 (``benchmarks/bench_short_decays.py``).
-_PERSISTENCE = 0.5
+#: the stability rule by chance at 2-7 (``benchmarks/bench_short_decays.py``). The same share makes a
+#: stable mode a candidate beside the spectral peaks (:mod:`~sindy_impulse.preprocessing.stable_poles`).
+_PERSISTENCE = PERSISTENCE
 
 
-def _from_stable_poles(index, pre, template):
+def _from_stable_poles(index, pre, template, table):
     """No spectral peak stands above the noise floor: a short, strongly damped record puts one or two
     spectral bins on a mode (the paper's oscillator: 4 s at 20 % damping). The stabilisation diagram of
     the free decay (:func:`~sindy_impulse.poles.stabilisation`) has no bin limit: when it finds exactly
@@ -183,15 +192,7 @@ def _from_stable_poles(index, pre, template):
     (:func:`.band_fit.fit_direct`, the single-mode route without band-pass) in the band of
     :data:`_POLE_BAND_WIDTHS` half-power half-widths around it.
     (modes, rejected, notes)."""
-    from ..poles import stabilisation
-
-    decay = pre.y[pre.impact.ringdown_index :]
-    try:
-        table = stabilisation(decay, fs=pre.fs)
-    except ValueError:  # too short for a Hankel matrix
-        table = None
-    modes = [] if table is None else table.modes()
-    found = [m for m in modes if m.n_orders >= _PERSISTENCE * len(table.orders)]
+    found = [m for m in table.modes() if m.n_orders >= _PERSISTENCE * len(table.orders)]
     if len(found) != 1:
         why = "no stable pole either" if not found else f"{len(found)} stable modes: give bands="
         return [], [], [f"record {index}: no spectral peak significantly above the noise floor ({why})"]
@@ -394,11 +395,12 @@ def identify_modes(
         "samples_per_period": samples_per_period,
     }
     template = default_estimator() if estimator is None else estimator
-    per_record, rejected, preps, notes = [], [], [], []
+    per_record, rejected, preps, notes, tables = [], [], [], [], []
     for i, (record, ti, fi) in enumerate(zip(records, _times(t, len(records)), forces)):
-        modes, rej, pre, note = _survey_record(
+        modes, rej, pre, note, table = _survey_record(
             i, record, ti, fs, fi, options, template, sensor, channel, max_periods
         )
+        tables.append(table)
         per_record.append(modes)
         rejected += rej
         preps.append(pre)
@@ -420,4 +422,6 @@ def identify_modes(
             NoDynamicsWarning,
             stacklevel=2,
         )
-    return ModalSurvey(modes, rejected, preps, notes)
+    survey = ModalSurvey(modes, rejected, preps, notes)
+    survey.__dict__["poles"] = tables  # computed once: survey.poles reads them
+    return survey

@@ -1,0 +1,215 @@
+"""Harmonics decided from the data: is a mode near 2 or 3 times another that mode's harmonic, or a mode?
+
+A harmonic made by a term of power ``p`` of a mode (``x^2``: p = 2 at 2 f; ``x^3`` or ``x^2 x'``: p = 3 at
+3 f; a ``|x'| x'`` damper: p = 2 at 3 f) is **phase-locked** to its mode: its instantaneous phase is exactly
+``n`` times the mode's at every instant, so their instantaneous frequency ratio is ``n`` even while the
+mode's frequency follows its backbone; and its **amplitude goes as the mode's amplitude to the power p**
+(``p >= 2``), so its envelope decays ``p`` times as fast. A true mode near ``n f`` (a 1:2 internal-resonance
+rig, a beam's second mode 0.56 % below twice the first) keeps its own frequency: the phase ``phi_2 - n phi_1``
+drifts at ``2 pi (f_2 - n f_1)``. (With equal damping ratios such a mode's envelope also decays about ``n``
+times as fast as its parent's: only the phase tells them apart.)
+
+:func:`harmonic_evidence` measures both on the record: each mode's analytic signal in its own band (zero-phase
+FFT band-pass, :func:`~sindy_impulse.preprocessing.filters.bandpass`), over the stretch after both filters'
+transients where both envelopes stand :data:`MIN_SNR_DB` over their band's noise; the frequency ratio
+``n + (d/dt (phi_2 - n phi_1)) / (2 pi f_1)`` from a weighted straight-line fit of the phase difference, its
+standard error from the residual with one independent sample per ``1 / bandwidth``; the exponent ``p`` from
+a straight-line fit of ``log a_2`` against ``log a_1``. :func:`split_harmonics` moves a mode that is locked
+(over the whole stretch and over each of its :data:`_SEGMENTS` pieces the ratio within :data:`SIGMAS` standard
+errors of ``n``, or within :data:`RATIO_TOL`; resolved: the whole stretch's relative standard error at most
+:data:`RESOLVED`) and whose exponent is at least :data:`MIN_EXPONENT` and at most ``n + 0.5`` (a term of
+power at most ``n`` makes harmonic ``n``) to the rejected rows, with
+the numbers as evidence.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..preprocessing.band import band_noise_rms
+from ..preprocessing.filters import bandpass, transient_samples
+from ..preprocessing.partition import peak_bands
+from .result import Rejected
+
+__all__ = ["harmonic_evidence", "split_harmonics", "SIGMAS", "RATIO_TOL", "RESOLVED", "MIN_EXPONENT",
+           "MIN_SNR_DB"]
+
+#: Harmonic orders tested.
+ORDERS = (2, 3)
+#: A mode is tested as harmonic ``n`` of another when its frequency is within this relative distance of
+#: ``n`` times the other's (a nonlinear mode's frequency moves with amplitude; its harmonic is strongest
+#: where the amplitude is largest).
+NEAR = 0.06
+#: Envelopes used down to this height over their band's noise (dB).
+MIN_SNR_DB = 10.0
+#: A locked pair's frequency ratio lies within this many standard errors of ``n`` ...
+SIGMAS = 3.0
+#: ... or within this relative distance of it (half the smallest offset of a true mode the study draws:
+#: 0.5 %; a beam's second mode sat 0.56 % off twice its first) ...
+RATIO_TOL = 2.5e-3
+#: ... and the whole stretch's ratio has a relative standard error at most this (else nothing is decided).
+RESOLVED = 1e-3
+#: Smallest amplitude exponent of a harmonic (``a_2 ~ a_1^p``; a term of power 2 or 3 gives p = 2 or 3).
+MIN_EXPONENT = 1.5
+#: A harmonic of order n comes from a term of power at most n (``x^2`` at 2 f; ``x^3``, ``x^2 x'``,
+#: ``|x'| x'`` at 3 f): an exponent above ``n`` by more than this is a mode that decays faster (two linear
+#: modes at exactly 120 and 240 Hz with damping ratios 0.5 and 1 % are locked, with p = 4).
+_EXPONENT_MARGIN = 0.5
+#: The filters' transients are trimmed down to this share of their peak (not 1e-3 as for the bands: a
+#: harmonic decays p times as fast as its mode and its largest amplitudes would be lost with them).
+_TRANSIENT_TOL = 1e-2
+#: The exponent is fitted where both envelopes stand this much higher still (dB): near the floor the noise
+#: lifts an envelope and flattens its slope (a p = 3 harmonic read 2.3 down to 10 dB).
+_EXPONENT_SNR_DB = 10.0
+#: The stretch is cut into this many pieces, each locked too (a chirping parent crossing ``f_2 / n``
+#: halfway would give ``n`` on average).
+_SEGMENTS = 4
+#: Fewest periods of the candidate in the stretch measured.
+_MIN_PERIODS = 5.0
+
+
+def _line(x: np.ndarray, y: np.ndarray, w: np.ndarray) -> tuple[float, float, np.ndarray]:
+    """Weighted straight line ``y = a + b x``: (a, b, residual)."""
+    xm, ym = np.average(x, weights=w), np.average(y, weights=w)
+    b = float(np.sum(w * (x - xm) * (y - ym)) / np.sum(w * (x - xm) ** 2))
+    a = float(ym - b * xm)
+    return a, b, y - a - b * x
+
+
+def _ratio(t, psi, w, n_eff: float, order: int, f1: float) -> tuple[float, float, float]:
+    """Frequency ratio ``n + (d psi / dt) / (2 pi f1)`` from a line through the phase difference ``psi``,
+    its standard error (``n_eff`` independent samples) and the slope (rad/s)."""
+    _, slope, res = _line(t, psi, w)
+    spread = np.average((t - np.average(t, weights=w)) ** 2, weights=w)
+    sigma = float(np.sqrt(np.average(res**2, weights=w) / spread / max(n_eff, 2.0)))
+    return order + slope / (2 * np.pi * f1), sigma / (2 * np.pi * f1), slope
+
+
+def _kept(a1: np.ndarray, a2: np.ndarray, floor1: float, floor2: float, trim: int) -> np.ndarray:
+    """Samples after the filters' transients (and before the end's) where both envelopes stand over their
+    floors."""
+    keep = np.zeros(a1.size, bool)
+    keep[trim : a1.size - trim] = True
+    return np.flatnonzero(keep & (a1 >= floor1) & (a2 >= floor2))
+
+
+def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noise_rms=(0.0, 0.0)) -> dict:
+    """Phase locking and amplitude exponent of a candidate harmonic against its parent (see the module).
+
+    Parameters
+    ----------
+    y : ndarray (n,)
+        The free decay (offset removed).
+    fs : float
+        Sampling rate (Hz).
+    parent_band, candidate_band : (float, float)
+        Each one's own band (Hz).
+    order : int
+        ``n``: the candidate is tested at ``n`` times the parent's frequency.
+    noise_rms : (float, float)
+        Noise standard deviation in each band: the envelopes are used down to :data:`MIN_SNR_DB` over it.
+
+    Returns
+    -------
+    dict
+        ``order``, ``frequency_ratio`` and its standard error ``ratio_sigma``, ``phase_drift_rad`` (of
+        ``phi_2 - n phi_1`` over the stretch), ``exponent`` (``p``) and ``exponent_sigma``, ``periods``
+        (of the candidate, measured), ``locked`` and ``harmonic`` (bool). Too short a stretch: the ratio
+        and exponent are NaN and nothing is decided.
+
+    Examples
+    --------
+    A second harmonic of a decaying, chirping tone (1.2 % over the record), and a true mode whose frequency
+    twice the tone's crosses halfway:
+
+    >>> fs, t = 2000.0, np.arange(6000) / 2000.0
+    >>> phase = 2 * np.pi * (50 * t + 0.2 * t**2)
+    >>> a = np.exp(-0.8 * t)
+    >>> harmonic = a * np.cos(phase) + 0.05 * a**2 * np.cos(2 * phase + 1)
+    >>> e = harmonic_evidence(harmonic, fs, (40, 60), (90, 120), 2, (1e-5, 1e-5))
+    >>> e["locked"], round(e["frequency_ratio"], 4), round(e["exponent"], 2), e["harmonic"]
+    (True, 2.0, 2.0, True)
+    >>> mode = a * np.cos(phase) + 0.05 * a**2 * np.cos(2 * np.pi * 100.6 * t)
+    >>> e = harmonic_evidence(mode, fs, (40, 60), (90, 120), 2, (1e-5, 1e-5))
+    >>> e["locked"], round(e["frequency_ratio"], 3), round(e["exponent"], 2), e["harmonic"]
+    (False, 2.0, 2.0, False)
+    """
+    z1 = bandpass(y, fs, parent_band, analytic=True)
+    z2 = bandpass(y, fs, candidate_band, analytic=True)
+    trim = max(transient_samples(fs, b, tol=_TRANSIENT_TOL) for b in (parent_band, candidate_band))
+    floor = 10 ** (MIN_SNR_DB / 20) * np.sqrt(2) * np.asarray(noise_rms, float)
+    a1, a2 = np.abs(z1), np.abs(z2)
+    keep = _kept(a1, a2, floor[0], floor[1], trim)
+    t = np.arange(a1.size)[keep] / fs
+    f2 = order * 0.5 * (parent_band[0] + parent_band[1])
+    nan = dict(order=order, frequency_ratio=np.nan, ratio_sigma=np.nan, phase_drift_rad=np.nan,
+               exponent=np.nan, exponent_sigma=np.nan, periods=float(t.size / fs * f2), locked=False,
+               harmonic=False)
+    if t.size < 8 or t.size / fs * f2 < _MIN_PERIODS:
+        return nan
+    z1, z2, a1, a2 = z1[keep], z2[keep], a1[keep], a2[keep]
+    psi = np.unwrap(np.angle(z2 * np.conj(z1 / a1) ** order))
+    tiny = 1e-12 * np.array([a1.max(), a2.max()])
+    w = 1.0 / (((noise_rms[1] + tiny[1]) / a2) ** 2 + order**2 * ((noise_rms[0] + tiny[0]) / a1) ** 2)
+    bandwidth = min(parent_band[1] - parent_band[0], candidate_band[1] - candidate_band[0])
+    f1 = float(np.polyfit(t, np.unwrap(np.angle(z1)), 1)[0] / (2 * np.pi))
+    ratio, sigma, slope = _ratio(t, psi, w, bandwidth * t.size / fs, order, f1)
+    pieces = [_ratio(t[k], psi[k], w[k], bandwidth * k.size / fs, order, f1)
+              for k in np.array_split(np.arange(t.size), _SEGMENTS)]
+    locked = sigma <= RESOLVED * order and all(
+        abs(r - order) <= max(SIGMAS * s, RATIO_TOL * order) for r, s, _ in [(ratio, sigma, 0)] + pieces)
+    n_eff = max(t.size * bandwidth / fs, 2.0)
+    higher = 10 ** (_EXPONENT_SNR_DB / 20)
+    strong = (a1 >= higher * floor[0]) & (a2 >= higher * floor[1])
+    strong = strong if np.count_nonzero(strong) >= 8 else np.ones(a1.size, bool)
+    log1, log2 = np.log(a1[strong]), np.log(a2[strong])
+    _, p, pres = _line(log1, log2, np.ones_like(log1))
+    p_sigma = float(np.sqrt(np.mean(pres**2) / max(np.var(log1), np.finfo(float).tiny) / n_eff))
+    return dict(order=order, frequency_ratio=float(ratio), ratio_sigma=float(sigma),
+                phase_drift_rad=float(slope * (t[-1] - t[0])), exponent=float(p), exponent_sigma=p_sigma,
+                periods=float(t.size / fs * f2), locked=bool(locked),
+                harmonic=bool(locked and MIN_EXPONENT <= p <= order + _EXPONENT_MARGIN))
+
+
+def _analysis_bands(pre, modes: list) -> list:
+    """Each mode's own band among the record's modes (:func:`~.partition.peak_bands` of their frequencies
+    and half-power widths): no band holds a neighbour's centre."""
+    f = np.array([m.damped_frequency_hz for m in modes])
+    return peak_bands(f, np.array([2 * m.damping_ratio * m.frequency_hz for m in modes]), pre.fs)
+
+
+def _reason(parent, e: dict) -> str:
+    return (f"harmonic {e['order']} of the mode at {parent.frequency_hz:.4g} Hz, not a mode: phase-locked "
+            f"to it (frequency ratio {e['frequency_ratio']:.5f} +- {e['ratio_sigma']:.1g}) and its "
+            f"amplitude goes as the mode's to the power {e['exponent']:.2f}")
+
+
+def split_harmonics(pre, modes: list, rejected: list) -> tuple:
+    """Modes of one record that are harmonics of another (the module's test) moved to ``rejected``, the
+    evidence in :attr:`Rejected.evidence`: ``(modes, rejected, notes)``. Modes are tested from the lowest
+    frequency up against every lower mode near ``1 / n`` of theirs (within :data:`NEAR`)."""
+    ordered = sorted(modes, key=lambda m: m.frequency_hz)
+    if len(ordered) < 2:
+        return modes, rejected, []
+    bands = _analysis_bands(pre, ordered)
+    noise = [band_noise_rms(pre.peaks.spectrum, b) for b in bands]
+    ring = pre.y[pre.impact.ringdown_index :]
+    harmonics, notes = set(), []
+    for j, candidate in enumerate(ordered):
+        for i, parent in enumerate(ordered[:j]):
+            if i in harmonics:
+                continue
+            order = next((n for n in ORDERS if abs(candidate.damped_frequency_hz
+                                                   / (n * parent.damped_frequency_hz) - 1) <= NEAR), None)
+            if order is None:
+                continue
+            e = harmonic_evidence(ring, pre.fs, bands[i], bands[j], order, (noise[i], noise[j]))
+            e.update(parent_frequency_hz=parent.frequency_hz, frequency_hz=candidate.frequency_hz)
+            if e["harmonic"]:
+                harmonics.add(j)
+                why = _reason(parent, e)
+                rejected.append(Rejected(tuple(candidate.band_hz), why, candidate.record, e))
+                notes.append(f"record {candidate.record}: the peak at {candidate.frequency_hz:.4g} Hz is the "
+                             f"{why}")
+                break
+    return [m for k, m in enumerate(ordered) if k not in harmonics], rejected, notes

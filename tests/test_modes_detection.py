@@ -1,0 +1,156 @@
+"""Detection on stable poles beside the spectral peaks, and harmonics decided from the data (issue 25)."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+from sindy_impulse import identify_modes, impact_record
+from sindy_impulse.modes._harmonics import MIN_EXPONENT, harmonic_evidence
+from sindy_impulse.poles import stabilisation
+from sindy_impulse.preprocessing import preprocess
+from sindy_impulse.preprocessing.stable_poles import with_stable_poles
+
+SEEDS = (0, 1, 2)
+
+
+def _completed(rec):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        pre = preprocess(rec.y, fs=rec.fs, quality_warnings=False)
+        table = stabilisation(pre.y[pre.impact.ringdown_index :], fs=pre.fs)
+        return pre, with_stable_poles(pre, table.modes(), len(table.orders))
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_a_close_pair_one_bandwidth_apart_is_two_peaks(seed):
+    """100 and 100.8 Hz at 0.4 and 0.3 % damping: 0.8 Hz apart, one half-power bandwidth of the first. The
+    spectrum shows one peak between them; the stable poles split it."""
+    rec = impact_record([100.0, 100.8], [0.004, 0.003], [1.0, 0.7], fs=1000.0, duration=4.0, snr_db=50,
+                        pre_trigger=0.05, random_state=seed)
+    pre, (out, notes) = _completed(rec)
+    assert len(pre.peaks) == 1  # the case: one merged peak
+    assert len(out.peaks) == 2 and len(notes) == 2
+    assert np.allclose(out.peaks.frequency_hz, [100.0 * np.sqrt(1 - 0.004**2), 100.8 * np.sqrt(1 - 0.003**2)],
+                       rtol=5e-4)
+    assert np.allclose(out.peaks.damping_ratio, [0.004, 0.003], rtol=0.1)
+    assert [g for g, _ in out.groups] == [(0, 1)]  # fitted together in their joint band
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_a_weak_mode_on_a_strong_ones_skirt_is_kept_and_nothing_is_added(seed):
+    rec = impact_record([100.0, 102.5, 180.0], [0.004, 0.004, 0.002], [1.0, 0.05, 0.3], fs=1000.0,
+                        duration=4.0, snr_db=60, pre_trigger=0.05, random_state=seed)
+    _, (out, _) = _completed(rec)
+    assert np.allclose(out.peaks.frequency_hz, rec.modes.frequency_hz, rtol=1e-3)
+
+
+def test_noise_alone_gains_no_peak_from_the_poles():
+    rng = np.random.default_rng(0)
+    for seed in SEEDS:
+        y = np.concatenate([np.zeros(200), np.random.default_rng(seed).standard_normal(3800)]) + 2.0
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            pre = preprocess(y + 1e-3 * rng.standard_normal(y.size), fs=1000.0, quality_warnings=False)
+            table = stabilisation(pre.y[pre.impact.ringdown_index :], fs=pre.fs)
+            out, notes = with_stable_poles(pre, table.modes(), len(table.orders))
+        assert len(out.peaks) == len(pre.peaks) and not notes
+
+
+def _tones(seed, *, f2=None, p=2, order=2, zeta2=None, chirp=0.0, snr_db=50.0):
+    """A decaying (optionally chirping) tone at 50 Hz with either its harmonic (amplitude a^p, phase n
+    times the tone's) or an independent mode at f2."""
+    fs = 2000.0
+    t = np.arange(8000) / fs
+    phase = 2 * np.pi * (50 * t + chirp * t**2)
+    a = np.exp(-2 * np.pi * 0.004 * 50 * t)
+    y = a * np.cos(phase)
+    if f2 is None:
+        y = y + 0.05 * a**p * np.cos(order * phase + 0.7)
+    else:
+        y = y + 0.05 * np.exp(-2 * np.pi * zeta2 * f2 * t) * np.cos(2 * np.pi * f2 * t + 0.7)
+    noise = 10 ** (-snr_db / 20) * np.random.default_rng(seed).standard_normal(t.size)
+    bands = (45.0, 55.0), (order * 45.0, order * 55.0)
+    sigma = 10 ** (-snr_db / 20) * np.sqrt(np.array([10.0, 10.0 * order]) / (fs / 2))
+    return harmonic_evidence(y + noise, fs, *bands, order, tuple(sigma))
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_harmonics_are_locked_with_their_power_as_exponent(seed):
+    for order, p, chirp in ((2, 2, 0.0), (3, 3, 0.0), (3, 2, 0.0), (2, 2, 0.1), (3, 3, 0.1)):
+        e = _tones(seed, order=order, p=p, chirp=chirp)
+        assert e["locked"] and e["harmonic"], (order, p, chirp, e)
+        assert abs(e["frequency_ratio"] - order) <= 1e-3 * order
+        assert abs(e["exponent"] - p) < 0.3 and e["exponent"] >= MIN_EXPONENT
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_a_true_mode_near_twice_or_three_times_is_not_locked(seed):
+    """0.5-2 % off the exact ratio; with equal damping ratios the exponent is n, as a harmonic's would be:
+    only the phase tells them apart."""
+    for order, off in ((2, 0.005), (2, -0.01), (3, 0.02), (3, -0.005)):
+        for zeta2 in (0.004, 0.02):
+            e = _tones(seed, f2=order * 50 * (1 + off), order=order, zeta2=zeta2)
+            assert not e["locked"] and not e["harmonic"], (order, off, zeta2, e)
+            if zeta2 == 0.004:  # (at 2 % the mode is under the floor before the transients end: undecided)
+                assert abs(e["frequency_ratio"] / order - 1 - off) < 1e-3
+                assert abs(e["exponent"] - order * (1 + off)) < 0.3
+
+
+def test_a_chirping_parent_crossing_the_ratio_halfway_is_not_locked():
+    e = _tones(0, f2=2 * 50.8, order=2, zeta2=0.004, chirp=0.2)
+    assert not e["locked"]
+
+
+def _survey(rec):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return identify_modes(rec.y, fs=rec.fs)
+
+
+@pytest.mark.slow  # three surveys of about 3 s each
+@pytest.mark.parametrize("seed", SEEDS)
+def test_quadratic_spring_gives_one_mode_and_its_second_harmonic_with_evidence(seed):
+    w0, a0 = 2 * np.pi * 60.0, 1e-3
+    rec = impact_record(60.0, 0.004, [a0], fs=2000.0, duration=3.0, sensor="displacement", snr_db=50,
+                        quadratic_stiffness=0.15 * w0**2 / a0, random_state=seed)
+    found = _survey(rec)
+    assert len(found.modes) == 1 and abs(found.modes[0].frequency_hz / 60.0 - 1) < 0.003
+    (row,) = [r for r in found.rejected if r.evidence.get("order") == 2]
+    assert "harmonic 2" in row.reason
+    assert abs(row.evidence["frequency_ratio"] - 2) < 2.5e-3 * 2 and row.evidence["locked"]
+    assert 1.5 <= row.evidence["exponent"] <= 2.5
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", SEEDS)
+def test_cubic_spring_gives_one_mode_and_its_third_harmonic_with_evidence(seed):
+    """A hardening spring 3.3 % stiffer at the start (bench_model_backbone.py's cubic row, seed 37)."""
+    rec = impact_record(145.98385111493212, 0.0030984742414416995, [1.0], fs=6681.011979487065,
+                        duration=0.7991751537970851, snr_db=45, cubic_stiffness=6.6998793379225256e16,
+                        random_state=seed)
+    found = _survey(rec)
+    assert len(found.modes) == 1
+    (row,) = [r for r in found.rejected if r.evidence.get("order") == 3]
+    assert "harmonic 3" in row.reason and row.evidence["locked"]
+    assert 2.3 <= row.evidence["exponent"] <= 3.7
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", SEEDS)
+def test_a_linear_one_to_two_pair_with_equal_damping_ratios_is_two_modes(seed):
+    rec = impact_record([100.0, 201.2], [0.004, 0.004], [1.0, 0.3], fs=2048.0, duration=4.0, snr_db=50,
+                        sensor="displacement", random_state=seed)
+    found = _survey(rec)
+    assert np.allclose([m.frequency_hz for m in found.modes], [100.0, 201.2], rtol=3e-3)
+    assert not any("harmonic" in r.reason for r in found.rejected)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", SEEDS)
+def test_a_close_pair_is_resolved_by_the_survey(seed):
+    rec = impact_record([100.0, 100.8], [0.004, 0.003], [1.0, 0.7], fs=1000.0, duration=4.0, snr_db=50,
+                        pre_trigger=0.05, random_state=seed)
+    found = _survey(rec)
+    assert np.allclose([m.frequency_hz for m in found.modes], [100.0, 100.8], rtol=3e-3)
+    assert np.allclose([m.damping_ratio for m in found.modes], [0.004, 0.003], rtol=0.1)
