@@ -1,0 +1,64 @@
+"""Sizes and work that depend on the data stay bounded (issue 25: nothing hangs or exhausts memory)."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+from sindy_impulse import ImpulseSINDy, damped_oscillator
+from sindy_impulse.diagnostics import terms
+from sindy_impulse.exceptions import DataWarning
+
+
+def _dense_ssr(r0, columns, keep):
+    """Least squared residual of ``r0 + J d`` over the columns ``keep`` (reference: plain lstsq)."""
+    J = np.column_stack([columns[k] for k in keep])
+    d = np.linalg.lstsq(J, -r0, rcond=None)[0]
+    return float(np.sum((r0 + J @ d) ** 2))
+
+
+def test_segment_starts_profiled_out_match_the_dense_columns():
+    """The nuisance columns (one per segment and state, zero outside their segment) are never built
+    densely; profiling them out gives the least squares of the dense formulation."""
+    rng = np.random.default_rng(0)
+    n_rows, n_states, n_segments = 600, 2, 5
+    owner = np.repeat(np.repeat(np.arange(n_segments), n_rows // n_states // n_segments), n_states)
+    sensitivity = rng.standard_normal((n_rows, n_states))
+    r0 = rng.standard_normal(n_rows)
+    active = [rng.standard_normal(n_rows) for _ in range(3)]
+    dense = [np.where(owner == k, sensitivity[:, j], 0.0) for j in range(n_states) for k in range(n_segments)]
+    gram = terms._Gram(r0, active, terms._Segments(owner, sensitivity))
+    everything = list(range(len(active) + len(dense)))
+    all_columns = active + dense
+    assert gram.ssr(np.arange(3)) == pytest.approx(_dense_ssr(r0, all_columns, everything), rel=1e-9)
+    without_first = [k for k in everything if k != 0]
+    assert gram.ssr(np.arange(1, 3)) == pytest.approx(_dense_ssr(r0, all_columns, without_first), rel=1e-9)
+    extra = rng.standard_normal(n_rows)
+    G, b = gram.extended(extra)
+    assert gram.ssr(np.arange(4), G=G, b=b) == pytest.approx(
+        _dense_ssr(r0, all_columns + [extra], everything + [len(all_columns)]), rel=1e-9
+    )
+
+
+def test_term_tests_compare_at_most_max_test_samples(monkeypatch):
+    """A record longer than the cap is compared every k-th sample, with a DataWarning saying so."""
+    monkeypatch.setattr(terms, "MAX_TEST_SAMPLES", 150)
+    seen = []
+    original = terms._Sensitivity.__init__
+
+    def spy(self, *args, **kwargs):
+        original(self, *args, **kwargs)
+        seen.append((self.stride, len(self.fitted.filtered[0]), self.r0))
+
+    monkeypatch.setattr(terms._Sensitivity, "__init__", spy)
+    rd = damped_oscillator(t_end=4.0, snr_db=40, random_state=0)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ImpulseSINDy().fit(rd.x, t=rd.t)
+    assert seen, "the term tests did not run"
+    stride, n, r0 = seen[0]
+    assert -(-n // stride) <= 150
+    assert r0 is None or r0.size <= 150 * rd.x.shape[1]
+    assert any(issubclass(w.category, DataWarning) and "term tests compare" in str(w.message) for w in caught)
