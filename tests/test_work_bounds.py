@@ -62,3 +62,46 @@ def test_term_tests_compare_at_most_max_test_samples(monkeypatch):
     assert -(-n // stride) <= 150
     assert r0 is None or r0.size <= 150 * rd.x.shape[1]
     assert any(issubclass(w.category, DataWarning) and "term tests compare" in str(w.message) for w in caught)
+
+
+def _stiff_model():
+    """A linear model with a fast, strongly damped pole (rho * dt ~ 1e3): RK4 would need thousands of
+    sub-steps, so it is simulated with the adaptive integrator."""
+    from sindy_impulse.simulation import CompiledModel, TermTable
+
+    model = CompiledModel([[0.0, 1.0], [-4.0e4, -2.0e5]], TermTable.polynomial([[1, 0], [0, 1]]),
+                          reference=[[1.0, 0.0], [0.0, 1.0]])
+    t = np.arange(301) * 0.01
+    return model, t
+
+
+def test_adaptive_simulations_are_charged_per_call():
+    """Each right-hand-side evaluation through SciPy costs the call's overhead, not only its terms."""
+    from sindy_impulse.simulation.base import ADAPTIVE_CALL_COST
+
+    model, t = _stiff_model()
+    assert model.is_stiff(t)
+    reference = model.simulate([1.0, 0.0], t)
+    assert np.all(np.isfinite(reference))
+    assert model.work_done >= ADAPTIVE_CALL_COST  # at least one evaluation, at its real price
+
+
+def test_a_batch_of_adaptive_scores_stops_at_the_budget():
+    """Once a budget has charged a model, a batch of its adaptive simulations stops where the remaining
+    budget (plus the overrun) is spent: the rest score inf instead of running on."""
+    from sindy_impulse.simulation import WorkBudget
+    from sindy_impulse.simulation.base import ADAPTIVE_CALL_COST
+    from sindy_impulse.simulation.budget import OVERRUN
+
+    model, t = _stiff_model()
+    reference = model.simulate([1.0, 0.0], t)
+    starts, weights = np.array([0]), np.ones((1, len(t) - 1, 2))
+    single = model.work_done
+    budget = WorkBudget(4 * single)
+    budget.charge_model(model)  # one simulation's worth spent: the limit is 3 + 4 * OVERRUN more
+    coefs = np.repeat(model.coef[None], 12, axis=0) * np.linspace(1.0, 1.1, 12)[:, None, None]
+    errors, _ = model.weighted_l1(reference, t, starts, weights, coefs=coefs)
+    allowed = (3 + 4 * OVERRUN) * single
+    assert np.all(np.isinf(errors[-3:]))
+    assert np.all(np.isfinite(errors[:2]))
+    assert model.work_done - single <= allowed + ADAPTIVE_CALL_COST + 2 * 25.0  # one evaluation over

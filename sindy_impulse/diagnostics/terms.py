@@ -28,9 +28,8 @@ gives 1, a systematic misfit more), comes with them. The simulations are counted
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import warnings
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.linalg
