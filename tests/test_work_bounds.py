@@ -105,3 +105,22 @@ def test_a_batch_of_adaptive_scores_stops_at_the_budget():
     assert np.all(np.isinf(errors[-3:]))
     assert np.all(np.isfinite(errors[:2]))
     assert model.work_done - single <= allowed + ADAPTIVE_CALL_COST + 2 * 25.0  # one evaluation over
+
+
+def test_mode_uncertainty_refuses_a_sensitivity_matrix_past_the_cap(monkeypatch):
+    """The sensitivity matrix grows with samples x states x unknowns; past the cap the mode comes without
+    standard deviations, with the reason and a DataWarning, instead of exhausting memory."""
+    from sindy_impulse import identify_modes, impact_record
+    from sindy_impulse.modes import uncertainty
+
+    rec = impact_record([120.0], [0.01], fs=2000, duration=0.5, snr_db=40, random_state=0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        mode = identify_modes(rec.y, fs=rec.fs).modes[0]
+    args = (mode.model, mode.states, mode.t, mode.band_hz, mode.frequency_hz)
+    assert np.isfinite(uncertainty.mode_uncertainty(*args).frequency_std_hz)
+    n_samples, n_states = mode.states.shape
+    monkeypatch.setattr(uncertainty, "MAX_JACOBIAN_SIZE", n_samples * n_states - 1)
+    with pytest.warns(DataWarning, match="sensitivity matrix would hold"):
+        capped = uncertainty.mode_uncertainty(*args)
+    assert np.isnan(capped.frequency_std_hz) and "sensitivity matrix" in capped.reason
