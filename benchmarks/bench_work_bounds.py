@@ -4,6 +4,7 @@ or ran out of memory, each timed with its peak memory (one fresh process per rec
     OMP_NUM_THREADS=1 python benchmarks/bench_work_bounds.py                  # cost ratio + the slow records
     OMP_NUM_THREADS=1 python benchmarks/bench_work_bounds.py --mirror /work/.mirror   # + pyFRF measurements_1
     OMP_NUM_THREADS=1 python benchmarks/bench_work_bounds.py --only cost
+    OMP_NUM_THREADS=1 PYTHONPATH=/work/main python benchmarks/bench_work_bounds.py --records d0,d21  # before
 
 The records: family d records 0 and 21 of ``bench_modes.py --family d`` (seed 0; 394 s and 209 s before),
 the exception run's seeds 20 and 25 (``soak_modes.py``, over 300 s there), and pyFRF measurements_1
@@ -104,6 +105,8 @@ def main() -> None:
     parser.add_argument("--mirror", help="folder of bare git copies (pyFRF); without it pyFRF is skipped")
     parser.add_argument("--only", choices=("cost", "records"), default=None)
     parser.add_argument("--timeout", type=float, default=900.0)
+    parser.add_argument("--records", default="d0,d21,soak20,soak25",
+                        help="comma-separated subset of d0, d21, soak20, soak25 (pyFRF: --mirror)")
     args = parser.parse_args()
     if args.only != "records":
         ratio = cost_ratio()
@@ -111,7 +114,8 @@ def main() -> None:
               f"(adaptive / kernel = {ratio['adaptive'] / ratio['kernel']:.2f})")
     if args.only == "cost":
         return
-    tasks = [("d", 0), ("d", 21), ("soak", 20), ("soak", 25)]
+    named = {"d0": ("d", 0), "d21": ("d", 21), "soak20": ("soak", 20), "soak25": ("soak", 25)}
+    tasks = [named[k] for k in args.records.split(",") if k]
     tasks += [("pyfrf", args.mirror)] if args.mirror else []
     print("| record | samples | time (s) | peak memory (MB) | modes | rejected |")
     print("|---|---|---|---|---|---|")
