@@ -57,8 +57,9 @@ WORK_FRACTION = 0.125
 MAX_CANDIDATES = 12
 #: Most samples per state the tests compare (every k-th beyond): each sensitivity is a column of that
 #: length, so memory grows with samples times terms. A 1 s record at 25.6 kHz with a few-kHz mode
-#: (4,000 periods at 200 compared samples a period, eight states) otherwise needs gigabytes per column set.
-MAX_TEST_SAMPLES = 20_000
+#: (4,000 periods at 200 compared samples a period, eight states) otherwise needs gigabytes per column set;
+#: a band of ``max_periods`` = 200 (at most 40,000 compared samples) stays below.
+MAX_TEST_SAMPLES = 50_000
 
 
 @dataclass(frozen=True)
