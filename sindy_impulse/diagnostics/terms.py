@@ -28,18 +28,20 @@ gives 1, a systematic misfit more), comes with them. The simulations are counted
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.linalg
 from scipy.stats import chi2
 
+from ..exceptions import DataWarning
 from ..feature_library.terms import library_terms
 from ..simulation import WORK_BUDGET, WorkBudget, at_rest_level, compile_model
 from ..simulation.scoring import compare_stride
 from .model import Fitted, regression, segments, simulate_residuals
 
-__all__ = ["TermTests", "term_tests", "SUPPORT_CHI2", "FALSE_ALARM", "WORK_FRACTION"]
+__all__ = ["TermTests", "term_tests", "SUPPORT_CHI2", "FALSE_ALARM", "WORK_FRACTION", "MAX_TEST_SAMPLES"]
 
 #: 0.1 % point of a chi-square with one degree of freedom: a change smaller than this is within the noise.
 SUPPORT_CHI2 = float(chi2.isf(1e-3, 1))
@@ -53,6 +55,11 @@ STEP = 1e-4
 WORK_FRACTION = 0.125
 #: Library terms tried per equation by the add and swap tests (the most promising ones).
 MAX_CANDIDATES = 12
+#: Most samples per state the tests compare (every k-th beyond): each sensitivity is a column of that
+#: length, so memory grows with samples times terms. A 1 s record at 25.6 kHz with a few-kHz mode
+#: (4,000 periods at 200 compared samples a period, eight states) otherwise needs gigabytes per column set;
+#: a band of ``max_periods`` = 200 (at most 40,000 compared samples) stays below.
+MAX_TEST_SAMPLES = 50_000
 
 
 @dataclass(frozen=True)
@@ -116,7 +123,7 @@ class _Sensitivity:
         self.fitted, self.coef, self.shift = fitted, fitted.coef, shift
         self.noise = [r - f for r, f in zip(raw, fitted.filtered)] if raw else [0.0] * len(fitted.filtered)
         # residuals compared at <= 200 samples per period, as the error measures do: long records stay cheap
-        self.stride = compare_stride(fitted.filtered[0])
+        self.stride = _test_stride(fitted.filtered[0])
         self.n_inputs = 0 if fitted.inputs[0] is None else fitted.inputs[0].shape[1]
         self.terms = library_terms(est.feature_library_, self.coef.shape[0] + self.n_inputs)
         self.reference = np.vstack(fitted.filtered) - shift
@@ -167,8 +174,9 @@ class _Sensitivity:
         r = np.vstack([(ri - ni)[:: self.stride] for ri, ni in zip(res, self.noise)])
         return (r / self.sigma).ravel() if np.all(np.isfinite(r)) else None
 
-    def start_columns(self) -> list | None:
-        """Sensitivities to the initial state of every simulated segment (one simulation per state)."""
+    def start_columns(self):
+        """Sensitivities to the initial state of every simulated segment (one simulation per state), as
+        :class:`_Segments`, the blocks of the nuisance columns (None if a simulation diverged)."""
         n_states = self.sigma.size
         owner, offset = [], 0
         for ref, starts in zip(self.fitted.filtered, segments(self.fitted)):
@@ -183,8 +191,8 @@ class _Sensitivity:
             r = self.residual(self.base_model, self.coef, delta)
             if r is None:
                 return None
-            out += [np.where(owner == k, r - self.r0, 0.0) for k in range(offset)]
-        return out
+            out.append(r - self.r0)
+        return _Segments(owner, np.column_stack(out))
 
     def column(self, i: int, j: int):
         """Sensitivity of the residual to coefficient (i, j), per step (None if diverged or over budget)."""
@@ -217,19 +225,50 @@ class _Sensitivity:
         return out
 
 
+class _Segments:
+    """The nuisance columns (each segment's initial state): column ``(j, k)`` is ``sensitivity[:, j]`` on
+    segment ``k``'s rows and zero elsewhere. Never built densely (segments times rows grows with the square
+    of the record's length); every least-squares problem keeps all of them, so they are profiled out: each
+    column is replaced by its residual after projection on the segment blocks (:meth:`project`)."""
+
+    def __init__(self, owner: np.ndarray, sensitivity: np.ndarray):
+        order = np.argsort(owner, kind="stable")
+        bounds = np.flatnonzero(np.diff(owner[order])) + 1
+        self.blocks = []  # (rows, orthonormal basis of the block's columns)
+        for rows in np.split(order, bounds):
+            block = sensitivity[rows]
+            u, sv, _ = np.linalg.svd(block, full_matrices=False)
+            keep = sv > (sv[0] if sv.size else 0.0) * max(block.shape) * np.finfo(float).eps
+            self.blocks.append((rows, u[:, keep]))
+
+    def project(self, x: np.ndarray) -> np.ndarray:
+        """``x`` minus its least-squares fit by the nuisance columns."""
+        out = np.array(x, dtype=float, copy=True)
+        for rows, basis in self.blocks:
+            if basis.shape[1]:
+                out[rows] -= basis @ (basis.T @ out[rows])
+        return out
+
+
 class _Gram:
     """Least squares of ``r0 + J d`` on subsets of the columns of ``J``, from its Gram matrix: each test
-    is then algebra on a matrix of the model's size, not on the samples."""
+    is then algebra on a matrix of the model's size, not on the samples. The nuisance columns
+    (:class:`_Segments`) are in every subset, so they are profiled out of ``r0`` and of every column."""
 
-    def __init__(self, r0: np.ndarray, columns: list):
-        self.J = np.column_stack(columns)
-        self.r0 = r0
+    def __init__(self, r0: np.ndarray, columns: list, nuisance: _Segments | None = None):
+        self.nuisance = nuisance
+        self.J = np.column_stack([self._projected(c) for c in columns])
+        self.r0 = self._projected(r0)
         self.G = self.J.T @ self.J
-        self.b = self.J.T @ r0
-        self.rr = float(r0 @ r0)
+        self.b = self.J.T @ self.r0
+        self.rr = float(self.r0 @ self.r0)
+
+    def _projected(self, x: np.ndarray) -> np.ndarray:
+        return x if self.nuisance is None else self.nuisance.project(x)
 
     def extended(self, column: np.ndarray):
         """Gram matrix and right-hand side with one more column (it is the last)."""
+        column = self._projected(column)
         cross = self.J.T @ column
         G = np.block([[self.G, cross[:, None]], [cross[None, :], np.array([[column @ column]])]])
         return G, np.append(self.b, column @ self.r0)
@@ -248,6 +287,22 @@ class _Gram:
         if keep.size == 0:
             return float(rr)
         return float(rr - b[keep] @ _solve_gram(G[np.ix_(keep, keep)], b[keep]))
+
+
+def _test_stride(reference: np.ndarray) -> int:
+    """Every how many samples the tests compare: the error measures' stride (:func:`compare_stride`),
+    coarser when more than :data:`MAX_TEST_SAMPLES` would remain (with a :class:`DataWarning`)."""
+    stride = compare_stride(reference)
+    cap = -(-len(reference) // MAX_TEST_SAMPLES)
+    if cap > stride:
+        warnings.warn(
+            f"the term tests compare every {cap}th sample of the {len(reference)} (more than "
+            f"{MAX_TEST_SAMPLES} would hold a dense sensitivity matrix of that length per term): their "
+            "statistics use fewer samples than the record has; fit a shorter excerpt for the full test",
+            DataWarning,
+            stacklevel=2,
+        )
+    return max(stride, cap)
 
 
 def _solve_gram(G: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -325,7 +380,7 @@ def term_tests(fitted: Fitted, shift: np.ndarray, noise_ratio: np.ndarray, raw=N
     nuisance = s.start_columns()
     if nuisance is None or any(c is None for c in cols):
         return TermTests(complete=False)
-    gram = _Gram(s.r0, cols + nuisance)
+    gram = _Gram(s.r0, cols, nuisance)
     base = gram.ssr(np.arange(gram.G.shape[0]))
     stats, uncertainty = _drops(fitted, s, active, gram, base)
     unsupported = [t for t, v in stats.items() if v < SUPPORT_CHI2]

@@ -45,16 +45,24 @@ Jacobian at rest, :mod:`sindy_impulse.poles.modal`); their variances follow by t
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..exceptions import DataWarning
 from ..poles.modal import rest_point
 from ..preprocessing.filters import filter_gain
 from ..simulation.scoring import WeightedL1, get_error_measure
 from ._states import _STENCIL
 
-__all__ = ["ModeUncertainty", "mode_uncertainty", "simulation_jacobian"]
+__all__ = ["ModeUncertainty", "mode_uncertainty", "simulation_jacobian", "MAX_JACOBIAN_SIZE"]
+
+#: Most entries (samples x states x unknowns) of the simulation's sensitivity matrix; it and its weighted
+#: copies are held at once, so memory grows with the record's length times the model's size. A group of
+#: close modes (delay states, their linear coefficients) over a 1 s record at 25.6 kHz resampled x3 needs
+#: gigabytes; past this size the mode comes without standard deviations (the reason says so).
+MAX_JACOBIAN_SIZE = 20_000_000
 
 #: Relative step of the central differences of the simulation with respect to the unknowns.
 _STEP = 1e-5
@@ -339,6 +347,10 @@ def mode_uncertainty(
     plan = _plan(model, states, t)
     if isinstance(plan, str):
         return ModeUncertainty(reason=plan)
+    too_large = _too_large(model, states)
+    if too_large:
+        warnings.warn(too_large, DataWarning, stacklevel=2)
+        return ModeUncertainty(reason=too_large)
     try:
         residual = _whole_residual(model, states, t)
         sigma = np.sqrt(np.mean(residual**2, axis=0))
@@ -353,6 +365,20 @@ def mode_uncertainty(
     a_inv = np.linalg.pinv(a * np.outer(d, d), rcond=1e-12) * np.outer(d, d)
     cov = (L1_VARIANCE_FACTOR if plan[3] else 1.0) * a_inv @ middle @ a_inv
     return _propagated(model, states, cov[:n_coef, :n_coef], frequency_hz, math.sqrt(noise))
+
+
+def _too_large(model, states: np.ndarray) -> str:
+    """Why the sensitivity matrix would not fit :data:`MAX_JACOBIAN_SIZE` ("" if it fits)."""
+    n_samples, n_states = states.shape
+    n_unknowns = int(np.count_nonzero(model.model_.coef)) + n_states
+    size = n_samples * n_states * n_unknowns
+    if size <= MAX_JACOBIAN_SIZE:
+        return ""
+    return (
+        f"no standard deviations: their sensitivity matrix would hold {size:.3g} values ({n_samples} "
+        f"samples, {n_states} states, {n_unknowns} unknowns; at most {MAX_JACOBIAN_SIZE:.3g}); fit a "
+        "shorter excerpt (max_periods) or fewer modes at once for them"
+    )
 
 
 def _unknown_scales(model, states, n_unknowns: int) -> np.ndarray:

@@ -11,10 +11,16 @@ import math
 
 import numpy as np
 
-from .integrators import MAX_SUBSTEPS, NO_INPUT, solve_ivp_simulate
+from .integrators import MAX_EVALUATIONS_PER_SAMPLE, MAX_SUBSTEPS, NO_INPUT, solve_ivp_simulate
 from .program import uniform_step
 
-__all__ = ["Reference", "STEP_SCALE"]
+__all__ = ["Reference", "STEP_SCALE", "ADAPTIVE_CALL_COST"]
+
+#: Work units charged per right-hand-side evaluation through the adaptive integrator on top of the terms'
+#: cost: SciPy's step, the event and the Python call take about 150 us an evaluation, ~2,000 RK4 kernel
+#: term evaluations (``benchmarks/bench_work_bounds.py``). Charged at 25 units a term alone, a stiff model's
+#: refinement on 150 samples ran 394 s within its budget.
+ADAPTIVE_CALL_COST = 2000.0
 
 #: Target of ``h * rho`` per Runge-Kutta sub-step (``h`` the sub-step, ``rho`` the spectral radius).
 #: 0.02 keeps RK4's global error below 1e-7 relative on the paper's oscillator.
@@ -96,6 +102,8 @@ class _SparseModel:
         self._probe = reference.probe
         self._last_grid = None
         self.work_done = 0.0
+        #: ``work_done`` past which the scoring's adaptive simulations stop (NaN rows); set by ``WorkBudget``.
+        self.work_limit = math.inf
 
     # -- time scale and cost ---------------------------------------------------------------------------
     def _spectral_radius(self, coef) -> float:
@@ -193,10 +201,20 @@ class _SparseModel:
             raise ValueError(f"x0 has {x0.shape[0]} entries but the model has {self.n_states} states")
         return x0
 
-    def _adaptive(self, x0, t, u, c, **kws) -> np.ndarray:
+    def _adaptive(self, x0, t, u, c, limited: bool = False, **kws) -> np.ndarray:
+        """One adaptive simulation, stopped (NaN rows) at ``MAX_EVALUATIONS_PER_SAMPLE`` evaluations a
+        sample or, when ``limited`` (the scoring of a budgeted fit), where the work would pass
+        ``work_limit``."""
         bound = np.maximum(self.bound, 10 * np.abs(x0))
-        out, n_eval = solve_ivp_simulate(lambda z: self._rhs_z(z[None], c)[0], x0, t, u, bound, **kws)
-        self.work_done += n_eval * max(1, c.shape[1]) * self._eval_cost
+        per_evaluation = ADAPTIVE_CALL_COST + max(1, c.shape[1]) * self._eval_cost
+        allowed = MAX_EVALUATIONS_PER_SAMPLE * len(t)
+        if limited:
+            allowed = min(allowed, (self.work_limit - self.work_done) / per_evaluation)
+        if allowed < 1:
+            return np.full((len(t), len(x0)), np.nan)
+        rhs = lambda z: self._rhs_z(z[None], c)[0]  # noqa: E731
+        out, n_eval = solve_ivp_simulate(rhs, x0, t, u, bound, max_evaluations=int(allowed), **kws)
+        self.work_done += n_eval * per_evaluation
         return out
 
     def weighted_l1(self, reference, t, starts, weights, coefs=None, u=None, substeps=None):
@@ -215,7 +233,7 @@ class _SparseModel:
             total = 0.0
             for k, (s0, s1) in enumerate(zip(starts, ends)):
                 seg_u = None if self.n_inputs == 0 else uu[s0 : s1 + 1]
-                sim = self._adaptive(ref[s0], t[s0 : s1 + 1], seg_u, c[b])
+                sim = self._adaptive(ref[s0], t[s0 : s1 + 1], seg_u, c[b], limited=True)
                 total += float(np.sum(weights[k] * np.abs(sim[1:] - ref[s0 + 1 : s1 + 1])))
             errors[b] = total if np.isfinite(total) else np.inf
         return errors, np.full(c.shape[0], len(t) - 1, dtype=np.int64)

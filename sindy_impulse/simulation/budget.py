@@ -3,7 +3,7 @@ any machine (a count of work, not wall time)."""
 
 from __future__ import annotations
 
-__all__ = ["WorkBudget", "WORK_BUDGET", "OutOfBudget"]
+__all__ = ["WorkBudget", "WORK_BUDGET", "OVERRUN", "OutOfBudget"]
 
 #: Simulation work allowed per fit (the sweep's simulations and every refinement together), counted as
 #: term evaluations per RK4 step (see ``CompiledModel.work``). About 4-10 s on one core through the
@@ -12,6 +12,9 @@ __all__ = ["WorkBudget", "WORK_BUDGET", "OutOfBudget"]
 #: same record rounded to 8 significant digits moved a coefficient by 16 %; at this budget by 4.4e-3
 #: (``benchmarks/bench_nonlinearity.py``, rounding table).
 WORK_BUDGET = 2e8
+#: Work a model may do past its budget's remainder before the next charge, as a fraction of the budget (a
+#: batch of adaptive simulations stops there).
+OVERRUN = 0.25
 
 
 class OutOfBudget(Exception):
@@ -50,8 +53,21 @@ class WorkBudget:
         return not self.exhausted
 
     def charge_model(self, model) -> bool:
-        """Charge the work ``model`` did since it was last charged."""
+        """Charge the work ``model`` did since it was last charged, and bound what it may do before the
+        next charge: the remaining budget plus :data:`OVERRUN` of the whole (``model.work_limit``; the
+        scoring's adaptive simulations stop there), so one batch of simulations cannot run far past an
+        exhausted budget while the simulation of a best point found still can.
+
+        Examples
+        --------
+        >>> from types import SimpleNamespace
+        >>> model, budget = SimpleNamespace(work_done=30.0), WorkBudget(100.0)
+        >>> budget.charge_model(model), model.work_limit
+        (True, 125.0)
+        """
         done = float(getattr(model, "work_done", 0.0))
         charged = getattr(model, "_work_charged", 0.0)
         model._work_charged = done
-        return self.charge(done - charged)
+        ok = self.charge(done - charged)
+        model.work_limit = done + max(self.remaining, 0.0) + OVERRUN * self.total
+        return ok
