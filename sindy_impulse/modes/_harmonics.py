@@ -19,7 +19,11 @@ a straight-line fit of ``log a_2`` against ``log a_1``. :func:`split_harmonics` 
 errors of ``n``, or within :data:`RATIO_TOL`; resolved: the whole stretch's relative standard error at most
 :data:`RESOLVED`) and whose exponent is at least :data:`MIN_EXPONENT` and at most ``n + 0.5`` (a term of
 power at most ``n`` makes harmonic ``n``) to the rejected rows, with
-the numbers as evidence.
+the numbers as evidence. The parent's band is widened to the candidate's width where its neighbours leave
+room, so both phases see the same time resolution (:func:`_parent_band`). When the record cannot resolve
+the locking (a harmonic a few dB over the noise, or seen only just after the hit) and the parent is a
+nonlinear mode, the candidate is its harmonic when it lies at ``n`` times a frequency of the parent's
+backbone (:func:`_on_backbone`, the rule used before; ``by_backbone`` in the evidence).
 """
 
 from __future__ import annotations
