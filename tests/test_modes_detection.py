@@ -1,5 +1,6 @@
 """Detection on stable poles beside the spectral peaks, and harmonics decided from the data (issue 25)."""
 
+import types
 import warnings
 
 import numpy as np
@@ -9,7 +10,7 @@ from sindy_impulse import identify_modes, impact_record
 from sindy_impulse.modes._harmonics import MIN_EXPONENT, harmonic_evidence
 from sindy_impulse.poles import stabilisation
 from sindy_impulse.preprocessing import preprocess
-from sindy_impulse.preprocessing.stable_poles import with_stable_poles
+from sindy_impulse.preprocessing.stable_poles import _splittable, with_stable_poles
 
 SEEDS = (0, 1, 2)
 
@@ -55,6 +56,16 @@ def test_noise_alone_gains_no_peak_from_the_poles():
             table = stabilisation(pre.y[pre.impact.ringdown_index :], fs=pre.fs)
             out, notes = with_stable_poles(pre, table.modes(), len(table.orders))
         assert len(out.peaks) == len(pre.peaks) and not notes
+
+
+def test_only_a_lone_peak_with_exactly_two_poles_is_split():
+    """Three or more poles trace a drifting frequency; a peak at 2 or 3 f of a lower one is left to the
+    harmonic test; a peak in a group of close peaks is left to the nonlinear merge."""
+    peaks = types.SimpleNamespace(frequency_hz=np.array([60.0, 100.0, 119.8, 300.0, 303.0]), groups=[(3, 4)])
+    assert _splittable(peaks, 1, [(99.8, 1.0), (100.2, 1.0)])
+    assert not _splittable(peaks, 1, [(99.6, 1.0), (100.0, 2.0), (100.4, 4.0)])
+    assert not _splittable(peaks, 2, [(119.6, 1.0), (120.0, 1.0)])
+    assert not _splittable(peaks, 3, [(299.8, 1.0), (300.2, 1.0)])
 
 
 def _tones(seed, *, f2=None, p=2, order=2, zeta2=None, chirp=0.0, snr_db=50.0):

@@ -5,8 +5,10 @@ of two modes 1-3 half-power bandwidths apart, may give no peak of its own. The s
 (:func:`~sindy_impulse.poles.stabilisation`) has no bin limit: a physical pole stays put in frequency and
 damping across model orders. :func:`with_stable_poles` takes each stable mode of the diagram found at
 :data:`PERSISTENCE` of its orders or more (noise poles that pass the stability rule by chance recur at a
-few orders) that lies outside every peak's joint half-power band -- or two or more such modes inside one
-peak's, which is then two modes fitted as one (they replace it) -- fits it together with the peaks as
+few orders) that lies outside every peak's joint half-power band -- or exactly two such modes inside one
+peak's, which is then two modes fitted as one (they replace it; three or more trace one mode whose
+frequency moves with amplitude; a peak at 2 or 3 times a lower one is left whole for the harmonic test, a
+peak in a group of close peaks for the nonlinear merge) -- fits it together with the peaks as
 damped sinusoids (:func:`~.sinusoids.fit_damped_sinusoids`, started at the pole) and keeps it when its
 height over the floor of the fit's residual passes the peaks' detection threshold -- the test every
 spectral peak passed -- and its fitted frequency stayed within the pole's half-power band. The kept poles
@@ -34,12 +36,29 @@ __all__ = ["with_stable_poles", "PERSISTENCE"]
 PERSISTENCE = 0.5
 #: Largest damping ratio of a candidate (as for the peaks).
 _MAX_DAMPING = 0.2
+#: A peak within this relative distance of 2 or 3 times a lower peak may be that peak's harmonic: it is not
+#: replaced by its poles (the harmonic test of :mod:`sindy_impulse.modes._harmonics`, same distance, decides
+#: on it whole; a harmonic of a mode whose frequency moves is cut into several poles by the diagram).
+_HARMONIC_NEAR = 0.06
+
+
+def _splittable(peaks: SpectralPeaks, k: int, poles: list) -> bool:
+    """Whether peak ``k`` is two modes fitted as one: exactly two poles inside it (three or more trace a
+    frequency that moves along the decay: one nonlinear mode), not at a harmonic's place, and not in a
+    group of close peaks (the group is fitted jointly and :func:`sindy_impulse.modes._nonlinear.merge_chirps`
+    tests it as one nonlinear mode: a hardening mode's smeared peak, split in two, gave two poles in each)."""
+    if any(k in group for group in peaks.groups):
+        return False
+    f = peaks.frequency_hz
+    lower = f[f < f[k] / 1.5]
+    at_harmonic = any(np.any(np.abs(f[k] / (n * lower) - 1) <= _HARMONIC_NEAR) for n in (2, 3))
+    return len(poles) == 2 and not at_harmonic
 
 
 def _missing(peaks: SpectralPeaks, stable: list, n_orders: int, lo: float, hi: float) -> tuple[list, set]:
     """Candidates: stable modes found at PERSISTENCE of the orders, in the searched range, outside every
-    peak's joint half-power band (and 0.5 % away), or two or more inside one peak's (that peak is two
-    modes: its poles replace it). ``([(f, decay, peak or -1)], peaks replaced)``."""
+    peak's joint half-power band (and 0.5 % away), or two inside one peak's (that peak is two modes: its
+    poles replace it; :func:`_splittable`). ``([(f, decay, peak or -1)], peaks replaced)``."""
     sigma_peaks = np.pi * peaks.half_power_width_hz
     inside, out = {}, []
     for m in stable:
@@ -53,7 +72,7 @@ def _missing(peaks: SpectralPeaks, stable: list, n_orders: int, lo: float, hi: f
             inside.setdefault(int(near[np.argmin(gap[near])]), []).append((fd, sigma))
         else:
             out.append((fd, sigma, -1))
-    replaced = {k for k, poles in inside.items() if len(poles) >= 2}
+    replaced = {k for k, poles in inside.items() if _splittable(peaks, k, poles)}
     return out + [(fd, sigma, k) for k in sorted(replaced) for fd, sigma in inside[k]], replaced
 
 
