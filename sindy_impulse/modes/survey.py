@@ -34,7 +34,7 @@ from ..preprocessing.stable_poles import PERSISTENCE, with_stable_poles
 from ._harmonics import split_harmonics
 from ._hits import merge_hits
 from ._nonlinear import has_nonlinear_terms, merge_chirps
-from .band_fit import default_estimator, fit_band, fit_direct, fit_group
+from .band_fit import default_estimator, fit_band, fit_direct, fit_direct_group, fit_group
 from .result import ModalSurvey, Mode, Rejected, pole_table
 
 __all__ = ["check_options", "identify_modes"]
@@ -158,21 +158,26 @@ def _fit_record(index, record, pre, force, template, sensor, ref, max_periods, s
     grouped = _grouped(pre, {m.band_hz: m for m in modes}, template, index)
     modes = [m for m in modes if m.band_hz not in grouped] + list(grouped.values())
     rejected = [r for r in rejected if r.band_hz not in grouped]
+    short = []
     for skipped, why in pre.skipped:
         if tuple(skipped) in grouped:
             continue
         out = _joint(pre, tuple(skipped), template, index) if "periods remain" in why else None
         if isinstance(out, Mode):
             modes.append(out)
+        elif "periods remain" in why:
+            short.append((tuple(skipped), out.reason if isinstance(out, Rejected) else why))
         else:
             rejected.append(out if isinstance(out, Rejected) else Rejected(tuple(skipped), why, index))
+    found, refused, notes = _short_from_poles(pre, short, template, index, table)
+    modes, rejected = modes + found, rejected + refused
     modes, rejected = _deflated(pre, modes, rejected, template, index, samples_per_period)
     fit_options = dict(template=template, onset_time=pre.impact.onset_time, record=record, channel=ref,
                        impulse=impulse, sensor=sensor, index=index)
     modes, rejected, merged = merge_chirps(pre, modes, rejected, fit_options,
                                            lambda band: _first_periods(band, max_periods))
     modes, rejected, harmonics = split_harmonics(pre, modes, rejected)
-    return modes, rejected, resampled + merged + harmonics
+    return modes, rejected, resampled + notes + merged + harmonics
 
 
 #: Half-power half-widths on each side of a stable pole that make its band (fit_direct's search range).
@@ -206,6 +211,48 @@ def _from_stable_poles(index, pre, template, table):
         "was identified without band-pass"
     )
     return ([out], [], [note]) if isinstance(out, Mode) else ([], [out], [note])
+
+
+def _pole_band(mode) -> tuple:
+    """The band of :data:`_POLE_BAND_WIDTHS` half-power half-widths around a stable mode."""
+    f, half = mode.frequency_hz, _POLE_BAND_WIDTHS * mode.damping_ratio * mode.frequency_hz
+    return (max(f - half, 0.05 * f), f + half)
+
+
+def _short_from_poles(pre, short: list, template, index: int, table):
+    """Bands refused because the band-pass transient leaves too few periods of a short record (``short``:
+    [(band, why)]) identified without band-pass from the stable modes of the stabilisation diagram
+    (present at :data:`_PERSISTENCE` of its orders) inside them: one stable mode in the record by
+    :func:`.band_fit.fit_direct`, several jointly by :func:`.band_fit.fit_direct_group` (every stable
+    mode of the record in the model, so the others do not bias it). A mode is kept only when it agrees
+    with its stable pole (:func:`_disagreement` at most ``_AGREEMENT``); a band without one stays
+    refused. (modes, rejected, notes)."""
+    if not short:
+        return [], [], []
+    stable = sorted((m for m in table.modes() if m.n_orders >= _PERSISTENCE * len(table.orders)),
+                    key=lambda m: m.frequency_hz)
+    inside = {b: [m for m in stable if b[0] <= m.frequency_hz <= b[1]] for b, _ in short}
+    wanted = [m for b, _ in short for m in inside[b]]
+    fitted = {}
+    if len(stable) == 1 and wanted:
+        fitted = {id(stable[0]): fit_direct(pre, _pole_band(stable[0]), template, index=index)}
+    elif wanted:
+        joint = fit_direct_group(pre, [_pole_band(m) for m in stable], template, index=index)
+        fitted = {id(m): out for m, out in zip(stable, joint)}
+    modes, rejected, notes = [], [], []
+    for b, why in short:
+        kept = [(m, fitted[id(m)]) for m in inside[b] if isinstance(fitted[id(m)], Mode)
+                and _disagreement(fitted[id(m)], m.frequency_hz, m.damping_ratio) <= _AGREEMENT]
+        for pole, mode in kept:
+            modes.append(replace(mode, band_hz=tuple(float(x) for x in b)))
+            notes.append(f"record {index}: band {b[0]:.4g}-{b[1]:.4g} Hz is too short for the band-pass; "
+                         f"its stable pole at {pole.frequency_hz:.4g} Hz (damping ratio "
+                         f"{pole.damping_ratio:.3g}) was identified without band-pass"
+                         + (f", jointly with {len(stable) - 1} other stable mode(s)" * (len(stable) > 1)))
+        if not kept:
+            extra = "the direct fit disagrees with its stable pole" if inside[b] else "no stable pole inside"
+            rejected.append(Rejected(b, f"{why}; without band-pass: {extra}", index))
+    return modes, rejected, notes
 
 
 #: Largest disagreement (:func:`_disagreement`) of a jointly fitted mode with its peak's damped sinusoid.
