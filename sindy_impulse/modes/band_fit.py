@@ -11,13 +11,13 @@ import pysindy as ps
 from ..optimizers import fresh_copy
 from ..poles.modal import modal_parameters
 from ..preprocessing import bandpass
-from ..preprocessing.band import BandSignal, resample_band
+from ..preprocessing.band import resample_band
 from ..simulation.scoring import AUTO_PERIODS, Auto, Segmented
 from ._states import EDGE, STATE_NAMES, channel_shape, derivative_states, group_states
 from .result import Mode, Rejected
 from .uncertainty import mode_uncertainty
 
-__all__ = ["default_estimator", "fit_band", "fit_direct", "fit_direct_group", "fit_group", "MAX_FIT_ERROR"]
+__all__ = ["default_estimator", "fit_band", "fit_direct", "fit_group", "MAX_FIT_ERROR"]
 
 #: Largest fit error (mean absolute deviation relative to the local amplitude) of a model reported as a
 #: mode; a peak whose best model does worse is rejected.
@@ -322,39 +322,6 @@ def fit_group(band, peak_bands, template, *, onset_time: float, index: int = 0) 
         lags = [(n_states - 1 - k) * tau for k in range(n_states)]
         out.append(_mode(band, model, states, t, index, lags=lags, **values))
     return out
-
-
-def fit_direct_group(pre, pole_bands, template, *, index: int = 0) -> list:
-    """Identify the 2-3 modes of a short, strongly damped record jointly without band-pass: the joint
-    model of :func:`fit_group` (``2 n`` delay coordinates a quarter period of the lowest band apart, a
-    linear library) fitted on the offset-removed record from the hit, whose filter transients would
-    swallow every band. ``pole_bands`` holds one band per mode (e.g. around the stable poles of the
-    record's stabilisation diagram); every mode of the record should have one.
-
-    Returns one :class:`Mode` (sharing the model; its ``band_hz`` the span of ``pole_bands``) or
-    :class:`Rejected` per band.
-
-    Examples
-    --------
-    >>> from sindy_impulse.datasets import impact_record
-    >>> from sindy_impulse.preprocessing import preprocess
-    >>> rec = impact_record([24.3, 47.9], [0.11, 0.033], [0.11, 0.43], fs=1000, duration=0.224,
-    ...                     snr_db=58, random_state=1)
-    >>> pre = preprocess(rec.y, fs=rec.fs, quality_warnings=False)
-    >>> out = fit_direct_group(pre, [(20.0, 28.0), (43.0, 53.0)], default_estimator())
-    >>> [round(m.frequency_hz) for m in out]
-    [24, 48]
-    """
-    y = pre.y[pre.impact.ringdown_index :]
-    start = pre.impact.ringdown_index
-    t = pre.t0 + (start + np.arange(y.size)) / pre.fs
-    span = (min(b[0] for b in pole_bands), max(b[1] for b in pole_bands))
-    lowest = min(0.5 * (b[0] + b[1]) for b in pole_bands)
-    band = BandSignal(y=y, t=t, envelope=np.abs(y), fs=pre.fs, band_hz=tuple(float(b) for b in span),
-                      decimation=1, samples_per_period=pre.fs / lowest, start_index=start,
-                      stop_index=start + y.size, trimmed_start=0, trimmed_end=0, end_reason="record end",
-                      noise_rms=math.nan, snr_db=math.nan)
-    return fit_group(band, pole_bands, template, onset_time=pre.impact.onset_time, index=index)
 
 
 def _uncertainty(model, states, t, band_hz, frequency: float, **kws) -> dict:

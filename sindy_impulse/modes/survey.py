@@ -30,11 +30,12 @@ from .._utils.validation import check_signal
 from ..exceptions import DataWarning, NoDynamicsWarning
 from ..preprocessing import extract_band, preprocess
 from ..preprocessing.deflation import deflated_band
+from ..preprocessing.sinusoids import fit_amplitudes
 from ..preprocessing.stable_poles import PERSISTENCE, with_stable_poles
 from ._harmonics import split_harmonics
 from ._hits import merge_hits
 from ._nonlinear import has_nonlinear_terms, merge_chirps
-from .band_fit import default_estimator, fit_band, fit_direct, fit_direct_group, fit_group
+from .band_fit import default_estimator, fit_band, fit_direct, fit_group
 from .result import ModalSurvey, Mode, Rejected, pole_table
 
 __all__ = ["check_options", "identify_modes"]
@@ -219,38 +220,46 @@ def _pole_band(mode) -> tuple:
     return (max(f - half, 0.05 * f), f + half)
 
 
+def _only(pre, stable: list, keep) -> object:
+    """The record with every stable mode but ``keep`` removed from its ring-down: damped sinusoids at the
+    stable poles, their amplitudes, phases and a constant fitted by linear least squares
+    (:func:`~sindy_impulse.preprocessing.sinusoids.fit_amplitudes`), all but ``keep``'s subtracted."""
+    start = pre.impact.ringdown_index
+    ring = pre.y[start:]
+    f = np.array([m.frequency_hz * np.sqrt(1 - m.damping_ratio**2) for m in stable])
+    decay = np.array([2 * np.pi * m.damping_ratio * m.frequency_hz for m in stable])
+    fit = fit_amplitudes(ring, pre.fs, f, decay)
+    others = sum(fit.component(k, ring.size, pre.fs) for k, m in enumerate(stable) if m is not keep)
+    y = pre.y.copy()
+    y[start:] = ring - fit.constant - others
+    return replace(pre, y=y)
+
+
 def _short_from_poles(pre, short: list, template, index: int, table):
     """Bands refused because the band-pass transient leaves too few periods of a short record (``short``:
-    [(band, why)]) identified without band-pass from the stable modes of the stabilisation diagram
-    (present at :data:`_PERSISTENCE` of its orders) inside them: one stable mode in the record by
-    :func:`.band_fit.fit_direct`, several jointly by :func:`.band_fit.fit_direct_group` (every stable
-    mode of the record in the model, so the others do not bias it). A mode is kept only when it agrees
-    with its stable pole (:func:`_disagreement` at most ``_AGREEMENT``); a band without one stays
-    refused. (modes, rejected, notes)."""
-    if not short:
-        return [], [], []
-    stable = sorted((m for m in table.modes() if m.n_orders >= _PERSISTENCE * len(table.orders)),
-                    key=lambda m: m.frequency_hz)
-    inside = {b: [m for m in stable if b[0] <= m.frequency_hz <= b[1]] for b, _ in short}
-    wanted = [m for b, _ in short for m in inside[b]]
-    fitted = {}
-    if len(stable) == 1 and wanted:
-        fitted = {id(stable[0]): fit_direct(pre, _pole_band(stable[0]), template, index=index)}
-    elif wanted:
-        joint = fit_direct_group(pre, [_pole_band(m) for m in stable], template, index=index)
-        fitted = {id(m): out for m, out in zip(stable, joint)}
+    [(band, why)]) identified without band-pass (:func:`.band_fit.fit_direct`) from the stable modes of
+    the stabilisation diagram (present at :data:`_PERSISTENCE` of its orders) inside them, each on the
+    record with the other stable modes removed (:func:`_only`). A mode is kept only when it agrees with
+    its stable pole (:func:`_disagreement` at most ``_AGREEMENT``); a band without one stays refused.
+    (modes, rejected, notes)."""
+    stable = [m for m in table.modes() if m.n_orders >= _PERSISTENCE * len(table.orders)]
     modes, rejected, notes = [], [], []
     for b, why in short:
-        kept = [(m, fitted[id(m)]) for m in inside[b] if isinstance(fitted[id(m)], Mode)
-                and _disagreement(fitted[id(m)], m.frequency_hz, m.damping_ratio) <= _AGREEMENT]
-        for pole, mode in kept:
-            modes.append(replace(mode, band_hz=tuple(float(x) for x in b)))
-            notes.append(f"record {index}: band {b[0]:.4g}-{b[1]:.4g} Hz is too short for the band-pass; "
-                         f"its stable pole at {pole.frequency_hz:.4g} Hz (damping ratio "
-                         f"{pole.damping_ratio:.3g}) was identified without band-pass"
-                         + (f", jointly with {len(stable) - 1} other stable mode(s)" * (len(stable) > 1)))
+        kept = []
+        for pole in (m for m in stable if b[0] <= m.frequency_hz <= b[1]):
+            alone = _only(pre, stable, pole) if len(stable) > 1 else pre
+            out = fit_direct(alone, _pole_band(pole), template, index=index)
+            damped = pole.frequency_hz * np.sqrt(1 - pole.damping_ratio**2)
+            if isinstance(out, Mode) and _disagreement(out, damped, pole.damping_ratio) <= _AGREEMENT:
+                kept.append(pole)
+                modes.append(replace(out, band_hz=tuple(float(x) for x in b)))
+                notes.append(f"record {index}: band {b[0]:.4g}-{b[1]:.4g} Hz is too short for the band-pass; "
+                             f"its stable pole at {pole.frequency_hz:.4g} Hz (damping ratio "
+                             f"{pole.damping_ratio:.3g}) was identified without band-pass"
+                             + (f", the {len(stable) - 1} other stable mode(s) removed" * (len(stable) > 1)))
         if not kept:
-            extra = "the direct fit disagrees with its stable pole" if inside[b] else "no stable pole inside"
+            extra = "no stable pole inside" if not any(b[0] <= m.frequency_hz <= b[1] for m in stable) else (
+                "the direct fit disagrees with its stable pole")
             rejected.append(Rejected(b, f"{why}; without band-pass: {extra}", index))
     return modes, rejected, notes
 
