@@ -9,7 +9,10 @@ Peaks too close for their damping (``Preprocessed.groups``) are also fitted join
 (:func:`.band_fit.fit_group`); a joint mode that agrees with its peak's fitted damped sinusoid replaces the
 peak's own-band result when that gave no mode or one that agrees less. A peak still without a mode that
 agrees with its sinusoid is fitted once more on the record with the other peaks' sinusoids subtracted, in a
-wide band (:func:`~sindy_impulse.preprocessing.deflation.deflated_band`; :func:`_deflated`). A group of
+wide band (:func:`~sindy_impulse.preprocessing.deflation.deflated_band`; :func:`_deflated`). A band the
+band-pass transient leaves too few periods of (a short, strongly damped record), alone and jointly with its
+neighbour, is identified without band-pass from the stable pole of the stabilisation diagram inside it, the
+other stable modes removed (:func:`_short_from_poles`); no stable pole, no mode. A group of
 close peaks that one nonlinear oscillator reproduces better is one nonlinear mode (:mod:`._nonlinear`), and a
 mode near 2 or 3 times another that is phase-locked to it, its amplitude a power (2 or 3) of the other's, is
 that mode's harmonic (:mod:`._harmonics`: decided on the record, not on a model).
