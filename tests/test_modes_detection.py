@@ -165,3 +165,18 @@ def test_a_close_pair_is_resolved_by_the_survey(seed):
     found = _survey(rec)
     assert np.allclose([m.frequency_hz for m in found.modes], [100.0, 100.8], rtol=3e-3)
     assert np.allclose([m.damping_ratio for m in found.modes], [0.004, 0.003], rtol=0.1)
+
+
+@pytest.mark.parametrize("seed", [2, 40, 41])
+def test_a_linear_mode_at_exactly_twice_another_is_a_mode_not_its_harmonic(seed):
+    # issue 26's shock record: 2400 and 4800 Hz, damping 0.5 and 0.6 %: locked (exact 2:1), amplitude
+    # exponent 2.4 (neither a whole power nor from a parent with nonlinear terms): three modes
+    from sindy_impulse import identify_modes, impact_record
+
+    rec = impact_record([804.0, 2400.0, 4800.0], [0.01, 0.005, 0.006], fs=50000, duration=0.11,
+                        pre_trigger=0.005, sensor="acceleration", snr_db=40, random_state=seed)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        survey = identify_modes(rec.y, fs=rec.fs)
+    assert [round(m.frequency_hz, -1) for m in survey.modes] == [800.0, 2400.0, 4800.0]
+    assert not any("harmonic" in r.reason for r in survey.rejected)

@@ -61,6 +61,11 @@ MIN_EXPONENT = 1.5
 #: ``|x'| x'`` at 3 f): an exponent above ``n`` by more than this is a mode that decays faster (two linear
 #: modes at exactly 120 and 240 Hz with damping ratios 0.5 and 1 % are locked, with p = 4).
 _EXPONENT_MARGIN = 0.5
+#: ... and the exponent lies within this of a whole power ``k`` with ``2 <= k <= n`` (a term of power k makes
+#: its harmonic's amplitude go as the mode's to the power k): two linear modes at exactly 2400 and 4800 Hz
+#: with damping ratios 0.5 and 0.6 % are locked with p = 2.4, and are two modes. Measured harmonics: 1.90
+#: (quadratic spring, 2 f), 2.81-2.85 (cubic spring, 3 f).
+_EXPONENT_TOL = 0.3
 #: The filters' transients are trimmed down to this share of their peak (not 1e-3 as for the bands: a
 #: harmonic decays p times as fast as its mode and its largest amplitudes would be lost with them).
 _TRANSIENT_TOL = 1e-2
@@ -174,7 +179,13 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
     return dict(order=order, frequency_ratio=float(ratio), ratio_sigma=float(sigma),
                 phase_drift_rad=float(slope * (t[-1] - t[0])), exponent=float(p), exponent_sigma=p_sigma,
                 periods=float(t.size / fs * f2), locked=bool(locked),
-                harmonic=bool(locked and MIN_EXPONENT <= p <= order + _EXPONENT_MARGIN))
+                harmonic=bool(locked and _whole_power(p, order)))
+
+
+def _whole_power(p: float, order: int) -> bool:
+    """Whether an amplitude exponent is that of a term of power 2..order (within :data:`_EXPONENT_TOL`)."""
+    return MIN_EXPONENT <= p <= order + _EXPONENT_MARGIN and any(
+        abs(p - k) <= _EXPONENT_TOL for k in range(2, order + 1))
 
 
 def _analysis_bands(pre, modes: list) -> list:
@@ -227,6 +238,15 @@ def _on_backbone(parent, candidate, order: int) -> bool:
     return bool(lo <= candidate.frequency_hz / order <= hi)
 
 
+def _nonlinear_parent(parent, exponent: float, order: int) -> bool:
+    """A locked candidate whose exponent lies between whole powers (noise flattens a harmonic's envelope:
+    2.3-2.6 seen for cubic springs' 3 f) is a harmonic only of a parent whose model has nonlinear terms: a
+    linear mode makes none."""
+    from ._nonlinear import has_nonlinear_terms
+
+    return MIN_EXPONENT <= exponent <= order + _EXPONENT_MARGIN and has_nonlinear_terms(parent.model)
+
+
 def _reason(parent, e: dict) -> str:
     if e.get("by_backbone"):
         return (f"harmonic {e['order']} of the nonlinear mode at {parent.frequency_hz:.4g} Hz (its backbone "
@@ -261,6 +281,8 @@ def split_harmonics(pre, modes: list, rejected: list) -> tuple:
             e = harmonic_evidence(ring, pre.fs, parent_band, bands[j], order,
                                   (band_noise_rms(pre.peaks.spectrum, parent_band), noise[j]))
             e.update(parent_frequency_hz=parent.frequency_hz, frequency_hz=candidate.frequency_hz)
+            if e["locked"] and not e["harmonic"] and _nonlinear_parent(parent, e["exponent"], order):
+                e.update(harmonic=True)
             if not e["ratio_sigma"] <= RESOLVED * order and _on_backbone(parent, candidate, order):
                 e.update(harmonic=True, by_backbone=True)
             if e["harmonic"]:
