@@ -5,7 +5,9 @@ poles ``z_i = exp(s_i dt)``. The columns of the Hankel matrix ``H[i, j] = y[i + 
 signal subspace ``[z_i**i]``, which shifted by one row is the same subspace times ``diag(z)``. ESPRIT takes
 the ``order`` dominant left singular vectors ``U`` of ``H``, solves ``U[:-1] Psi = U[1:]`` by least squares
 and reads the poles off the eigenvalues of ``Psi``; the amplitudes follow by least squares on the whole
-record. Each oscillatory pole pair gives ``omega_n = |s|``, ``zeta = -Re(s) / |s|``.
+record, through the normal equations, whose matrix ``V^H V`` of the poles' powers is a geometric sum in
+closed form (``O(order**2)`` instead of the ``O(n order**2)`` of a QR or SVD solve).
+Each oscillatory pole pair gives ``omega_n = |s|``, ``zeta = -Re(s) / |s|``.
 
 References: R. Roy and T. Kailath, "ESPRIT - estimation of signal parameters via rotational invariance
 techniques", IEEE Trans. ASSP 37(7), 1989; Y. Hua and T. K. Sarkar, "Matrix pencil method for estimating
@@ -84,13 +86,46 @@ def _hankel_gram(Y: np.ndarray, L: int) -> np.ndarray:
     return G
 
 
+def _powers(logz: np.ndarray, n: int, shift: np.ndarray, block: int = 128) -> np.ndarray:
+    """``exp(k logz - shift)`` for ``k = 0 .. n-1``: ``exp`` on ``block`` rows and ``n / block`` block starts,
+    then one product each (a tenth of the cost of ``n x order`` complex exponentials; relative rounding
+    about ``1e-14`` for ``|z| <= 1``)."""
+    starts = np.arange(-(-n // block)) * block
+    head = np.exp(starts[:, None] * logz[None, :] - shift[None, :])
+    within = np.exp(np.arange(block)[:, None] * logz[None, :])
+    return (head[:, None, :] * within[None, :, :]).reshape(-1, logz.size)[:n]
+
+
+def _power_gram(logz: np.ndarray, n: int, shift: np.ndarray) -> np.ndarray:
+    """``V^H V`` of :func:`_powers`'s columns in closed form: ``sum_k w**k`` with ``w = conj(z_i) z_j``, the
+    geometric sum ``expm1(n a) / expm1(a)`` (``a = log w``), scaled by the columns' shifts; ``O(order**2)``
+    instead of ``O(n order**2)``."""
+    a = np.conj(logz)[:, None] + logz[None, :]
+    sigma = shift[:, None] + shift[None, :]
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        top = np.where(sigma > 0, np.exp(n * a - sigma) - np.exp(-sigma), np.expm1(n * a))
+        gram = top / np.expm1(a)
+    flat = np.abs(a) < 1e-12
+    gram[flat] = n * np.exp(-sigma[flat])
+    return gram
+
+
+def _solve_gram(gram: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """Least-squares amplitudes from the normal equations ``G c = V^H y``: the minimum-norm solution over
+    ``G``'s eigenvectors above ``1e-14`` of its largest eigenvalue (``V``'s singular values above ``1e-7``),
+    so two nearly equal poles share what they cannot be told apart by."""
+    evals, vecs = np.linalg.eigh(gram)
+    keep = evals > 1e-14 * evals[-1]
+    return vecs[:, keep] @ ((vecs[:, keep].conj().T @ rhs) / evals[keep, None])
+
+
 def _fit_amplitudes(Y: np.ndarray, z: np.ndarray):
     """Least-squares ``c`` with ``Y[k] ~ sum_i c_i z_i**k``, the residual and each pole's energy."""
     n = Y.shape[0]
     logz = np.log(z)
     shift = np.maximum(logz.real, 0.0) * (n - 1)  # growing poles: scale columns to end at 1
-    V = np.exp(np.arange(n)[:, None] * logz[None, :] - shift[None, :])
-    c, *_ = np.linalg.lstsq(V, Y.astype(complex), rcond=None)
+    V = _powers(logz, n, shift)
+    c = _solve_gram(_power_gram(logz, n, shift), (V.T @ Y).conj())  # V^H Y for a real Y
     resid = Y - (V @ c).real
     c = c * np.exp(-shift)[:, None]
     mod2 = np.abs(z) ** 2
