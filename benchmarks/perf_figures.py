@@ -257,7 +257,7 @@ def survey_speed(quick: bool) -> list:
             baseline = lambda x=x, rate=rate: esprit(x[:, 0], fs=rate)  # noqa: E731
             fit = lambda x=x, t=t: ImpulseSINDy().fit(x, t=t)  # noqa: E731
             ours, base, cpu = median_beside(fit, baseline, repeat, cpu=True)
-            name = (f"fit 2-DOF, 4 states, 1500 samples at {rate} Hz, 40 dB (CPU {cpu:.2f} s) vs ESPRIT on its "
-                    "first state")
+            name = (f"fit 2-DOF, 4 states, 1500 samples at {rate} Hz, 40 dB (CPU {cpu:.2f} s) vs ESPRIT on "
+                    "its first state")
             rows.append((name, ours, base, base / ours, "<= 0.5 s"))
     return rows
