@@ -200,12 +200,14 @@ def _parent_band(bands: list, freqs: np.ndarray, i: int, j: int) -> tuple:
     midpoints between their frequencies and its own): both phases then see the same time resolution. A
     narrow parent band smooths the phase of a mode whose frequency moves fast early in the decay over a
     longer time than the harmonic's band (the ratio of a true cubic harmonic read 3.010 and 2.988 in two
-    quarters) and its transient hides a fast-decaying harmonic altogether."""
+    quarters) and its transient hides a fast-decaying harmonic altogether. Its low edge stays above a
+    twentieth of the parent's frequency (a strongly damped candidate's wide band reached 0 Hz: an invalid
+    band that aborted the record's survey, family (d) of ``benchmarks/bench_modes.py``)."""
     half = 0.5 * (bands[j][1] - bands[j][0])
     f = freqs[i]
     lo = max(f - half, 0.5 * (freqs[i - 1] + f)) if i > 0 else f - half
     hi = min(f + half, 0.5 * (freqs[i + 1] + f)) if i + 1 < freqs.size else f + half
-    return (max(min(bands[i][0], lo), 0.0), max(bands[i][1], hi))
+    return (max(min(bands[i][0], lo), 0.05 * f), max(bands[i][1], hi))
 
 
 #: Relative margin around a nonlinear parent's backbone times n within which an undecided candidate is
@@ -218,11 +220,16 @@ _BACKBONE_MARGIN, _BACKBONE_REACH = 0.005, 0.25
 def _on_backbone(parent, candidate, order: int) -> bool:
     """Whether ``candidate`` lies at ``order`` times a frequency the nonlinear ``parent``'s backbone passes
     (used when the data cannot decide: a harmonic only a few dB over the noise, or seen only in the first
-    tens of milliseconds, e.g. a 35 dB hammer test of a hardening mode)."""
+    tens of milliseconds, e.g. a 35 dB hammer test of a hardening mode). Never for a candidate that decays
+    more slowly than the parent: a harmonic's amplitude goes as a power >= 2 of the parent's, its envelope
+    decays at least twice as fast (a short record's 47.9 Hz mode, decay rate 0.6 times that of a 24.3 Hz
+    mode whose few-period model had picked cubic terms, was named its harmonic 2; family (d) of
+    ``benchmarks/bench_modes.py``, record 5)."""
     from ..analysis import backbone
     from ._nonlinear import has_nonlinear_terms
 
-    if not has_nonlinear_terms(parent.model):
+    decay = [m.damping_ratio * m.frequency_hz for m in (parent, candidate)]
+    if not has_nonlinear_terms(parent.model) or decay[1] < decay[0]:
         return False
     try:
         with warnings.catch_warnings():
