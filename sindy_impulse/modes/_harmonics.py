@@ -217,19 +217,27 @@ def _parent_band(bands: list, freqs: np.ndarray, i: int, j: int) -> tuple:
 _BACKBONE_MARGIN, _BACKBONE_REACH = 0.005, 0.25
 
 
+#: Least ratio of a candidate's decay rate to its parent's for a harmonic named on the parent's backbone (a
+#: harmonic of power p >= 2 decays p times as fast; noise flattens its envelope: exponents 2.3-2.6 seen for
+#: cubic springs' third harmonics).
+_MIN_DECAY_RATIO = 1.5
+
+
 def _on_backbone(parent, candidate, order: int) -> bool:
     """Whether ``candidate`` lies at ``order`` times a frequency the nonlinear ``parent``'s backbone passes
     (used when the data cannot decide: a harmonic only a few dB over the noise, or seen only in the first
-    tens of milliseconds, e.g. a 35 dB hammer test of a hardening mode). Never for a candidate that decays
-    more slowly than the parent: a harmonic's amplitude goes as a power >= 2 of the parent's, its envelope
-    decays at least twice as fast (a short record's 47.9 Hz mode, decay rate 0.6 times that of a 24.3 Hz
-    mode whose few-period model had picked cubic terms, was named its harmonic 2; family (d) of
-    ``benchmarks/bench_modes.py``, record 5)."""
+    tens of milliseconds, e.g. a 35 dB hammer test of a hardening mode). Only for a candidate that decays
+    :data:`_MIN_DECAY_RATIO` to ``order + 1`` times as fast as the parent: a harmonic's amplitude goes as a
+    power p of the parent's, 2 <= p <= order, its envelope decays p times as fast (short records of family
+    (d) of ``benchmarks/bench_modes.py``, whose few-period models pick cubic terms: a 47.9 Hz mode
+    decaying 0.6 times as fast as a 24.3 Hz one was named its harmonic 2, a 307.7 Hz mode decaying 1.35
+    times as fast as a 101.1 Hz one its harmonic 3, and 3.6 times as fast as a 152.6 Hz one its harmonic
+    2)."""
     from ..analysis import backbone
     from ._nonlinear import has_nonlinear_terms
 
     decay = [m.damping_ratio * m.frequency_hz for m in (parent, candidate)]
-    if not has_nonlinear_terms(parent.model) or decay[1] < decay[0]:
+    if not has_nonlinear_terms(parent.model) or not _MIN_DECAY_RATIO <= decay[1] / decay[0] <= order + 1:
         return False
     try:
         with warnings.catch_warnings():

@@ -37,7 +37,7 @@ from ..preprocessing.stable_poles import with_stable_poles
 from ._harmonics import split_harmonics
 from ._hits import merge_hits
 from ._nonlinear import has_nonlinear_terms, merge_chirps
-from ._short import POLE_AGREEMENT, from_stable_poles, short_from_poles, stable_modes
+from ._short import POLE_AGREEMENT, checked_by_poles, from_stable_poles, short_from_poles, stable_modes
 from ._short import disagreement as _disagreement
 from .band_fit import default_estimator, fit_band, fit_direct, fit_group
 from .result import ModalSurvey, Mode, Rejected, pole_table
@@ -176,12 +176,13 @@ def _fit_record(index, record, pre, force, template, sensor, ref, max_periods, s
     found, refused, notes = short_from_poles(pre, short, template, index, table)
     modes, rejected = modes + found, rejected + refused
     modes, rejected = _deflated(pre, modes, rejected, template, index, samples_per_period)
+    modes, rejected, checked = checked_by_poles(pre, modes, rejected, template, index, table)
     fit_options = dict(template=template, onset_time=pre.impact.onset_time, record=record, channel=ref,
                        impulse=impulse, sensor=sensor, index=index)
     modes, rejected, merged = merge_chirps(pre, modes, rejected, fit_options,
                                            lambda band: _first_periods(band, max_periods))
     modes, rejected, harmonics = split_harmonics(pre, modes, rejected)
-    return modes, rejected, resampled + notes + merged + harmonics
+    return modes, rejected, resampled + notes + checked + merged + harmonics
 
 
 #: Largest disagreement (:func:`_disagreement`) of a jointly fitted mode with its peak's damped sinusoid.
