@@ -37,7 +37,7 @@ from ..preprocessing.stable_poles import with_stable_poles
 from ._harmonics import split_harmonics
 from ._hits import merge_hits
 from ._nonlinear import has_nonlinear_terms, merge_chirps
-from ._short import POLE_AGREEMENT, checked_by_poles, from_stable_poles, short_from_poles, stable_modes
+from ._short import MODE_POLE_AGREEMENT, checked_by_poles, from_stable_poles, short_from_poles, stable_modes
 from ._short import disagreement as _disagreement
 from .band_fit import default_estimator, fit_band, fit_direct, fit_group
 from .result import ModalSurvey, Mode, Rejected, pole_table
@@ -190,21 +190,30 @@ _AGREEMENT = 0.5
 
 
 def _single_short(index, pre, template, table):
-    """The only peak of a record whose band the band-pass cannot keep (strongly damped, short): the
-    paper's single-sensor route (:func:`.band_fit.fit_direct`); when it gives no mode, or one that
-    disagrees with the stable pole inside the peak's band (:func:`._short.disagreement` over
-    :data:`._short.POLE_AGREEMENT`), the band is identified from its stable poles on the free decay
-    (:func:`._short.short_from_poles`). (modes, rejected, notes)."""
+    """The only peak of a record whose band the band-pass cannot keep (strongly damped, short). A record
+    of one stable mode (the paper's oscillator) takes the paper's single-sensor route
+    (:func:`.band_fit.fit_direct`) first; a record of several stable modes with one inside the peak's band
+    is identified from them on the free decay first (:func:`._short.short_from_poles`: no adaptive
+    simulation). The other route is tried when the first gives no mode or, for the direct fit, one that
+    disagrees with the stable pole inside the band (:func:`._short.disagreement` over
+    :data:`._short.MODE_POLE_AGREEMENT`). (modes, rejected, notes)."""
     band = tuple(pre.peaks.band_hz[0])
+    stable = stable_modes(table)
+    inside = [m for m in stable if band[0] <= m.frequency_hz <= band[1]]
+    short = None
+    if inside and len(stable) > 1:
+        short = short_from_poles(pre, [(band, "the band-pass transient leaves too few periods")], template,
+                                 index, table)
+        if short[0]:
+            return short
     out = fit_direct(pre, band, template, index=index)
-    inside = [m for m in stable_modes(table) if band[0] <= m.frequency_hz <= band[1]]
     agrees = isinstance(out, Mode) and any(
         _disagreement(out, m.frequency_hz * np.sqrt(1 - m.damping_ratio**2), m.damping_ratio)
-        <= POLE_AGREEMENT for m in inside)
+        <= MODE_POLE_AGREEMENT for m in inside)
     if agrees or (isinstance(out, Mode) and not inside):
         return [out], [], []
-    if not inside:
-        return [], [out], []
+    if short is not None or not inside:
+        return short or ([], [out], [])
     why = out.reason if isinstance(out, Rejected) else (
         f"its direct fit ({out.frequency_hz:.4g} Hz) disagrees with the stable pole")
     return short_from_poles(pre, [(band, why)], template, index, table)
