@@ -188,6 +188,9 @@ def from_stable_poles(index, pre, template, table):
 #: A record is short for a stable mode when its ring-down holds at most this many periods of it (family (d)
 #: of ``benchmarks/bench_modes.py``: 3-15 periods of the lowest mode, the others up to 4 times higher).
 SHORT_PERIODS = 60.0
+#: Least damping ratio of a stable mode checked by :func:`checked_by_poles`: below it a band-pass keeps
+#: enough of a short record (family (d) draws 0.02-0.25) and the band's own fit stands.
+MIN_SHORT_DAMPING = 0.01
 #: Largest :func:`disagreement` of a mode of a short record with the stable pole nearest it before the pole
 #: is identified on the free decay instead (:func:`checked_by_poles`): a joint fit 1.2 % high at a damping
 #: ratio of 0.079 was 0.29 from its pole, right modes 0.003-0.05.
@@ -203,14 +206,16 @@ def _near(modes: list, pole, stable: list) -> list:
 
 
 def checked_by_poles(pre, modes: list, rejected: list, template, index: int, table):
-    """On a record short for a stable mode (at most :data:`SHORT_PERIODS` of its periods in the ring-down):
+    """On a record short for a strongly damped stable mode (at most :data:`SHORT_PERIODS` of its periods in
+    the ring-down, damping ratio at least :data:`MIN_SHORT_DAMPING`):
     the modes near it that disagree with it (:func:`disagreement` over :data:`MODE_POLE_AGREEMENT`), or a
     refused band holding it without a mode near it (not a harmonic), are identified on the free decay
     instead (:func:`fit_free_decay`) when that mode agrees with the pole. (modes, rejected, notes)."""
     stable = stable_modes(table)
     duration = (pre.y.size - pre.impact.ringdown_index) / pre.fs
     notes = []
-    for pole in (m for m in stable if m.frequency_hz * duration <= SHORT_PERIODS):
+    for pole in (m for m in stable if m.frequency_hz * duration <= SHORT_PERIODS
+                 and m.damping_ratio >= MIN_SHORT_DAMPING):
         damped = pole.frequency_hz * np.sqrt(1 - pole.damping_ratio**2)
         near = _near(modes, pole, stable)
         if any(disagreement(m, damped, pole.damping_ratio) <= MODE_POLE_AGREEMENT for m in near):
