@@ -226,18 +226,22 @@ _MIN_DECAY_RATIO = 1.5
 def _on_backbone(parent, candidate, order: int) -> bool:
     """Whether ``candidate`` lies at ``order`` times a frequency the nonlinear ``parent``'s backbone passes
     (used when the data cannot decide: a harmonic only a few dB over the noise, or seen only in the first
-    tens of milliseconds, e.g. a 35 dB hammer test of a hardening mode). Only for a candidate that decays
-    :data:`_MIN_DECAY_RATIO` to ``order + 1`` times as fast as the parent: a harmonic's amplitude goes as a
-    power p of the parent's, 2 <= p <= order, its envelope decays p times as fast (short records of family
-    (d) of ``benchmarks/bench_modes.py``, whose few-period models pick cubic terms: a 47.9 Hz mode
-    decaying 0.6 times as fast as a 24.3 Hz one was named its harmonic 2, a 307.7 Hz mode decaying 1.35
-    times as fast as a 101.1 Hz one its harmonic 3, and 3.6 times as fast as a 152.6 Hz one its harmonic
-    2)."""
+    tens of milliseconds, e.g. a 35 dB hammer test of a hardening mode). Never for a candidate that decays
+    less than :data:`_MIN_DECAY_RATIO` times as fast as the parent (a harmonic's amplitude goes as a power
+    p >= 2 of the parent's: its envelope decays p times as fast; an x^2 x' damper's third harmonics decay
+    4.2 and 5.7 times as fast as their parents' linear rates), nor for a parent identified without a band
+    signal (no band SNR: the direct or free-decay fit of a short record, :mod:`._short`), whose few periods
+    do not make a backbone to extrapolate (family (d) of ``benchmarks/bench_modes.py``: a 47.9 Hz mode
+    decaying 0.6 times as fast as a 24.3 Hz one was named its harmonic 2, a 307.7 Hz mode at 2.016 times a
+    152.6 Hz one its harmonic 2, both parents' few-period models with cubic terms).
+    """
     from ..analysis import backbone
     from ._nonlinear import has_nonlinear_terms
 
     decay = [m.damping_ratio * m.frequency_hz for m in (parent, candidate)]
-    if not has_nonlinear_terms(parent.model) or not _MIN_DECAY_RATIO <= decay[1] / decay[0] <= order + 1:
+    if not has_nonlinear_terms(parent.model) or decay[1] < _MIN_DECAY_RATIO * decay[0]:
+        return False
+    if not np.isfinite(parent.snr_db):
         return False
     try:
         with warnings.catch_warnings():
