@@ -9,7 +9,7 @@ mode inside a refused band is identified here without band-pass (:func:`fit_free
 
 1. the other stable modes are removed from the free decay (:func:`only`: damped sinusoids at the stable
    poles, their amplitudes, phases and a constant fitted by linear least squares, all but the target's
-   subtracted);
+   subtracted), which ends where the target's envelope reaches the noise (:func:`free_decay`);
 2. the remainder's states ``[y, dy]`` and their derivatives come from a Savitzky-Golay fit
    (:func:`~._states.free_decay_states`: no transient to trim, every sample kept);
 3. the mode's equation is fitted on them (the survey's estimator) and kept when its linear mode agrees with
@@ -43,7 +43,7 @@ from .band_fit import _linear_mode, _uncertainty, fit_direct, fit_error_of, isol
 from .result import Mode, Rejected
 
 __all__ = ["PERSISTENCE", "POLE_AGREEMENT", "checked_by_poles", "disagreement", "fit_free_decay",
-           "from_stable_poles", "only", "pole_band", "short_from_poles", "stable_modes"]
+           "free_decay", "from_stable_poles", "only", "pole_band", "short_from_poles", "stable_modes"]
 
 #: Half-power half-widths on each side of a stable pole that make its band (the search range of its fit).
 POLE_BAND_WIDTHS = 3.0
@@ -94,18 +94,48 @@ def pole_band(mode) -> tuple:
     return (float(max(f - half, 0.05 * f)), float(f + half))
 
 
+#: The free decay of a stable mode ends where its fitted envelope falls to this many dB over the noise (the
+#: RMS of what the stable modes leave of the ring-down), as a band signal ends at the noise floor.
+END_SNR_DB = 10.0
+#: ... but it keeps at least this many periods of the mode.
+MIN_PERIODS = 2.0
+
+
+def _components(pre, stable: list):
+    """The stable modes' damped sinusoids fitted to the ring-down (amplitudes, phases, a constant)."""
+    ring = pre.y[pre.impact.ringdown_index :]
+    f = np.array([m.frequency_hz * np.sqrt(1 - m.damping_ratio**2) for m in stable])
+    decay = np.array([2 * np.pi * m.damping_ratio * m.frequency_hz for m in stable])
+    return ring, fit_amplitudes(ring, pre.fs, f, decay)
+
+
 def only(pre, stable: list, keep):
     """The record with every stable mode but ``keep`` (and the constant) removed from its ring-down (see
     the module, step 1)."""
-    start = pre.impact.ringdown_index
-    ring = pre.y[start:]
-    f = np.array([m.frequency_hz * np.sqrt(1 - m.damping_ratio**2) for m in stable])
-    decay = np.array([2 * np.pi * m.damping_ratio * m.frequency_hz for m in stable])
-    fit = fit_amplitudes(ring, pre.fs, f, decay)
+    ring, fit = _components(pre, stable)
     others = sum(fit.component(k, ring.size, pre.fs) for k, m in enumerate(stable) if m is not keep)
     y = pre.y.copy()
-    y[start:] = ring - fit.constant - others
+    y[pre.impact.ringdown_index :] = ring - fit.constant - others
     return replace(pre, y=y)
+
+
+def free_decay(pre, stable: list, pole) -> tuple:
+    """The free decay of one stable mode, ``(y, t)``: the ring-down with the other stable modes and the
+    constant removed (:func:`only`), up to where the mode's fitted envelope falls to :data:`END_SNR_DB`
+    over the noise (at least :data:`MIN_PERIODS` of its periods): past it the record is noise, which the
+    equation would be fitted to."""
+    ring, fit = _components(pre, stable)
+    k = next(i for i, m in enumerate(stable) if m is pole)
+    y = ring - fit.constant - sum(fit.component(i, ring.size, pre.fs) for i in range(len(stable)) if i != k)
+    noise = float(np.sqrt(np.mean(fit.residual**2)))
+    stop = ring.size
+    if noise > 0 and fit.amplitude[k] > 0 and fit.decay_rate[k] > 0:
+        floor = np.sqrt(2) * noise * 10 ** (END_SNR_DB / 20)
+        seconds = np.log(fit.amplitude[k] / floor) / fit.decay_rate[k]
+        least = MIN_PERIODS * pre.fs / pole.frequency_hz
+        stop = int(min(ring.size, max(least, seconds * pre.fs)))
+    start = pre.impact.ringdown_index
+    return y[:stop], pre.t0 + (start + np.arange(stop)) / pre.fs
 
 
 @isolated(lambda args: pole_band(args[2]))  # the stable pole's band
@@ -116,9 +146,7 @@ def fit_free_decay(pre, stable: list, pole, template, *, index: int = 0):
     free decay with the other stable modes removed) or a :class:`Rejected` saying why.
     """
     band = pole_band(pole)
-    alone = only(pre, stable, pole) if len(stable) > 1 else pre
-    y = alone.y[alone.impact.ringdown_index :]
-    t = alone.t0 + (alone.impact.ringdown_index + np.arange(y.size)) / alone.fs
+    y, t = free_decay(pre, stable, pole)
     states, states_dot, t = free_decay_states(y, t, pole.frequency_hz)
     model = fresh_copy(template)
     x_dot = states_dot if getattr(model, "differentiation_method", None) is None else None
@@ -177,8 +205,15 @@ def from_stable_poles(index, pre, template, table):
     if len(found) > 1:
         outs = [fit_free_decay(pre, found, m, template, index=index) for m in found]
     else:
-        band = pole_band(found[0])
+        pole, band = found[0], pole_band(found[0])
         outs = [fit_direct(pre, (band[0], min(band[1], pre.fs / 2)), template, index=index)]
+        damped = pole.frequency_hz * np.sqrt(1 - pole.damping_ratio**2)
+        if not (isinstance(outs[0], Mode)
+                and disagreement(outs[0], damped, pole.damping_ratio) <= MODE_POLE_AGREEMENT):
+            other = fit_free_decay(pre, found, pole, template, index=index)
+            outs = [other] if isinstance(other, Mode) or not isinstance(outs[0], Mode) else [
+                Rejected(outs[0].band_hz, f"the direct fit disagrees with the stable pole; {other.reason}",
+                         index)]
     notes = [f"record {index}: no spectral peak above the noise floor; the stabilisation diagram's stable "
              f"mode at {m.frequency_hz:.4g} Hz (damping ratio {m.damping_ratio:.3g}, {m.n_orders} orders) "
              "was identified without band-pass" for m in found]
