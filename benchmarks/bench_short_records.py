@@ -11,6 +11,10 @@ spurious mode). Time is CPU time of the survey (``time.process_time`` in the wor
 shared, wall time is not a speed). ``--timeout`` stops a record after that many seconds of wall time (it
 is then counted wrong, with its time). The table prints records right, spurious, the baseline's, and the
 median / max CPU seconds per record.
+
+Measured (records 0-99, seed 0, 2-core shared machine): the survey 79 right, 2 with a spurious mode, CPU
+median 1.21 s, mean 1.85 s, max 23.1 s a record; the baseline 76 right. Main before the short-record path
+(286c438): 42 right, 9 with a spurious mode, CPU median 1.22 s, mean 4.05 s, max 37.1 s.
 """
 
 from __future__ import annotations
