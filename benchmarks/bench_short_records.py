@@ -3,6 +3,7 @@
     python benchmarks/bench_short_records.py --n 30                 # records 0-29 of family d (seed 0)
     python benchmarks/bench_short_records.py --n 30 --jobs 2 --json out.json
     python benchmarks/bench_short_records.py --records 5 13 17      # only these indices (same draws)
+    python benchmarks/bench_short_records.py --poles --n 30         # stable poles vs free-decay equations
 
 The records are those of ``bench_modes.py --family d`` (``mode_families.draw("d", rng, i)`` with one
 generator seeded ``--seed``, drawn in order, so index i is the same record in both scripts); each is scored
@@ -62,6 +63,44 @@ def _one(args) -> dict:
     return r
 
 
+def pole_vs_equation(cases: list) -> None:
+    """Per true mode matched (within 1 %) to a stable pole of its record: the error of the pole and of the
+    linear mode of the equation fitted on its free decay (``modes._short.fit_free_decay``), medians and
+    largest; the share of poles whose equation agrees (is kept)."""
+    import warnings
+
+    from sindy_impulse import impact_record
+    from sindy_impulse.modes import _short
+    from sindy_impulse.modes.band_fit import _linear_mode, default_estimator
+    from sindy_impulse.modes.result import Mode, pole_table
+    from sindy_impulse.preprocessing import preprocess
+
+    pole_err, eq_err, kept, total = [], [], 0, 0
+    for case in cases:
+        rec = impact_record(**case["config"])
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            pre = preprocess(rec.y, fs=rec.fs)
+            stable = _short.stable_modes(pole_table(pre))
+            for pole in stable:
+                j = int(np.argmin(np.abs(rec.modes.frequency_hz / pole.frequency_hz - 1)))
+                f0, z0 = rec.modes.frequency_hz[j], rec.modes.damping_ratio[j]
+                if abs(pole.frequency_hz / f0 - 1) > 0.01:
+                    continue
+                total += 1
+                out = _short.fit_free_decay(pre, stable, pole, default_estimator())
+                if not isinstance(out, Mode):
+                    continue
+                kept += 1
+                (f, z), _ = _linear_mode(out.model, _short.pole_band(pole))
+                pole_err.append((abs(pole.frequency_hz / f0 - 1), abs(pole.damping_ratio / z0 - 1)))
+                eq_err.append((abs(f / f0 - 1), abs(z / z0 - 1)))
+    for name, e in (("stable pole", np.array(pole_err)), ("free-decay equation", np.array(eq_err))):
+        print(f"{name}: |df/f| median {np.median(e[:, 0]):.1e} max {e[:, 0].max():.1e}; |dz/z| median "
+              f"{np.median(e[:, 1]):.1e} max {e[:, 1].max():.1e} ({len(e)} modes)")
+    print(f"true modes with a stable pole: {total}; its equation agrees (kept): {kept}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--n", type=int, default=30)
@@ -70,10 +109,15 @@ def main() -> None:
     parser.add_argument("--jobs", type=int, default=1)
     parser.add_argument("--timeout", type=float, default=600.0)
     parser.add_argument("--json", default=None)
+    parser.add_argument("--poles", action="store_true",
+                        help="instead: errors of the stable poles and the free-decay equations' modes")
     args = parser.parse_args()
     rng = np.random.default_rng(args.seed)
     n = max(args.n, 1 + max(args.records or [0]))
     cases = [draw("d", rng, i) for i in range(n)]
+    if args.poles:
+        pole_vs_equation([cases[i] for i in (args.records if args.records is not None else range(args.n))])
+        return
     wanted = args.records if args.records is not None else range(args.n)
     work = [(i, cases[i], args.timeout) for i in wanted]
     results = []

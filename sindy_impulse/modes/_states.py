@@ -104,10 +104,8 @@ _FREE_DECAY_SAMPLES_PER_PERIOD = 16.0
 #: record the smoothing is a linear time-invariant filter: the smoothed ``y`` of a damped sinusoid is a damped
 #: sinusoid with the same pole (to rounding). The derivatives are the local polynomial's: the relation
 #: ``y'' = -w^2 y - 2 zeta w y'`` read on them is off by 0.34 % in frequency and 0.6 % in damping ratio at
-#: half a period (0.02 % / 0.04 % at a quarter; ``tests/test_modes_short.py``), the start the identification
-#: refines. Measured on family (d) records (``_short`` module): a quarter period left fit errors up to 0.40
-#: at 17 samples per period and a 2.4 % frequency offset at a damping ratio of 0.18 (the noise); half a
-#: period 0.26 and 0.23 %.
+#: half a period (``tests/test_modes_short.py`` bounds it), the start the identification refines; a wider
+#: window passes less noise (family (d)'s equations: ``benchmarks/bench_short_records.py --poles``).
 WINDOW_PERIODS = 0.5
 
 
