@@ -1,60 +1,125 @@
-"""Short, strongly damped records whose bands the band-pass transient would swallow (issue 25, family d):
-such a band is identified without band-pass from its stable pole, the other stable modes removed."""
+"""Short, strongly damped records (family (d) of benchmarks/bench_modes.py): modes from the stable poles,
+each mode's equation fitted on the free decay (sindy_impulse/modes/_short.py)."""
 
 import warnings
 
+import numpy as np
 import pytest
 
 from sindy_impulse import identify_modes, impact_record
+from sindy_impulse.modes import _short
+from sindy_impulse.modes._states import free_decay_states
+from sindy_impulse.modes.band_fit import default_estimator
+from sindy_impulse.modes.result import Mode, pole_table
+from sindy_impulse.preprocessing import preprocess
 
-SEEDS = (0, 1, 2)
+# family (d) records (seed 0) the survey got wrong before its short bands were taken from the stable poles:
+# the index in `bench_short_records.py`, what went wrong then, the config (rounded to 6 digits)
+RECORD_4 = dict(  # 157 Hz at damping 0.18 found 0.67 % high by the delay-embedded direct fit
+    frequencies_hz=[157.052145, 281.778464], damping_ratios=[0.183001, 0.023189],
+    amplitudes=[0.461193, 0.70749],
+    fs=10000.0, duration=0.0279, sensor="velocity", pre_trigger=0.083264, offset=3.981621, snr_db=36.919266,
+    random_state=1647140548)
+RECORD_6 = dict(  # no spectral peak, two stable modes: no mode at all ("give bands=")
+    frequencies_hz=[169.133745, 490.254289], damping_ratios=[0.246923, 0.219754],
+    amplitudes=[0.346701, 0.174691],
+    fs=5000.0, duration=0.09, sensor="displacement", pre_trigger=0.04999, offset=2.646561, snr_db=53.573571,
+    random_state=166879142)
+RECORD_11 = dict(  # the 428 Hz band's own fit found no mode in it
+    frequencies_hz=[110.379865, 428.420147], damping_ratios=[0.050843, 0.08076],
+    amplitudes=[0.254727, 0.141811], fs=5000.0, duration=0.0786, sensor="acceleration", pre_trigger=0.081812,
+    offset=2.032552, snr_db=57.298769, random_state=619379841)
+RECORD_5 = dict(  # 47.9 Hz named the harmonic 2 of 24.3 Hz (whose few-period model had cubic terms)
+    frequencies_hz=[24.346571, 47.870686], damping_ratios=[0.109181, 0.033104],
+    amplitudes=[0.114258, 0.43141],
+    fs=1000.0, duration=0.224, sensor="acceleration", pre_trigger=0.009075, offset=3.145541, snr_db=57.814637,
+    random_state=868768460)
+RECORD_14 = dict(  # 307.6 Hz missed (too short for the band-pass, then named a harmonic)
+    frequencies_hz=[101.083484, 152.597145, 307.615172], damping_ratios=[0.121591, 0.030498, 0.054315],
+    amplitudes=[0.122954, 0.274536, 0.264037], fs=10000.0, duration=0.0936, sensor="acceleration",
+    pre_trigger=0.03443, offset=2.630111, snr_db=45.703042, random_state=658332664)
+RECORD_19 = dict(  # 211 Hz at damping 0.246: no peak, and the stable pole was not a candidate (over 0.2)
+    frequencies_hz=[60.04062, 77.409423, 211.43099], damping_ratios=[0.052462, 0.045512, 0.246257],
+    amplitudes=[0.165504, 0.326938, 0.377895], fs=5000.0, duration=0.1826, sensor="velocity",
+    pre_trigger=0.065512, offset=0.434074, snr_db=51.252563, random_state=1747051099)
+RECORD_20 = dict(  # 55.3 Hz found 1.2 % high by the joint fit of its group
+    frequencies_hz=[31.52016, 55.269102, 67.790188], damping_ratios=[0.057403, 0.078507, 0.02658],
+    amplitudes=[0.391789, 0.999308, 0.180144], fs=2048.0, duration=0.413086, sensor="acceleration",
+    pre_trigger=0.032229, offset=0.694658, snr_db=51.113573, random_state=643323834)
 
 
-def _survey(rec):
+def _survey(config):
+    rec = impact_record(**config)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return identify_modes(rec.y, fs=rec.fs)
+        return rec, identify_modes(rec.y, fs=rec.fs)
 
 
-def _assert_modes(survey, rec, f_tol=0.005, z_tol=0.1):
+def _assert_every_mode_right(rec, survey):
+    """Family (d)'s marks: one found mode per true mode, within 0.5 % in frequency and 10 % in damping
+    ratio; nothing else (no spurious mode); no failure caught inside the survey."""
     found = sorted((m.frequency_hz, m.damping_ratio) for m in survey.modes)
     assert len(found) == len(rec.modes.frequency_hz), found
-    for (f, z), f_true, z_true in zip(found, rec.modes.frequency_hz, rec.modes.damping_ratio):
-        assert f == pytest.approx(f_true, rel=f_tol)
-        assert z == pytest.approx(z_true, rel=z_tol)
+    for (f, z), f0, z0 in zip(found, rec.modes.frequency_hz, rec.modes.damping_ratio):
+        assert f == pytest.approx(f0, rel=0.005)
+        assert z == pytest.approx(z0, rel=0.10)
+    assert not [r for r in survey.rejected if r.band_hz is None or "error" in r.evidence]
 
 
-@pytest.mark.parametrize("seed", SEEDS)
-def test_two_short_bands_are_identified_from_their_stable_poles(seed):
-    """Five periods of a 10.9 %-damped 24 Hz mode beside a 3.3 %-damped 48 Hz one (0.22 s): every band, and
-    the pair's joint band, has too few periods left after the filter transient."""
-    rec = impact_record([24.3466, 47.8707], [0.1092, 0.0331], [0.1143, 0.4314], fs=1000, duration=0.224,
-                        sensor="acceleration", pre_trigger=0.00908, offset=3.1455, snr_db=57.81,
-                        random_state=seed)
-    survey = _survey(rec)
-    _assert_modes(survey, rec)
-    assert sum("too short for the band-pass" in n for n in survey.notes) == 2
-    assert not survey.rejected
+@pytest.mark.parametrize("config", [RECORD_4, RECORD_6], ids=["4", "6"])
+def test_short_strongly_damped_two_mode_records(config):
+    _assert_every_mode_right(*_survey(config))
 
 
-@pytest.mark.parametrize("seed", SEEDS)
-def test_three_short_modes_of_family_d(seed):
-    """Family (d) record 22 (``benchmarks/bench_modes.py --family d``): 33.5, 46 and 92 Hz at 2.4-6.7 %
-    damping, 0.35 s. Before this path the survey missed the 33.5 and 46 Hz modes of that record."""
-    rec = impact_record([33.51815, 45.99197, 92.34204], [0.053745, 0.024094, 0.06658],
-                        [0.3728, 0.3769, 0.2592], fs=2048.0, duration=0.35107421875, sensor="velocity",
-                        pre_trigger=0.02939, offset=4.669, snr_db=50.5, random_state=seed)
-    survey = _survey(rec)
-    _assert_modes(survey, rec)
-    assert any("too short for the band-pass" in n for n in survey.notes)
+@pytest.mark.slow
+@pytest.mark.parametrize("config", [RECORD_11, RECORD_5, RECORD_14, RECORD_19, RECORD_20],
+                         ids=["11", "5", "14", "19", "20"])
+def test_more_short_strongly_damped_records(config):
+    _assert_every_mode_right(*_survey(config))
 
 
-@pytest.mark.parametrize("seed", SEEDS)
-def test_a_short_single_mode_keeps_its_direct_fit(seed):
-    """Family (d) record 36: one 4.9 %-damped 27 Hz mode over 0.29 s; its one peak goes the single-mode
-    route without band-pass as before (no band refused, no stable-pole note)."""
-    rec = impact_record([27.21398], [0.04907], [0.2305], fs=1000.0, duration=0.286, sensor="displacement",
-                        pre_trigger=0.05769, offset=2.791, snr_db=41.6, random_state=seed)
-    survey = _survey(rec)
-    _assert_modes(survey, rec)
-    assert not any("too short for the band-pass" in n for n in survey.notes)
+def test_a_short_mode_reports_its_stable_pole_and_keeps_its_fitted_equation():
+    rec = impact_record(**RECORD_4)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        pre = preprocess(rec.y, fs=rec.fs)
+        table = pole_table(pre)
+        stable = _short.stable_modes(table)
+        out = _short.fit_free_decay(pre, stable, stable[0], default_estimator())
+    assert isinstance(out, Mode)
+    assert (out.frequency_hz, out.damping_ratio) == (stable[0].frequency_hz, stable[0].damping_ratio)
+    assert "stable pole" in out.uncertainty_note
+    assert out.model.coefficients().shape[0] == 2 and out.states.shape[1] == 2  # the equation on [y, dy]
+    assert out.fit_error < 0.25
+
+
+def test_free_decay_states_keep_the_pole():
+    # inside the record the Savitzky-Golay smoothing is a time-invariant filter: the smoothed y keeps the
+    # pole; its derivatives (the local polynomial's) obey the equation to a fraction of a percent
+    fs, f, zeta = 4000.0, 80.0, 0.15
+    w = 2 * np.pi * f
+    t = np.arange(300) / fs
+    y = np.exp(-zeta * w * t) * np.cos(w * np.sqrt(1 - zeta**2) * t + 0.3)
+    x, x_dot, tt = free_decay_states(y, t, f)
+    assert x.shape[0] == tt.size and np.all(np.diff(tt) > 0)
+    inner = slice(5, -5)  # the end windows' polynomials are not the filter
+    ys = x[inner, 0]
+    (a1, a2), *_ = np.linalg.lstsq(np.column_stack([ys[1:-1], ys[:-2]]), ys[2:], rcond=None)
+    s = np.log(np.roots([1, -a1, -a2])[0]) / (tt[1] - tt[0])  # the smoothed y's pole
+    assert abs(s) == pytest.approx(w, rel=1e-9) and -s.real / abs(s) == pytest.approx(zeta, rel=1e-9)
+    (k, c), *_ = np.linalg.lstsq(-x[inner], x_dot[inner, 1], rcond=None)
+    assert np.sqrt(k) == pytest.approx(w, rel=5e-3)
+    assert c / (2 * np.sqrt(k)) == pytest.approx(zeta, rel=1e-2)
+
+
+def test_a_stable_pole_the_fitted_equation_disagrees_with_is_refused():
+    # two stable poles, but the target removed from the record: what is left cannot be its oscillator
+    rec = impact_record(**RECORD_11)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        pre = preprocess(rec.y, fs=rec.fs)
+        stable = _short.stable_modes(pole_table(pre))
+        lone = _short.only(pre, stable, stable[0])  # only the 110 Hz mode left
+        out = _short.fit_free_decay(lone, [stable[1]], stable[1], default_estimator())
+    assert not isinstance(out, Mode)
+    assert "free decay" in out.reason

@@ -201,12 +201,14 @@ def _parent_band(bands: list, freqs: np.ndarray, i: int, candidate_band) -> tupl
     midpoints between their frequencies and its own): both phases then see the same time resolution. A
     narrow parent band smooths the phase of a mode whose frequency moves fast early in the decay over a
     longer time than the harmonic's band (the ratio of a true cubic harmonic read 3.010 and 2.988 in two
-    quarters) and its transient hides a fast-decaying harmonic altogether."""
+    quarters) and its transient hides a fast-decaying harmonic altogether. Its low edge stays above a
+    twentieth of the parent's frequency (a strongly damped candidate's wide band reached 0 Hz: an invalid
+    band that aborted the record's survey, family (d) of ``benchmarks/bench_modes.py``)."""
     half = 0.5 * (candidate_band[1] - candidate_band[0])
     f = freqs[i]
     lo = max(f - half, 0.5 * (freqs[i - 1] + f)) if i > 0 else f - half
     hi = min(f + half, 0.5 * (freqs[i + 1] + f)) if i + 1 < freqs.size else f + half
-    return (max(min(bands[i][0], lo), 0.0), max(bands[i][1], hi))
+    return (max(min(bands[i][0], lo), 0.05 * f), max(bands[i][1], hi))
 
 
 #: Relative margin around a nonlinear parent's backbone times n within which an undecided candidate is
@@ -216,14 +218,31 @@ def _parent_band(bands: list, freqs: np.ndarray, i: int, candidate_band) -> tupl
 _BACKBONE_MARGIN, _BACKBONE_REACH = 0.005, 0.25
 
 
+#: Least ratio of a candidate's decay rate to its parent's for a harmonic named on the parent's backbone (a
+#: harmonic of power p >= 2 decays p times as fast; noise flattens its envelope: exponents 2.3-2.6 seen for
+#: cubic springs' third harmonics).
+_MIN_DECAY_RATIO = 1.5
+
+
 def _on_backbone(parent, candidate, order: int) -> bool:
     """Whether ``candidate`` lies at ``order`` times a frequency the nonlinear ``parent``'s backbone passes
     (used when the data cannot decide: a harmonic only a few dB over the noise, or seen only in the first
-    tens of milliseconds, e.g. a 35 dB hammer test of a hardening mode)."""
+    tens of milliseconds, e.g. a 35 dB hammer test of a hardening mode). Never for a candidate that decays
+    less than :data:`_MIN_DECAY_RATIO` times as fast as the parent (a harmonic's amplitude goes as a power
+    p >= 2 of the parent's: its envelope decays p times as fast; an x^2 x' damper's third harmonics decay
+    4.2 and 5.7 times as fast as their parents' linear rates), nor for a parent identified without a band
+    signal (no band SNR: the direct or free-decay fit of a short record, :mod:`._short`), whose few periods
+    do not make a backbone to extrapolate (family (d) of ``benchmarks/bench_modes.py``: a 47.9 Hz mode
+    decaying 0.6 times as fast as a 24.3 Hz one was named its harmonic 2, a 307.7 Hz mode at 2.016 times a
+    152.6 Hz one its harmonic 2, both parents' few-period models with cubic terms).
+    """
     from ..analysis import backbone
     from ._nonlinear import has_nonlinear_terms
 
-    if not has_nonlinear_terms(parent.model):
+    decay = [m.damping_ratio * m.frequency_hz for m in (parent, candidate)]
+    if not has_nonlinear_terms(parent.model) or decay[1] < _MIN_DECAY_RATIO * decay[0]:
+        return False
+    if not np.isfinite(parent.snr_db):
         return False
     try:
         with warnings.catch_warnings():

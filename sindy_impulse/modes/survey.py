@@ -12,7 +12,7 @@ agrees with its sinusoid is fitted once more on the record with the other peaks'
 wide band (:func:`~sindy_impulse.preprocessing.deflation.deflated_band`; :func:`_deflated`). A band the
 band-pass transient leaves too few periods of (a short, strongly damped record), alone and jointly with its
 neighbour, is identified without band-pass from the stable pole of the stabilisation diagram inside it, the
-other stable modes removed (:func:`_short_from_poles`); no stable pole, no mode. A group of
+other stable modes removed (:mod:`._short`); no stable pole, no mode. A group of
 close peaks that one nonlinear oscillator reproduces better is one nonlinear mode (:mod:`._nonlinear`), and a
 mode near 2 or 3 times another that is phase-locked to it, its amplitude a power (2 or 3) of the other's, is
 that mode's harmonic (:mod:`._harmonics`: decided on the record, not on a model).
@@ -33,11 +33,12 @@ from .._utils.validation import check_signal
 from ..exceptions import DataWarning, NoDynamicsWarning
 from ..preprocessing import extract_band, preprocess
 from ..preprocessing.deflation import deflated_band
-from ..preprocessing.sinusoids import fit_amplitudes
-from ..preprocessing.stable_poles import PERSISTENCE, with_stable_poles
+from ..preprocessing.stable_poles import with_stable_poles
 from ._harmonics import split_harmonics
 from ._hits import merge_hits
 from ._nonlinear import has_nonlinear_terms, merge_chirps
+from ._short import MODE_POLE_AGREEMENT, checked_by_poles, from_stable_poles, short_from_poles, stable_modes
+from ._short import disagreement as _disagreement
 from .band_fit import default_estimator, fit_band, fit_direct, fit_group
 from .result import ModalSurvey, Mode, Rejected, pole_table
 
@@ -135,10 +136,9 @@ def _fit_record(index, record, pre, force, template, sensor, ref, max_periods, s
     """Every band of a preprocessed hit fitted: (modes, rejected, notes)."""
     impulse = _impulse(force, pre)
     if len(pre.peaks) == 0:
-        return _from_stable_poles(index, pre, template, table)
+        return from_stable_poles(index, pre, template, table)
     if len(pre.peaks) == 1 and not pre.bands:  # one mode the band-pass cannot keep: strongly damped, short
-        out = fit_direct(pre, tuple(pre.peaks.band_hz[0]), template, index=index)
-        return ([out], [], []) if not isinstance(out, Rejected) else ([], [out], [])
+        return _single_short(index, pre, template, table)
     modes, rejected = [], []
     resampled = [
         f"record {index}: band {b.band_hz[0]:.4g}-{b.band_hz[1]:.4g} Hz has "
@@ -173,118 +173,50 @@ def _fit_record(index, record, pre, force, template, sensor, ref, max_periods, s
             short.append((tuple(skipped), out.reason if isinstance(out, Rejected) else why))
         else:
             rejected.append(out if isinstance(out, Rejected) else Rejected(tuple(skipped), why, index))
-    found, refused, notes = _short_from_poles(pre, short, template, index, table)
+    found, refused, notes = short_from_poles(pre, short, template, index, table)
     modes, rejected = modes + found, rejected + refused
     modes, rejected = _deflated(pre, modes, rejected, template, index, samples_per_period)
+    modes, rejected, checked = checked_by_poles(pre, modes, rejected, template, index, table)
     fit_options = dict(template=template, onset_time=pre.impact.onset_time, record=record, channel=ref,
                        impulse=impulse, sensor=sensor, index=index)
     modes, rejected, merged = merge_chirps(pre, modes, rejected, fit_options,
                                            lambda band: _first_periods(band, max_periods))
     modes, rejected, harmonics = split_harmonics(pre, modes, rejected)
-    return modes, rejected, resampled + notes + merged + harmonics
-
-
-#: Half-power half-widths on each side of a stable pole that make its band (fit_direct's search range).
-_POLE_BAND_WIDTHS = 3.0
-#: Share of the diagram's orders a stable mode must appear at to be identified without a spectral peak. On
-#: the paper's oscillator (seeds 0-99, 40 dB) the true mode is found at all 26 orders; noise poles that pass
-#: the stability rule by chance at 2-7 (``benchmarks/bench_short_decays.py``). The same share makes a
-#: stable mode a candidate beside the spectral peaks (:mod:`~sindy_impulse.preprocessing.stable_poles`).
-_PERSISTENCE = PERSISTENCE
-
-
-def _from_stable_poles(index, pre, template, table):
-    """No spectral peak stands above the noise floor: a short, strongly damped record puts one or two
-    spectral bins on a mode (the paper's oscillator: 4 s at 20 % damping). The stabilisation diagram of
-    the free decay (:func:`~sindy_impulse.poles.stabilisation`) has no bin limit: when it finds exactly
-    one stable mode present at :data:`_PERSISTENCE` of its orders or more, that mode is identified directly
-    (:func:`.band_fit.fit_direct`, the single-mode route without band-pass) in the band of
-    :data:`_POLE_BAND_WIDTHS` half-power half-widths around it.
-    (modes, rejected, notes)."""
-    found = [m for m in table.modes() if m.n_orders >= _PERSISTENCE * len(table.orders)]
-    if len(found) != 1:
-        why = "no stable pole either" if not found else f"{len(found)} stable modes: give bands="
-        return [], [], [f"record {index}: no spectral peak significantly above the noise floor ({why})"]
-    mode = found[0]
-    f, half = mode.frequency_hz, _POLE_BAND_WIDTHS * mode.damping_ratio * mode.frequency_hz
-    band = (max(f - half, 0.05 * f), min(f + half, pre.fs / 2))
-    out = fit_direct(pre, band, template, index=index)
-    note = (
-        f"record {index}: no spectral peak above the noise floor; the stabilisation diagram's stable mode "
-        f"at {mode.frequency_hz:.4g} Hz (damping ratio {mode.damping_ratio:.3g}, {mode.n_orders} orders) "
-        "was identified without band-pass"
-    )
-    return ([out], [], [note]) if isinstance(out, Mode) else ([], [out], [note])
-
-
-def _pole_band(mode) -> tuple:
-    """The band of :data:`_POLE_BAND_WIDTHS` half-power half-widths around a stable mode."""
-    f, half = mode.frequency_hz, _POLE_BAND_WIDTHS * mode.damping_ratio * mode.frequency_hz
-    return (max(f - half, 0.05 * f), f + half)
-
-
-def _only(pre, stable: list, keep) -> object:
-    """The record with every stable mode but ``keep`` removed from its ring-down: damped sinusoids at the
-    stable poles, their amplitudes, phases and a constant fitted by linear least squares
-    (:func:`~sindy_impulse.preprocessing.sinusoids.fit_amplitudes`), all but ``keep``'s subtracted."""
-    start = pre.impact.ringdown_index
-    ring = pre.y[start:]
-    f = np.array([m.frequency_hz * np.sqrt(1 - m.damping_ratio**2) for m in stable])
-    decay = np.array([2 * np.pi * m.damping_ratio * m.frequency_hz for m in stable])
-    fit = fit_amplitudes(ring, pre.fs, f, decay)
-    others = sum(fit.component(k, ring.size, pre.fs) for k, m in enumerate(stable) if m is not keep)
-    y = pre.y.copy()
-    y[start:] = ring - fit.constant - others
-    return replace(pre, y=y)
-
-
-#: Largest :func:`_disagreement` of a short band's direct fit with its stable pole. Measured on family (d)
-#: records: right modes 0.003-0.03; a 9 %-damped mode 2.8 % off in frequency (a lightly damped neighbour
-#: removed imperfectly) 0.35.
-_POLE_AGREEMENT = 0.1
-
-
-def _short_from_poles(pre, short: list, template, index: int, table):
-    """Bands refused because the band-pass transient leaves too few periods of a short record (``short``:
-    [(band, why)]) identified without band-pass (:func:`.band_fit.fit_direct`) from the stable modes of
-    the stabilisation diagram (present at :data:`_PERSISTENCE` of its orders) inside them, each on the
-    record with the other stable modes removed (:func:`_only`). A mode is kept only when it agrees with
-    its stable pole (:func:`_disagreement` at most :data:`_POLE_AGREEMENT`); a band without one stays
-    refused.
-    (modes, rejected, notes)."""
-    stable = [m for m in table.modes() if m.n_orders >= _PERSISTENCE * len(table.orders)]
-    modes, rejected, notes = [], [], []
-    for b, why in short:
-        kept = []
-        for pole in (m for m in stable if b[0] <= m.frequency_hz <= b[1]):
-            alone = _only(pre, stable, pole) if len(stable) > 1 else pre
-            out = fit_direct(alone, _pole_band(pole), template, index=index)
-            damped = pole.frequency_hz * np.sqrt(1 - pole.damping_ratio**2)
-            apart = _disagreement(out, damped, pole.damping_ratio) if isinstance(out, Mode) else np.inf
-            if apart <= _POLE_AGREEMENT:
-                kept.append(pole)
-                modes.append(replace(out, band_hz=tuple(float(x) for x in b)))
-                notes.append(f"record {index}: band {b[0]:.4g}-{b[1]:.4g} Hz is too short for the band-pass; "
-                             f"its stable pole at {pole.frequency_hz:.4g} Hz (damping ratio "
-                             f"{pole.damping_ratio:.3g}) was identified without band-pass (disagreement "
-                             f"{apart:.2g})"
-                             + (f", the {len(stable) - 1} other stable mode(s) removed" * (len(stable) > 1)))
-        if not kept:
-            extra = "no stable pole inside" if not any(b[0] <= m.frequency_hz <= b[1] for m in stable) else (
-                "the direct fit disagrees with its stable pole")
-            rejected.append(Rejected(b, f"{why}; without band-pass: {extra}", index))
-    return modes, rejected, notes
+    return modes, rejected, resampled + notes + checked + merged + harmonics
 
 
 #: Largest disagreement (:func:`_disagreement`) of a jointly fitted mode with its peak's damped sinusoid.
 _AGREEMENT = 0.5
 
 
-def _disagreement(mode, frequency_hz: float, damping_ratio: float) -> float:
-    """How far a mode is from a peak's fitted damped sinusoid: frequency offset in half-power
-    half-widths plus the log ratio of the damping ratios."""
-    offset = abs(mode.damped_frequency_hz - frequency_hz) / (damping_ratio * frequency_hz)
-    return float(offset + abs(np.log(mode.damping_ratio / damping_ratio)))
+def _single_short(index, pre, template, table):
+    """The only peak of a record whose band the band-pass cannot keep (strongly damped, short). A record
+    of one stable mode (the paper's oscillator) takes the paper's single-sensor route
+    (:func:`.band_fit.fit_direct`) first; a record of several stable modes with one inside the peak's band
+    is identified from them on the free decay first (:func:`._short.short_from_poles`: no adaptive
+    simulation). The other route is tried when the first gives no mode or, for the direct fit, one that
+    disagrees with the stable pole inside the band (:func:`._short.disagreement` over
+    :data:`._short.MODE_POLE_AGREEMENT`). (modes, rejected, notes)."""
+    band = tuple(pre.peaks.band_hz[0])
+    stable = stable_modes(table)
+    inside = [m for m in stable if band[0] <= m.frequency_hz <= band[1]]
+    short = None
+    if inside and len(stable) > 1:
+        short = short_from_poles(pre, [(band, "the band-pass transient leaves too few periods")], template,
+                                 index, table)
+        if short[0]:
+            return short
+    out = fit_direct(pre, band, template, index=index)
+    agrees = isinstance(out, Mode) and any(
+        _disagreement(out, m.frequency_hz * np.sqrt(1 - m.damping_ratio**2), m.damping_ratio)
+        <= MODE_POLE_AGREEMENT for m in inside)
+    if agrees or (isinstance(out, Mode) and not inside):
+        return [out], [], []
+    if short is not None or not inside:
+        return short or ([], [out], [])
+    why = out.reason if isinstance(out, Rejected) else (
+        f"its direct fit ({out.frequency_hz:.4g} Hz) disagrees with the stable pole")
+    return short_from_poles(pre, [(band, why)], template, index, table)
 
 
 def _grouped(pre, own: dict, template, index: int) -> dict:
