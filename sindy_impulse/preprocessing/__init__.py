@@ -17,6 +17,7 @@ module                        job
 ``band``                      one band: band-pass, trim, stop at the noise floor, decimate
 ``deflation``                 one peak's wide band with the other peaks' sinusoids subtracted
 ``quality``                   offset, clipping, quantisation, SNR, no ring-down
+``declipping``                a clipped free decay repaired from its unclipped samples
 ``pipeline``                  :func:`preprocess`: all of the above, recording every choice
 ``transformers``              scikit-learn transformers over the functions
 ============================  =========================================================================
@@ -37,6 +38,7 @@ from .quality import (
     LIMITS,
     QualityReport,
     check_quality,
+    clipping_end,
     clipping_mask,
     decay_db,
     quantisation_step,
@@ -65,6 +67,7 @@ __all__ = [
     "bandpass",
     "check_band",
     "check_quality",
+    "clipping_end",
     "clipping_mask",
     "contact_end",
     "decay_db",

@@ -39,6 +39,8 @@ from .spectrum import ringdown_spectrum
 __all__ = [
     "LIMITS",
     "clipping_mask",
+    "clipping_end",
+    "saturated_mask",
     "quantisation_step",
     "ringdown_snr_db",
     "decay_db",
@@ -73,6 +75,46 @@ def clipping_mask(y, *, min_run: int = 3) -> np.ndarray:
             if last - first + 1 >= min_run:
                 mask[first : last + 1] = True
     return mask
+
+
+def saturated_mask(y, *, min_run: int = 3) -> np.ndarray:
+    """Every sample at a level the sensor saturated at.
+
+    A side of the record saturated when :func:`clipping_mask` finds a run of ``min_run`` samples at its
+    extreme; every sample at that level counts then, also alone (the last contacts with the limit, as the
+    decay leaves it, are often one or two samples).
+
+    Examples
+    --------
+    >>> y = np.clip(np.exp(-np.arange(300) / 60) * np.sin(np.arange(300) / 3), -0.5, 0.5)
+    >>> int(saturated_mask(y).sum()), int(clipping_mask(y).sum())
+    (18, 18)
+    """
+    arr = check_signal_1d(y, "y", 1)
+    mask = clipping_mask(arr, min_run=min_run)
+    out = np.zeros(arr.size, bool)
+    if not mask.any():
+        return out
+    tol = 1e-12 * np.ptp(arr)
+    for at_extreme in (arr >= arr.max() - tol, arr <= arr.min() + tol):
+        if (mask & at_extreme).any():
+            out |= at_extreme
+    return out
+
+
+def clipping_end(y, *, min_run: int = 3) -> int:
+    """Index after the last saturated sample (:func:`saturated_mask`; 0 when the sensor never saturated).
+    After it the record is the sensor's true signal: clipping distorts only the samples it flattens.
+
+    Examples
+    --------
+    >>> y = np.clip(np.exp(-np.arange(300) / 60) * np.sin(np.arange(300) / 3), -0.5, 0.5)
+    >>> end = clipping_end(y)
+    >>> end, bool(np.abs(y[end:]).max() < 0.5), clipping_end(np.sin(np.arange(100) / 5))
+    (35, True, 0)
+    """
+    found = np.flatnonzero(saturated_mask(y, min_run=min_run))
+    return int(found[-1]) + 1 if found.size else 0
 
 
 def quantisation_step(y) -> float:

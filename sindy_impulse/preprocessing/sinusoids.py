@@ -148,7 +148,8 @@ def _check_starts(frequency_hz, decay_rate, frequency_tol_hz):
     return f0, sigma0, np.broadcast_to(tol, f0.shape)
 
 
-def fit_damped_sinusoids(y, fs: float, frequency_hz, decay_rate, *, frequency_tol_hz) -> DampedSinusoids:
+def fit_damped_sinusoids(y, fs: float, frequency_hz, decay_rate, *, frequency_tol_hz,
+                         keep=None) -> DampedSinusoids:
     """Refine damped sinusoids started at ``frequency_hz`` and ``decay_rate`` (see the module).
 
     Parameters
@@ -161,6 +162,9 @@ def fit_damped_sinusoids(y, fs: float, frequency_hz, decay_rate, *, frequency_to
         Start values: damped frequencies (Hz) and decay rates (1/s, clipped at 0).
     frequency_tol_hz : float or array-like (k,)
         Each frequency stays within this distance (Hz) of its start.
+    keep : array-like of bool (n,), optional
+        The samples to fit (default: all); e.g. those a saturated sensor did not clip. The residual
+        covers every sample.
 
     Returns
     -------
@@ -182,12 +186,17 @@ def fit_damped_sinusoids(y, fs: float, frequency_hz, decay_rate, *, frequency_to
     sigma0 = sigma0 * duration
     k = omega0.size
     tol = 2.0 * np.pi * tol * duration
-    p0 = _linear_amplitudes(arr, tau, sigma0, omega0)
+    sel = slice(None) if keep is None else np.asarray(keep, bool)
+    if keep is not None and (sel.shape != arr.shape or sel.sum() < 4 * k + 1):
+        raise ValueError(f"keep must be {arr.size} booleans selecting at least {4 * k + 1} samples")
+    p0 = _linear_amplitudes(arr[sel], tau[sel], sigma0, omega0)
     lower = np.concatenate([np.zeros(k), omega0 - tol, np.full(2 * k + 1, -np.inf)])
     sigma_max = _MAX_DAMPING / np.sqrt(1.0 - _MAX_DAMPING**2) * (omega0 + tol)
     upper = np.concatenate([sigma_max, omega0 + tol, np.full(2 * k + 1, np.inf)])
     with threadpool_limits(limits=1, user_api="blas"):  # small products: threads only contend
-        p, res = _levenberg_marquardt(np.clip(p0, lower, upper), arr, tau, k, (lower, upper))
+        p, res = _levenberg_marquardt(np.clip(p0, lower, upper), arr[sel], tau[sel], k, (lower, upper))
+    if keep is not None:
+        res = _residual_and_jacobian(p, arr, tau, k)[0]
     sigma, omega, a, b, c = _split(p, k)
     return DampedSinusoids(
         frequency_hz=omega / (2.0 * np.pi * duration),
