@@ -43,6 +43,7 @@ from .quality import (
     decay_db,
     quantisation_step,
     ringdown_snr_db,
+    saturated_mask,
 )
 from .sinusoids import DampedSinusoids, fit_damped_sinusoids
 from .spectrum import Spectrum, detection_threshold_db, half_power_width, ringdown_spectrum
@@ -69,6 +70,7 @@ __all__ = [
     "check_quality",
     "clipping_end",
     "clipping_mask",
+    "saturated_mask",
     "contact_end",
     "decay_db",
     "decimation_factor",

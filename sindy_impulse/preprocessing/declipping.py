@@ -18,7 +18,8 @@ fitted model in place of the clipped samples only:
 3. the model must agree with what the sensor showed: at least :data:`MIN_CONSISTENT` of the clipped
    samples must lie beyond the limit they were clipped at (within 3 noise standard deviations), and its
    residual between the clipped samples must be no larger than :data:`_MAX_MISFIT` times its residual
-   after them, else the record is not repaired (None).
+   after them, and no component found in the clipped stretch may decay faster than a damping ratio of
+   :data:`_TRANSIENT` (the hit still under way), else the record is not repaired (None).
 """
 
 from __future__ import annotations
@@ -49,6 +50,9 @@ _MAX_EXTRA = 4
 #: Largest ratio of the fit's residual (standard deviation) between the clipped samples to its residual after
 #: them: a model that holds after the clipping but not while it lasts (a hit still under way) repairs nothing.
 _MAX_MISFIT = 3.0
+#: A component found only in the clipped stretch that decays faster than this damping ratio is the hit
+#: still under way, not a mode: the window starts too early.
+_TRANSIENT = 0.1
 #: The window reaches past the last clipped sample by this many times the clipped stretch (and 256 samples).
 _TAIL = 2.0
 
@@ -168,7 +172,8 @@ def declip(y, fs: float, saturated, start: int, frequency_hz, decay_rate) -> Dec
                       model[clipped - start] <= arr[clipped] + 3 * noise_rms)
     consistent = float(np.mean(beyond[top | bottom]))
     before, after = fit.residual[: end - start][keep[: end - start]], fit.residual[end - start :]
-    if consistent < MIN_CONSISTENT or np.std(before) > _MAX_MISFIT * max(np.std(after), 1e-300):
+    transient = np.any(fit.damping_ratio[f.size - len(extra) :] > _TRANSIENT) if extra else False
+    if consistent < MIN_CONSISTENT or transient or np.std(before) > _MAX_MISFIT * max(np.std(after), 1e-300):
         return None
     repaired = arr.copy()
     repaired[clipped] = model[clipped - start]

@@ -80,9 +80,10 @@ def clipping_mask(y, *, min_run: int = 3) -> np.ndarray:
 def saturated_mask(y, *, min_run: int = 3) -> np.ndarray:
     """Every sample at a level the sensor saturated at.
 
-    A side of the record saturated when :func:`clipping_mask` finds a run of ``min_run`` samples at its
-    extreme; every sample at that level counts then, also alone (the last contacts with the limit, as the
-    decay leaves it, are often one or two samples).
+    The record saturated when :func:`clipping_mask` finds a run of ``min_run`` samples at one of its
+    extremes; a side saturated then when ``min_run`` samples sit at its extreme, and every sample at that
+    level counts, also alone (the contacts with the limit as the decay leaves it, and many on the side a
+    sensor clips less, are one or two samples).
 
     Examples
     --------
@@ -97,7 +98,7 @@ def saturated_mask(y, *, min_run: int = 3) -> np.ndarray:
         return out
     tol = 1e-12 * np.ptp(arr)
     for at_extreme in (arr >= arr.max() - tol, arr <= arr.min() + tol):
-        if (mask & at_extreme).any():
+        if at_extreme.sum() >= min_run:
             out |= at_extreme
     return out
 

@@ -1,0 +1,96 @@
+"""Clipped records (sindy_impulse.preprocessing.declipping, the saturated samples of quality and the
+pipeline's use of them): repaired from the unclipped samples, no clipping harmonics, no mode lost."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+from sindy_impulse import identify_modes, impact_record
+from sindy_impulse.preprocessing import clipping_end, preprocess, saturated_mask
+from sindy_impulse.preprocessing.declipping import declip
+
+FS = 2000.0
+T = np.arange(4000) / FS
+
+
+def _two_modes():
+    """A lightly damped 40 Hz mode and a 310 Hz mode (damping ratio 2 %) that decays while the first
+    holds the sensor at its limit."""
+    return (np.exp(-2 * T) * np.sin(2 * np.pi * 40 * T)
+            + 0.3 * np.exp(-39 * T) * np.sin(2 * np.pi * 310 * T + 0.5))
+
+
+def test_saturated_mask_counts_every_sample_at_a_clipped_level_also_alone():
+    y = np.clip(np.exp(-T) * np.sin(2 * np.pi * 40 * T), -0.5, 0.7)  # the lower side is clipped more often
+    mask = saturated_mask(y)
+    assert np.array_equal(mask, (y == 0.7) | (y == -0.5))
+    assert clipping_end(y) == int(np.flatnonzero(mask)[-1]) + 1
+    assert not saturated_mask(np.sin(2 * np.pi * 40 * T)).any() and clipping_end(np.sin(T)) == 0
+
+
+def test_a_mode_that_dies_while_the_sensor_clips_is_recovered():
+    clean = _two_modes()
+    y = np.clip(clean + 1e-3 * np.random.default_rng(1).standard_normal(T.size), -0.6, 0.6)
+    mask = np.abs(y) >= 0.6
+    out = declip(y, FS, mask, 0, [40.0], [2.0])  # only the tail's mode given
+    assert out is not None and out.repaired == mask.sum() and out.consistent >= 0.9
+    k = int(np.argmin(np.abs(out.frequency_hz - 310.0)))
+    assert abs(out.frequency_hz[k] / (310 * np.sqrt(1 - 0.02**2)) - 1) < 1e-3
+    assert abs(out.decay_rate[k] / 39.0 - 1) < 0.05
+    assert np.abs(out.y - clean).max() < 0.02 and np.array_equal(out.y[~mask], y[~mask])
+
+
+def test_clipping_harmonics_are_not_taken_for_modes():
+    clean = np.exp(-2 * T) * np.sin(2 * np.pi * 40 * T)
+    y = np.clip(clean + 1e-3 * np.random.default_rng(2).standard_normal(T.size), -0.4, 0.4)
+    out = declip(y, FS, np.abs(y) >= 0.4, 0, [40.0], [2.0])
+    assert out is not None and out.extra_hz.size == 0 and out.frequency_hz.size == 1
+    assert np.abs(out.y - clean).max() < 0.01
+
+
+def test_a_window_that_is_not_a_free_decay_is_not_repaired():
+    y = np.clip(_two_modes() + np.where(T < 0.05, 3 * (0.05 - T), 0.0), -0.6, 0.6)  # a hit still under way
+    y = y + 1e-3 * np.random.default_rng(3).standard_normal(T.size)
+    y = np.clip(y, -0.6, 0.6)
+    assert declip(y, FS, np.abs(y) >= 0.6, 0, [40.0], [2.0]) is None
+    assert declip(y, FS, np.zeros(T.size, bool), 0, [40.0], [2.0]) is None  # nothing clipped
+    with pytest.raises(ValueError, match="one flag per sample"):
+        declip(y, FS, np.ones(3, bool), 0, [40.0], [2.0])
+
+
+CASES = [("displacement", 0.3, 0), ("displacement", 0.5, 1), ("velocity", 0.3, 2), ("velocity", 0.5, 3)]
+
+
+def _record(sensor, clip, seed):
+    """Two modes, the 410 Hz one (damping ratio 2 %) decaying by 2-12 e-folds while the sensor clips."""
+    return impact_record([120.0, 410.0], [0.004, 0.02], fs=5000, duration=1.0, snr_db=50, clip=clip,
+                         sensor=sensor, random_state=seed)
+
+
+@pytest.mark.parametrize(("sensor", "clip", "seed"), CASES)
+def test_preprocess_repairs_a_clipped_impact_record_and_finds_no_harmonic(sensor, clip, seed):
+    rec = _record(sensor, clip, seed)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        pre = preprocess(rec.y, fs=rec.fs)
+    assert pre.impact.clipping == "repaired" and pre.impact.saturated > 0
+    assert "clipping" in pre.quality.problems  # the raw record's quality is reported
+    np.testing.assert_allclose(pre.peaks.frequency_hz, rec.modes.damped_frequency_hz, rtol=2e-3)
+    start = pre.impact.ringdown_index
+    clean = rec.y_clean[start:] - np.mean(rec.y_clean[start:])
+    repaired = pre.y[start:] - np.mean(pre.y[start:])
+    assert np.abs(repaired - clean).max() < 0.05 * np.abs(clean).max()
+
+
+@pytest.mark.parametrize(("sensor", "clip", "seed"), [("velocity", 0.5, 5)]
+                         + [pytest.param(*c, marks=pytest.mark.slow) for c in CASES[::2]])
+def test_identify_modes_on_clipped_records_gives_the_modes_and_no_clipping_harmonic(sensor, clip, seed):
+    rec = _record(sensor, clip, seed)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        survey = identify_modes(rec.y, fs=rec.fs)
+    found = np.array([(m.frequency_hz, m.damping_ratio) for m in survey.modes])
+    assert found.shape == (2, 2)  # no harmonic or intermodulation product of the clipping
+    np.testing.assert_allclose(found[:, 0], rec.modes.frequency_hz, rtol=3e-3)
+    np.testing.assert_allclose(found[:, 1], rec.modes.damping_ratio, rtol=0.1)
