@@ -81,10 +81,13 @@ def _split(p: np.ndarray, k: int):
     return p[:k], p[k : 2 * k], p[2 * k : 3 * k], p[3 * k : 4 * k], p[4 * k]
 
 
-def _linear_amplitudes(y, tau, sigma, omega) -> np.ndarray:
-    """Least-squares ``a``, ``b`` and ``c`` for fixed decay rates and frequencies."""
+def _linear_amplitudes(y, tau, sigma, omega, keep=None) -> np.ndarray:
+    """Least-squares ``a``, ``b`` and ``c`` for fixed decay rates and frequencies (on the samples
+    ``keep``)."""
     cos, sin = _basis(tau, sigma, omega)
     design = np.column_stack([cos, sin, np.ones_like(tau)])
+    if keep is not None:
+        design, y = design[keep], y[keep]
     coef = np.linalg.lstsq(design, y, rcond=None)[0]
     k = sigma.size
     return np.concatenate([sigma, omega, coef[:k], coef[k : 2 * k], coef[2 * k :]])
@@ -110,11 +113,14 @@ def _step(jac: np.ndarray, res: np.ndarray, damping: float) -> np.ndarray:
         return np.zeros(jac.shape[1])
 
 
-def _levenberg_marquardt(p, y, tau, k, bounds) -> tuple[np.ndarray, np.ndarray]:
-    """Bounded Levenberg-Marquardt from ``p``: the parameters and the residual (model minus data)."""
+def _levenberg_marquardt(p, y, tau, k, bounds, keep=None) -> tuple[np.ndarray, np.ndarray]:
+    """Bounded Levenberg-Marquardt from ``p`` (on the samples ``keep``): the parameters and the residual
+    (model minus data)."""
 
     def evaluate(q):
         res, jac = _residual_and_jacobian(q, y, tau, k)
+        if keep is not None:
+            res, jac = res[keep], jac[keep]
         return res, jac, float(res @ res)
 
     res, jac, cost = evaluate(p)
@@ -186,15 +192,16 @@ def fit_damped_sinusoids(y, fs: float, frequency_hz, decay_rate, *, frequency_to
     sigma0 = sigma0 * duration
     k = omega0.size
     tol = 2.0 * np.pi * tol * duration
-    sel = slice(None) if keep is None else np.asarray(keep, bool)
-    if keep is not None and (sel.shape != arr.shape or sel.sum() < 4 * k + 1):
-        raise ValueError(f"keep must be {arr.size} booleans selecting at least {4 * k + 1} samples")
-    p0 = _linear_amplitudes(arr[sel], tau[sel], sigma0, omega0)
+    if keep is not None:
+        keep = np.asarray(keep, bool)
+        if keep.shape != arr.shape or keep.sum() < 4 * k + 1:
+            raise ValueError(f"keep must be {arr.size} booleans selecting at least {4 * k + 1} samples")
+    p0 = _linear_amplitudes(arr, tau, sigma0, omega0, keep)
     lower = np.concatenate([np.zeros(k), omega0 - tol, np.full(2 * k + 1, -np.inf)])
     sigma_max = _MAX_DAMPING / np.sqrt(1.0 - _MAX_DAMPING**2) * (omega0 + tol)
     upper = np.concatenate([sigma_max, omega0 + tol, np.full(2 * k + 1, np.inf)])
     with threadpool_limits(limits=1, user_api="blas"):  # small products: threads only contend
-        p, res = _levenberg_marquardt(np.clip(p0, lower, upper), arr[sel], tau[sel], k, (lower, upper))
+        p, res = _levenberg_marquardt(np.clip(p0, lower, upper), arr, tau, k, (lower, upper), keep)
     if keep is not None:
         res = _residual_and_jacobian(p, arr, tau, k)[0]
     sigma, omega, a, b, c = _split(p, k)
