@@ -163,6 +163,8 @@ def declip(y, fs: float, saturated, start: int, frequency_hz, decay_rate) -> Dec
                                 np.append(fit.decay_rate, peak[1]))
         if rss - trial_rss < MIN_GAIN * noise:
             break
+        if trial.damping_ratio[-1] > _TRANSIENT:  # the hit still under way: the window starts too early
+            return None
         fit, rss, f = trial, trial_rss, trial.frequency_hz
         extra.append(float(trial.frequency_hz[-1]))
     noise_rms = float(np.sqrt(rss / max(keep.sum() - 4 * f.size - 1, 1)))
@@ -172,8 +174,7 @@ def declip(y, fs: float, saturated, start: int, frequency_hz, decay_rate) -> Dec
                       model[clipped - start] <= arr[clipped] + 3 * noise_rms)
     consistent = float(np.mean(beyond[top | bottom]))
     before, after = fit.residual[: end - start][keep[: end - start]], fit.residual[end - start :]
-    transient = np.any(fit.damping_ratio[f.size - len(extra) :] > _TRANSIENT) if extra else False
-    if consistent < MIN_CONSISTENT or transient or np.std(before) > _MAX_MISFIT * max(np.std(after), 1e-300):
+    if consistent < MIN_CONSISTENT or np.std(before) > _MAX_MISFIT * max(np.std(after), 1e-300):
         return None
     repaired = arr.copy()
     repaired[clipped] = model[clipped - start]

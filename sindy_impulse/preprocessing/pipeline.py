@@ -118,7 +118,7 @@ def _unclipped(y: np.ndarray, fs: float, impact: Impact) -> tuple[np.ndarray, Im
     if end == 0 or y.size - end < _MIN_UNCLIPPED * (y.size - impact.ringdown_index):
         return y, impact
     tail = y[end:] - np.mean(y[end:])
-    peaks = spectral_peaks(tail, fs)
+    peaks = spectral_peaks(tail, fs, refine=False)
     t0 = impact.onset_time - impact.onset_index / impact.fs
     for start in _decay_starts(mask, impact.ringdown_index, end):
         repaired = declip(y, fs, mask, start, peaks.frequency_hz, np.pi * peaks.half_power_width_hz)
