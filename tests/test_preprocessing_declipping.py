@@ -94,3 +94,22 @@ def test_identify_modes_on_clipped_records_gives_the_modes_and_no_clipping_harmo
     assert found.shape == (2, 2)  # no harmonic or intermodulation product of the clipping
     np.testing.assert_allclose(found[:, 0], rec.modes.frequency_hz, rtol=3e-3)
     np.testing.assert_allclose(found[:, 1], rec.modes.damping_ratio, rtol=0.1)
+
+
+def test_clipping_harmonics_given_as_start_values_are_dropped():
+    clean = np.exp(-0.1 * T) * np.sin(2 * np.pi * 10.6 * T)  # clipped to the record's end
+    y = np.clip(clean + 1e-3 * np.random.default_rng(4).standard_normal(T.size), -0.8, 0.8)
+    out = declip(y, FS, np.abs(y) >= 0.8, 0, [10.6, 31.8, 53.0], [0.1, 0.1, 0.1], prune=True)
+    assert out is not None and out.frequency_hz.size == 1 and abs(out.frequency_hz[0] - 10.6) < 0.01
+    np.testing.assert_allclose(np.sort(out.dropped_hz), [31.8, 53.0], atol=1.0)
+    assert np.abs(out.y - clean).max() < 0.01
+
+
+def test_a_record_clipped_to_its_end_is_repaired_and_gives_no_harmonic():
+    rec = impact_record(10.6, 0.0015, fs=1000, duration=1.3, sensor="displacement", snr_db=50, clip=0.8,
+                        random_state=0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        pre = preprocess(rec.y, fs=rec.fs)
+    assert pre.impact.clipping == "repaired" and saturated_mask(rec.y)[-200:].any()
+    np.testing.assert_allclose(pre.peaks.frequency_hz, rec.modes.damped_frequency_hz, rtol=2e-3)

@@ -75,6 +75,8 @@ class Declipped:
         Share of the clipped samples the model puts beyond their limit.
     noise_rms : float
         Standard deviation of the fit's residual on the unclipped samples.
+    dropped_hz : ndarray
+        Start components the unclipped samples do not need (``prune``): clipping products.
     """
 
     y: np.ndarray = field(repr=False)
@@ -84,6 +86,7 @@ class Declipped:
     extra_hz: np.ndarray
     consistent: float
     noise_rms: float
+    dropped_hz: np.ndarray = field(default_factory=lambda: np.empty(0))
 
 
 def _fit(w, fs, keep, f, sigma):
@@ -106,7 +109,55 @@ def _extra_peak(residual, fs, keep, found):
     return None
 
 
-def declip(y, fs: float, saturated, start: int, frequency_hz, decay_rate) -> Declipped | None:
+def _with_extras(w, fs, keep, fit, rss):
+    """The fit with the components found only in the clipped stretch added (module, step 2): (fit, rss,
+    their frequencies), or None when one decays like the hit still under way."""
+    extra = []
+    for _ in range(_MAX_EXTRA):
+        noise = rss / max(keep.sum() - 4 * fit.frequency_hz.size - 1, 1)
+        peak = _extra_peak(fit.residual, fs, keep, fit.frequency_hz)
+        if peak is None:
+            break
+        trial, trial_rss = _fit(w, fs, keep, np.append(fit.frequency_hz, peak[0]),
+                                np.append(fit.decay_rate, peak[1]))
+        if rss - trial_rss < MIN_GAIN * noise:
+            break
+        if trial.damping_ratio[-1] > _TRANSIENT:  # the window starts too early
+            return None
+        fit, rss = trial, trial_rss
+        extra.append(float(trial.frequency_hz[-1]))
+    return fit, rss, extra
+
+
+def _pruned(w, fs, keep, fit, rss):
+    """The fit without the start components that the unclipped samples do not need (their removal raises
+    the residual's energy by less than :data:`MIN_GAIN` noise variances: peaks of the clipping's
+    harmonics and intermodulation products), weakest first: (fit, rss, their frequencies)."""
+    dropped = []
+    for f in fit.frequency_hz[np.argsort(fit.amplitude)]:
+        if fit.frequency_hz.size == 1:
+            break
+        k = int(np.argmin(np.abs(fit.frequency_hz - f)))
+        noise = rss / max(keep.sum() - 4 * fit.frequency_hz.size - 1, 1)
+        rest = np.arange(fit.frequency_hz.size) != k
+        trial, trial_rss = _fit(w, fs, keep, fit.frequency_hz[rest], fit.decay_rate[rest])
+        if trial_rss - rss < MIN_GAIN * noise:
+            fit, rss = trial, trial_rss
+            dropped.append(float(f))
+    return fit, rss, dropped
+
+
+def _consistent(arr, model, clipped, start, noise_rms) -> float:
+    """Share of the clipped samples that the model puts beyond the limit they were clipped at."""
+    centre = np.median(arr[start:])
+    top = arr[clipped] >= centre
+    beyond = np.where(top, model[clipped - start] >= arr[clipped] - 3 * noise_rms,
+                      model[clipped - start] <= arr[clipped] + 3 * noise_rms)
+    return float(np.mean(beyond))
+
+
+def declip(y, fs: float, saturated, start: int, frequency_hz, decay_rate, *,
+           prune: bool = False) -> Declipped | None:
     """Repair the clipped samples of a free decay from its unclipped ones (see the module).
 
     Parameters
@@ -121,6 +172,10 @@ def declip(y, fs: float, saturated, start: int, frequency_hz, decay_rate) -> Dec
         First sample of the free decay (end of the hammer contact); clipped samples before it stay.
     frequency_hz, decay_rate : array-like (k,)
         Start values of the modes of the unclipped tail: damped frequencies (Hz), decay rates (1/s).
+    prune : bool, default=False
+        Drop the start components the unclipped samples do not need (``dropped_hz``): for start values
+        taken from the clipped record itself (a sensor that clips to the record's end has no unclipped
+        tail), whose peaks include the clipping's harmonics.
 
     Returns
     -------
@@ -146,37 +201,24 @@ def declip(y, fs: float, saturated, start: int, frequency_hz, decay_rate) -> Dec
         raise ValueError(f"saturated has shape {mask.shape}, y {arr.shape}: one flag per sample")
     clipped = np.flatnonzero(mask[start:]) + start
     f = np.asarray(frequency_hz, float).reshape(-1)
-    sigma = np.maximum(np.asarray(decay_rate, float).reshape(-1), 1e-3)
     if clipped.size == 0 or f.size == 0:
         return None
     end = int(clipped[-1]) + 1
     stop = min(arr.size, end + int(_TAIL * (end - start)) + 256)
     w, keep = arr[start:stop], ~mask[start:stop]
-    fit, rss = _fit(w, rate, keep, f, sigma)
-    extra = []
-    for _ in range(_MAX_EXTRA):
-        noise = rss / max(keep.sum() - 4 * f.size - 1, 1)
-        peak = _extra_peak(fit.residual, rate, keep, fit.frequency_hz)
-        if peak is None:
-            break
-        trial, trial_rss = _fit(w, rate, keep, np.append(fit.frequency_hz, peak[0]),
-                                np.append(fit.decay_rate, peak[1]))
-        if rss - trial_rss < MIN_GAIN * noise:
-            break
-        if trial.damping_ratio[-1] > _TRANSIENT:  # the hit still under way: the window starts too early
-            return None
-        fit, rss, f = trial, trial_rss, trial.frequency_hz
-        extra.append(float(trial.frequency_hz[-1]))
-    noise_rms = float(np.sqrt(rss / max(keep.sum() - 4 * f.size - 1, 1)))
-    model = w - fit.residual
-    top, bottom = arr[clipped] >= np.median(arr[start:stop]), arr[clipped] < np.median(arr[start:stop])
-    beyond = np.where(top, model[clipped - start] >= arr[clipped] - 3 * noise_rms,
-                      model[clipped - start] <= arr[clipped] + 3 * noise_rms)
-    consistent = float(np.mean(beyond[top | bottom]))
+    fit, rss = _fit(w, rate, keep, f, np.maximum(np.asarray(decay_rate, float).reshape(-1), 1e-3))
+    fit, rss, dropped = _pruned(w, rate, keep, fit, rss) if prune else (fit, rss, [])
+    found = _with_extras(w, rate, keep, fit, rss)
+    if found is None:
+        return None
+    fit, rss, extra = found
+    noise_rms = float(np.sqrt(rss / max(keep.sum() - 4 * fit.frequency_hz.size - 1, 1)))
+    consistent = _consistent(arr[:stop], w - fit.residual, clipped, start, noise_rms)
     before, after = fit.residual[: end - start][keep[: end - start]], fit.residual[end - start :]
-    if consistent < MIN_CONSISTENT or np.std(before) > _MAX_MISFIT * max(np.std(after), 1e-300):
+    misfit = after.size >= 16 and np.std(before) > _MAX_MISFIT * max(np.std(after), 1e-300)
+    if consistent < MIN_CONSISTENT or misfit:
         return None
     repaired = arr.copy()
-    repaired[clipped] = model[clipped - start]
+    repaired[clipped] = (w - fit.residual)[clipped - start]
     return Declipped(repaired, int(clipped.size), fit.frequency_hz, fit.decay_rate, np.array(extra),
-                     consistent, noise_rms)
+                     consistent, noise_rms, np.array(dropped))

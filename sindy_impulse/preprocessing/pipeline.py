@@ -106,25 +106,30 @@ def _decay_starts(mask: np.ndarray, start: int, end: int) -> list[int]:
 
 def _unclipped(y: np.ndarray, fs: float, impact: Impact) -> tuple[np.ndarray, Impact]:
     """A record whose sensor saturated after the contact, and its impact, made free of the clipping: the
-    clipped samples repaired from the unclipped ones (:func:`~.declipping.declip`, started from the spectral
-    peaks of the unclipped tail; from the contact's end, or from the end of one of the first clipped runs when
-    the free decay's model does not hold there yet), or else the free ring-down started after the last
-    clipped sample. Unchanged when the sensor never saturated after the contact, or when less than
-    :data:`_MIN_UNCLIPPED` of the ring-down would remain unclipped (the quality check says it is
-    clipped)."""
+    clipped samples repaired from the unclipped ones (:func:`~.declipping.declip`, started from the
+    spectral peaks of the unclipped tail; from the contact's end, or from the end of one of the first
+    clipped runs when the free decay's model does not hold there yet), or else the free ring-down started
+    after the last clipped sample. When less than :data:`_MIN_UNCLIPPED` of the ring-down is past the
+    last clipped sample, the repair starts from the clipped ring-down's own peaks, those the unclipped
+    samples do not need dropped (the clipping's harmonics), and without a repair the record stays as it
+    is (the quality check says it is clipped)."""
     mask = saturated_mask(y)
     found = np.flatnonzero(mask[impact.ringdown_index :])
-    end = impact.ringdown_index + int(found[-1]) + 1 if found.size else 0
-    if end == 0 or y.size - end < _MIN_UNCLIPPED * (y.size - impact.ringdown_index):
+    if not found.size:
         return y, impact
-    tail = y[end:] - np.mean(y[end:])
-    peaks = spectral_peaks(tail, fs, refine=False)
+    end = impact.ringdown_index + int(found[-1]) + 1
+    short = y.size - end < _MIN_UNCLIPPED * (y.size - impact.ringdown_index)
+    tail = y[impact.ringdown_index if short else end :]
+    peaks = spectral_peaks(tail - np.mean(tail), fs, refine=False)
     t0 = impact.onset_time - impact.onset_index / impact.fs
     for start in _decay_starts(mask, impact.ringdown_index, end):
-        repaired = declip(y, fs, mask, start, peaks.frequency_hz, np.pi * peaks.half_power_width_hz)
+        repaired = declip(y, fs, mask, start, peaks.frequency_hz, np.pi * peaks.half_power_width_hz,
+                          prune=short)
         if repaired is not None:
             return repaired.y, replace(impact, ringdown_index=start, ringdown_time=t0 + start / fs,
                                        saturated=repaired.repaired, clipping="repaired")
+    if short:
+        return y, impact
     return y, replace(impact, ringdown_index=end, ringdown_time=t0 + end / impact.fs,
                       saturated=int(found.size), clipping="skipped")
 
