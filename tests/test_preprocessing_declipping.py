@@ -113,3 +113,19 @@ def test_a_record_clipped_to_its_end_is_repaired_and_gives_no_harmonic():
         pre = preprocess(rec.y, fs=rec.fs)
     assert pre.impact.clipping == "repaired" and saturated_mask(rec.y)[-200:].any()
     np.testing.assert_allclose(pre.peaks.frequency_hz, rec.modes.damped_frequency_hz, rtol=2e-3)
+
+
+def test_the_survey_rejects_the_clipping_products_with_evidence():
+    rec = impact_record(10.6, 0.0015, fs=1000, duration=1.3, sensor="displacement", snr_db=50, clip=0.8,
+                        random_state=0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        survey = identify_modes(rec.y, fs=rec.fs)
+    assert len(survey.modes) == 1 and abs(survey.modes[0].frequency_hz / 10.6 - 1) < 3e-3
+    assert abs(survey.modes[0].damping_ratio / 0.0015 - 1) < 0.1
+    products = [r for r in survey.rejected if r.evidence.get("clipping_product")]
+    assert products and all(r.band_hz is not None for r in products)
+    for r in products:  # odd harmonics of the clipped mode
+        n = r.evidence["frequency_hz"] / survey.modes[0].frequency_hz
+        assert abs(n / round(n) - 1) < 5e-3 and round(n) % 2 == 1 and r.evidence["combination_offset"] < 5e-3
+    assert any("repaired from the unclipped samples" in note for note in survey.notes)

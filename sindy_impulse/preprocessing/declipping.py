@@ -77,6 +77,8 @@ class Declipped:
         Standard deviation of the fit's residual on the unclipped samples.
     dropped_hz : ndarray
         Start components the unclipped samples do not need (``prune``): clipping products.
+    amplitude : ndarray
+        Amplitudes of the fitted components at the window's first sample.
     """
 
     y: np.ndarray = field(repr=False)
@@ -87,6 +89,7 @@ class Declipped:
     consistent: float
     noise_rms: float
     dropped_hz: np.ndarray = field(default_factory=lambda: np.empty(0))
+    amplitude: np.ndarray = field(default_factory=lambda: np.empty(0))
 
 
 def _fit(w, fs, keep, f, sigma):
@@ -129,11 +132,11 @@ def _with_extras(w, fs, keep, fit, rss):
     return fit, rss, extra
 
 
-def _pruned(w, fs, keep, fit, rss):
+def _pruned(w, fs, keep, fit, rss, start_hz):
     """The fit without the start components that the unclipped samples do not need (their removal raises
     the residual's energy by less than :data:`MIN_GAIN` noise variances: peaks of the clipping's
     harmonics and intermodulation products), weakest first: (fit, rss, their frequencies)."""
-    dropped = []
+    dropped, starts = [], list(start_hz)  # the start frequencies (the peaks) name what is dropped
     for f in fit.frequency_hz[np.argsort(fit.amplitude)]:
         if fit.frequency_hz.size == 1:
             break
@@ -143,7 +146,7 @@ def _pruned(w, fs, keep, fit, rss):
         trial, trial_rss = _fit(w, fs, keep, fit.frequency_hz[rest], fit.decay_rate[rest])
         if trial_rss - rss < MIN_GAIN * noise:
             fit, rss = trial, trial_rss
-            dropped.append(float(f))
+            dropped.append(float(starts.pop(k)))
     return fit, rss, dropped
 
 
@@ -207,7 +210,7 @@ def declip(y, fs: float, saturated, start: int, frequency_hz, decay_rate, *,
     stop = min(arr.size, end + int(_TAIL * (end - start)) + 256)
     w, keep = arr[start:stop], ~mask[start:stop]
     fit, rss = _fit(w, rate, keep, f, np.maximum(np.asarray(decay_rate, float).reshape(-1), 1e-3))
-    fit, rss, dropped = _pruned(w, rate, keep, fit, rss) if prune else (fit, rss, [])
+    fit, rss, dropped = _pruned(w, rate, keep, fit, rss, f) if prune else (fit, rss, [])
     found = _with_extras(w, rate, keep, fit, rss)
     if found is None:
         return None
@@ -221,4 +224,4 @@ def declip(y, fs: float, saturated, start: int, frequency_hz, decay_rate, *,
     repaired = arr.copy()
     repaired[clipped] = (w - fit.residual)[clipped - start]
     return Declipped(repaired, int(clipped.size), fit.frequency_hz, fit.decay_rate, np.array(extra),
-                     consistent, noise_rms, np.array(dropped))
+                     consistent, noise_rms, np.array(dropped), fit.amplitude)

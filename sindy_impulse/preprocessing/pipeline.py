@@ -47,6 +47,10 @@ class Preprocessed:
         Bands that could not be extracted and why.
     quality : QualityReport
         The data-quality checks of the raw record.
+    declipped : Declipped or None
+        The repair of a clipped record (:func:`~sindy_impulse.preprocessing.declipping.declip`: its
+        model's components, those found only while the sensor clipped, and the clipping products
+        dropped); None when nothing was repaired (see ``impact.clipping``).
     groups : list of (tuple of int, BandSignal)
         For each group of peaks too close for their damping (``peaks.groups``) that could be extracted:
         the peaks' indices and the signal of their joint band (``peaks.group_band_hz``), which holds
@@ -64,6 +68,7 @@ class Preprocessed:
     skipped: list
     quality: QualityReport
     groups: list = field(default_factory=list)
+    declipped: object = None
 
     def __repr__(self) -> str:
         lines = [
@@ -104,7 +109,7 @@ def _decay_starts(mask: np.ndarray, start: int, end: int) -> list[int]:
     return [start] + [start + r for r in runs if start + r < (start + end) / 2]
 
 
-def _unclipped(y: np.ndarray, fs: float, impact: Impact) -> tuple[np.ndarray, Impact]:
+def _unclipped(y: np.ndarray, fs: float, impact: Impact) -> tuple[np.ndarray, Impact, object]:
     """A record whose sensor saturated after the contact, and its impact, made free of the clipping: the
     clipped samples repaired from the unclipped ones (:func:`~.declipping.declip`, started from the
     spectral peaks of the unclipped tail; from the contact's end, or from the end of one of the first
@@ -112,11 +117,11 @@ def _unclipped(y: np.ndarray, fs: float, impact: Impact) -> tuple[np.ndarray, Im
     after the last clipped sample. When less than :data:`_MIN_UNCLIPPED` of the ring-down is past the
     last clipped sample, the repair starts from the clipped ring-down's own peaks, those the unclipped
     samples do not need dropped (the clipping's harmonics), and without a repair the record stays as it
-    is (the quality check says it is clipped)."""
+    is (the quality check says it is clipped). (record, impact, the repair or None)."""
     mask = saturated_mask(y)
     found = np.flatnonzero(mask[impact.ringdown_index :])
     if not found.size:
-        return y, impact
+        return y, impact, None
     end = impact.ringdown_index + int(found[-1]) + 1
     short = y.size - end < _MIN_UNCLIPPED * (y.size - impact.ringdown_index)
     tail = y[impact.ringdown_index if short else end :]
@@ -127,11 +132,11 @@ def _unclipped(y: np.ndarray, fs: float, impact: Impact) -> tuple[np.ndarray, Im
                           prune=short)
         if repaired is not None:
             return repaired.y, replace(impact, ringdown_index=start, ringdown_time=t0 + start / fs,
-                                       saturated=repaired.repaired, clipping="repaired")
+                                       saturated=repaired.repaired, clipping="repaired"), repaired
     if short:
-        return y, impact
+        return y, impact, None
     return y, replace(impact, ringdown_index=end, ringdown_time=t0 + end / impact.fs,
-                      saturated=int(found.size), clipping="skipped")
+                      saturated=int(found.size), clipping="skipped"), None
 
 
 def _noise_spectrum(y: np.ndarray, impact: Impact, fs: float, peaks: SpectralPeaks):
@@ -229,9 +234,9 @@ def preprocess(y, t=None, *, fs: float | None = None, force=None, n_modes: int |
     check_param("quality_warnings", quality_warnings, ["boolean"], "preprocess")
     check_param("threshold_db", threshold_db, [None, Real], "preprocess")
     impact = _impact(arr, rate, t0, force, onset)
-    raw = arr
+    raw, declipped = arr, None
     if isinstance(onset, str):
-        arr, impact = _unclipped(arr, rate, impact)
+        arr, impact, declipped = _unclipped(arr, rate, impact)
     estimate = estimate_offset(arr, rate, onset_index=impact.onset_index, method=offset)
     clean = remove_offset(arr, rate, estimate)
     ring = clean[impact.ringdown_index :]
@@ -245,4 +250,5 @@ def preprocess(y, t=None, *, fs: float | None = None, force=None, n_modes: int |
                    method=method, end_snr_db=end_snr_db)
     noise = _noise_spectrum(clean, impact, rate, peaks)
     extracted, skipped, groups = _extract_all(clean, rate, t0, impact, peaks, noise, options)
-    return Preprocessed(clean, rate, t0, impact, estimate, peaks, extracted, skipped, quality, groups)
+    return Preprocessed(clean, rate, t0, impact, estimate, peaks, extracted, skipped, quality, groups,
+                        declipped)
