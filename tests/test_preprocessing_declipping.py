@@ -26,7 +26,15 @@ def test_saturated_mask_counts_every_sample_at_a_clipped_level_also_alone():
     mask = saturated_mask(y)
     assert np.array_equal(mask, (y == 0.7) | (y == -0.5))
     assert clipping_end(y) == int(np.flatnonzero(mask)[-1]) + 1
-    assert not saturated_mask(np.sin(2 * np.pi * 40 * T)).any() and clipping_end(np.sin(T)) == 0
+    ring = np.exp(-T) * np.sin(2 * np.pi * 40 * T) + 1e-3 * np.random.default_rng(0).standard_normal(T.size)
+    assert not saturated_mask(ring).any() and clipping_end(ring) == 0
+
+
+def test_a_limit_touched_one_sample_at_a_time_is_saturation():
+    """A 570 Hz mode at 3.5 samples a period touches the limit one or two samples at a time."""
+    ring = np.exp(-T) * (np.sin(2 * np.pi * 40 * T) + 0.6 * np.sin(2 * np.pi * 570 * T))
+    y = np.clip(ring + 1e-3 * np.random.default_rng(0).standard_normal(T.size), -1.2, 1.2)
+    assert saturated_mask(y).sum() == np.sum(np.abs(y) == 1.2) >= 5  # no run of 3 samples at the limit
 
 
 def test_a_mode_that_dies_while_the_sensor_clips_is_recovered():

@@ -130,6 +130,8 @@ def _unclipped(y: np.ndarray, fs: float, impact: Impact) -> tuple[np.ndarray, Im
     for start in _decay_starts(mask, impact.ringdown_index, end):
         repaired = declip(y, fs, mask, start, peaks.frequency_hz, np.pi * peaks.half_power_width_hz,
                           prune=short)
+        if repaired is not None and np.abs(repaired.y - y).max() <= 3 * repaired.noise_rms:
+            return y, impact, None  # the samples at the limits are the signal's own peaks (within the noise)
         if repaired is not None:
             return repaired.y, replace(impact, ringdown_index=start, ringdown_time=t0 + start / fs,
                                        saturated=repaired.repaired, clipping="repaired"), repaired

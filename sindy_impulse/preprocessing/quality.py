@@ -41,6 +41,7 @@ __all__ = [
     "clipping_mask",
     "clipping_end",
     "saturated_mask",
+    "MIN_AT_LIMIT",
     "quantisation_step",
     "ringdown_snr_db",
     "decay_db",
@@ -77,13 +78,20 @@ def clipping_mask(y, *, min_run: int = 3) -> np.ndarray:
     return mask
 
 
+#: Samples at exactly one extreme of a record that is not quantised that make it saturated, with no run.
+MIN_AT_LIMIT = 5
+
+
 def saturated_mask(y, *, min_run: int = 3) -> np.ndarray:
     """Every sample at a level the sensor saturated at.
 
     The record saturated when :func:`clipping_mask` finds a run of ``min_run`` samples at one of its
-    extremes; a side saturated then when ``min_run`` samples sit at its extreme, and every sample at that
-    level counts, also alone (the contacts with the limit as the decay leaves it, and many on the side a
-    sensor clips less, are one or two samples).
+    extremes, or when :data:`MIN_AT_LIMIT` samples sit exactly at one extreme of a record that is not
+    quantised (:func:`quantisation_step` 0: a continuous signal with noise reaches its maximum once; a
+    sum of modes sampled a few times per period touches its limit one sample at a time); a side saturated
+    then when ``min_run`` samples sit at its extreme, and every sample at that level counts, also alone
+    (the contacts with the limit as the decay leaves it, and many on the side a sensor clips less, are one
+    or two samples).
 
     Examples
     --------
@@ -92,12 +100,15 @@ def saturated_mask(y, *, min_run: int = 3) -> np.ndarray:
     (18, 18)
     """
     arr = check_signal_1d(y, "y", 1)
-    mask = clipping_mask(arr, min_run=min_run)
     out = np.zeros(arr.size, bool)
-    if not mask.any():
+    if np.ptp(arr) == 0:
         return out
     tol = 1e-12 * np.ptp(arr)
-    for at_extreme in (arr >= arr.max() - tol, arr <= arr.min() + tol):
+    sides = (arr >= arr.max() - tol, arr <= arr.min() + tol)
+    many = max(s.sum() for s in sides) >= MIN_AT_LIMIT and quantisation_step(arr) == 0
+    if not (many or clipping_mask(arr, min_run=min_run).any()):
+        return out
+    for at_extreme in sides:
         if at_extreme.sum() >= min_run:
             out |= at_extreme
     return out
