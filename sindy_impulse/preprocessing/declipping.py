@@ -132,22 +132,35 @@ def _with_extras(w, fs, keep, fit, rss):
     return fit, rss, extra
 
 
-def _pruned(w, fs, keep, fit, rss, start_hz):
-    """The fit without the start components that the unclipped samples do not need (their removal raises
-    the residual's energy by less than :data:`MIN_GAIN` noise variances: peaks of the clipping's
-    harmonics and intermodulation products), weakest first: (fit, rss, their frequencies)."""
-    dropped, starts = [], list(start_hz)  # the start frequencies (the peaks) name what is dropped
-    for f in fit.frequency_hz[np.argsort(fit.amplitude)]:
-        if fit.frequency_hz.size == 1:
+def _pruned(w, fs, keep, f, sigma):
+    """The start components without those the unclipped samples do not need (their removal raises the
+    residual's energy by less than :data:`MIN_GAIN` noise variances: peaks of the clipping's harmonics and
+    intermodulation products), weakest first, decided with the poles held: linear least squares on the
+    unclipped samples, every subset from one Gram matrix. (frequencies, decay rates, dropped frequencies)."""
+    t = np.flatnonzero(keep) / fs
+    envelope = np.exp(-np.minimum(np.outer(t, sigma), 300.0))
+    phase = 2 * np.pi * np.outer(t, f)
+    design = np.column_stack([envelope * np.cos(phase), envelope * np.sin(phase), np.ones(t.size)])
+    y = w[keep]
+    gram, moment, total = design.T @ design, design.T @ y, float(y @ y)
+    k = f.size
+
+    def energy(kept):
+        cols = np.flatnonzero(np.concatenate([kept, kept, [True]]))
+        coef = np.linalg.lstsq(gram[np.ix_(cols, cols)], moment[cols], rcond=None)[0]
+        return max(total - float(moment[cols] @ coef), 0.0), coef
+
+    kept = np.ones(k, bool)
+    rss, coef = energy(kept)
+    for j in np.argsort(np.hypot(coef[:k], coef[k : 2 * k])):
+        if kept.sum() == 1:
             break
-        k = int(np.argmin(np.abs(fit.frequency_hz - f)))
-        noise = rss / max(keep.sum() - 4 * fit.frequency_hz.size - 1, 1)
-        rest = np.arange(fit.frequency_hz.size) != k
-        trial, trial_rss = _fit(w, fs, keep, fit.frequency_hz[rest], fit.decay_rate[rest])
-        if trial_rss - rss < MIN_GAIN * noise:
-            fit, rss = trial, trial_rss
-            dropped.append(float(starts.pop(k)))
-    return fit, rss, dropped
+        trial = kept.copy()
+        trial[j] = False
+        trial_rss = energy(trial)[0]
+        if trial_rss - rss < MIN_GAIN * rss / max(t.size - 4 * kept.sum() - 1, 1):
+            kept, rss = trial, trial_rss
+    return f[kept], sigma[kept], [float(v) for v in f[~kept]]
 
 
 def _consistent(arr, model, clipped, start, noise_rms) -> float:
@@ -209,8 +222,14 @@ def declip(y, fs: float, saturated, start: int, frequency_hz, decay_rate, *,
     end = int(clipped[-1]) + 1
     stop = min(arr.size, end + int(_TAIL * (end - start)) + 256)
     w, keep = arr[start:stop], ~mask[start:stop]
-    fit, rss = _fit(w, rate, keep, f, np.maximum(np.asarray(decay_rate, float).reshape(-1), 1e-3))
-    fit, rss, dropped = _pruned(w, rate, keep, fit, rss, f) if prune else (fit, rss, [])
+    sigma = np.maximum(np.asarray(decay_rate, float).reshape(-1), 1e-3)
+    f, sigma, dropped = _pruned(w, rate, keep, f, sigma) if prune else (f, sigma, [])
+    fit, rss = _fit(w, rate, keep, f, sigma)
+    if prune:  # once more with the refined poles: a harmonic may have stood in for a pole's error
+        f, sigma, more = _pruned(w, rate, keep, fit.frequency_hz, fit.decay_rate)
+        if more:
+            fit, rss = _fit(w, rate, keep, f, sigma)
+            dropped += more
     found = _with_extras(w, rate, keep, fit, rss)
     if found is None:
         return None

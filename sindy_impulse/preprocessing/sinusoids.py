@@ -215,7 +215,7 @@ def fit_damped_sinusoids(y, fs: float, frequency_hz, decay_rate, *, frequency_to
     )
 
 
-def fit_amplitudes(y, fs: float, frequency_hz, decay_rate) -> DampedSinusoids:
+def fit_amplitudes(y, fs: float, frequency_hz, decay_rate, *, keep=None) -> DampedSinusoids:
     """Amplitudes, phases and the constant of damped sinusoids with given frequencies and decay rates: the
     linear least-squares part of :func:`fit_damped_sinusoids`, the poles held fixed.
 
@@ -227,6 +227,8 @@ def fit_amplitudes(y, fs: float, frequency_hz, decay_rate) -> DampedSinusoids:
         Sampling rate (Hz).
     frequency_hz, decay_rate : array-like (k,)
         Damped frequencies (Hz) and decay rates (1/s, clipped at 0) of the components.
+    keep : array-like of bool (n,), optional
+        The samples to fit (default: all); the residual covers every sample.
 
     Returns
     -------
@@ -244,7 +246,11 @@ def fit_amplitudes(y, fs: float, frequency_hz, decay_rate) -> DampedSinusoids:
     f0, sigma, _ = _check_starts(frequency_hz, decay_rate, 1.0)
     omega = 2.0 * np.pi * f0
     tau = np.arange(arr.size) / fs
-    _, _, a, b, c = _split(_linear_amplitudes(arr, tau, sigma, omega), f0.size)
+    if keep is not None:
+        keep = np.asarray(keep, bool)
+        if keep.shape != arr.shape:
+            raise ValueError(f"keep must be {arr.size} booleans, one per sample")
+    _, _, a, b, c = _split(_linear_amplitudes(arr, tau, sigma, omega, keep), f0.size)
     cos, sin = _basis(tau, sigma, omega)
     return DampedSinusoids(
         frequency_hz=f0,
