@@ -137,3 +137,15 @@ def test_the_survey_rejects_the_clipping_products_with_evidence():
         n = r.evidence["frequency_hz"] / survey.modes[0].frequency_hz
         assert abs(n / round(n) - 1) < 5e-3 and round(n) % 2 == 1 and r.evidence["combination_offset"] < 5e-3
     assert any("repaired from the unclipped samples" in note for note in survey.notes)
+
+
+def test_two_modes_clipped_on_half_the_samples_to_the_end_are_repaired():
+    rec = impact_record([12.0, 47.0], [0.0005, 0.002], fs=2048, duration=3, sensor="displacement", snr_db=50,
+                        clip=0.3, random_state=1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        pre = preprocess(rec.y, fs=rec.fs)
+    assert saturated_mask(rec.y).mean() > 0.4 and pre.impact.clipping == "repaired"
+    assert pre.declipped.dropped_hz.size > 5  # the clipping's products, dropped
+    np.testing.assert_allclose(pre.peaks.frequency_hz, rec.modes.damped_frequency_hz, rtol=1e-3)
+    np.testing.assert_allclose(pre.peaks.damping_ratio, rec.modes.damping_ratio, rtol=0.1)
