@@ -34,6 +34,7 @@ from ..exceptions import DataWarning, NoDynamicsWarning
 from ..preprocessing import extract_band, preprocess
 from ..preprocessing.deflation import deflated_band
 from ..preprocessing.stable_poles import with_stable_poles
+from ._clipped import clipping_report
 from ._harmonics import split_harmonics
 from ._hits import merge_hits
 from ._nonlinear import has_nonlinear_terms, merge_chirps
@@ -120,6 +121,8 @@ def _survey_record(index, record, t, fs, force, options, template, sensor, chann
     pre, found = with_stable_poles(pre, table.modes(), len(table.orders),
                                    samples_per_period=options["samples_per_period"])
     notes = [f"record {index}: {note}" for note in found]
+    clipped, products = clipping_report(pre, index)
+    notes += clipped
     if pre.impact.double_hit:
         notes.append(f"record {index}: double hit at {', '.join(f'{h[0]:.4g} s' for h in pre.impact.hits)}")
     try:
@@ -128,8 +131,8 @@ def _survey_record(index, record, t, fs, force, options, template, sensor, chann
     except Exception as err:  # noqa: BLE001 - one record's failure must not abort the survey
         evidence = {"error": type(err).__name__, "message": str(err)}
         reason = f"the identification of record {index} failed ({type(err).__name__}: {err})"
-        return [], [Rejected(None, reason, index, evidence)], pre, notes, table
-    return modes, rejected, pre, notes + found, table
+        return [], [Rejected(None, reason, index, evidence)] + products, pre, notes, table
+    return modes, rejected + products, pre, notes + found, table
 
 
 def _fit_record(index, record, pre, force, template, sensor, ref, max_periods, samples_per_period, table):

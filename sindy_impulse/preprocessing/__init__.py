@@ -17,6 +17,7 @@ module                        job
 ``band``                      one band: band-pass, trim, stop at the noise floor, decimate
 ``deflation``                 one peak's wide band with the other peaks' sinusoids subtracted
 ``quality``                   offset, clipping, quantisation, SNR, no ring-down
+``declipping``                a clipped free decay repaired from its unclipped samples
 ``pipeline``                  :func:`preprocess`: all of the above, recording every choice
 ``transformers``              scikit-learn transformers over the functions
 ============================  =========================================================================
@@ -37,10 +38,12 @@ from .quality import (
     LIMITS,
     QualityReport,
     check_quality,
+    clipping_end,
     clipping_mask,
     decay_db,
     quantisation_step,
     ringdown_snr_db,
+    saturated_mask,
 )
 from .sinusoids import DampedSinusoids, fit_damped_sinusoids
 from .spectrum import Spectrum, detection_threshold_db, half_power_width, ringdown_spectrum
@@ -65,7 +68,9 @@ __all__ = [
     "bandpass",
     "check_band",
     "check_quality",
+    "clipping_end",
     "clipping_mask",
+    "saturated_mask",
     "contact_end",
     "decay_db",
     "decimation_factor",

@@ -53,7 +53,10 @@ def _quiet_stretch(dev: np.ndarray, n_sigma: float) -> tuple[int, float, float] 
     Starts from the first half before the peak and shrinks to the samples before the first exceedance
     until stable, so a response that began well before its peak does not inflate the noise estimate.
     """
-    peak = int(np.argmax(np.abs(dev)))
+    magnitude = np.abs(dev)
+    peak = int(np.argmax(magnitude))
+    while peak + 1 < dev.size and magnitude[peak + 1] == magnitude[peak]:  # a clipped peak: its run's end
+        peak += 1
     end = peak // 2
     for _ in range(4):
         if end < _MIN_PRE:
@@ -195,6 +198,12 @@ class Impact:
         The contacts found in the force channel (empty without one).
     fs : float
         Sampling rate (Hz) of the record.
+    saturated : int
+        Clipped samples after the contact (the sensor saturated; :func:`~sindy_impulse.preprocessing.
+        preprocess`).
+    clipping : str
+        What was done with them: ``"repaired"`` (replaced by the modes fitted to the unclipped samples)
+        or ``"skipped"`` (the free ring-down starts after the last one); empty when none.
     """
 
     onset_index: int
@@ -204,6 +213,8 @@ class Impact:
     source: str
     pulses: tuple = ()
     fs: float = float("nan")
+    saturated: int = 0
+    clipping: str = ""
 
     @property
     def double_hit(self) -> bool:
@@ -220,9 +231,10 @@ class Impact:
         hits = ""
         if self.double_hit:
             hits = ", double hit: " + ", ".join(f"{p.relative_amplitude:.2f}" for p in self.pulses[1:])
+        clipped = f", {self.saturated} clipped samples {self.clipping}" if self.saturated else ""
         return (
             f"Impact(onset {self.onset_index} at {self.onset_time:.6g} s from the {self.source}, "
-            f"ring-down from {self.ringdown_index} at {self.ringdown_time:.6g} s{hits})"
+            f"ring-down from {self.ringdown_index} at {self.ringdown_time:.6g} s{clipped}{hits})"
         )
 
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from numbers import Integral, Real
 
 import numpy as np
@@ -12,10 +12,11 @@ from .._utils.params import Interval, Options, check_param
 from ..exceptions import DataWarning
 from ._record import as_record
 from .band import band_noise_rms, extract_band
+from .declipping import declip
 from .offset import OffsetEstimate, estimate_offset, remove_offset
-from .onset import Impact, find_impact
+from .onset import Impact, _runs, find_impact
 from .peaks import SpectralPeaks, spectral_peaks
-from .quality import QualityReport, check_quality
+from .quality import QualityReport, check_quality, saturated_mask
 from .spectrum import ringdown_spectrum
 
 __all__ = ["Preprocessed", "preprocess"]
@@ -46,6 +47,10 @@ class Preprocessed:
         Bands that could not be extracted and why.
     quality : QualityReport
         The data-quality checks of the raw record.
+    declipped : Declipped or None
+        The repair of a clipped record (:func:`~sindy_impulse.preprocessing.declipping.declip`: its
+        model's components, those found only while the sensor clipped, and the clipping products
+        dropped); None when nothing was repaired (see ``impact.clipping``).
     groups : list of (tuple of int, BandSignal)
         For each group of peaks too close for their damping (``peaks.groups``) that could be extracted:
         the peaks' indices and the signal of their joint band (``peaks.group_band_hz``), which holds
@@ -63,6 +68,7 @@ class Preprocessed:
     skipped: list
     quality: QualityReport
     groups: list = field(default_factory=list)
+    declipped: object = None
 
     def __repr__(self) -> str:
         lines = [
@@ -86,6 +92,53 @@ def _impact(y, fs, t0, force, onset) -> Impact:
     if onset >= y.size - 1:
         raise ValueError(f"onset={onset} is beyond the record ({y.size} samples)")
     return Impact(int(onset), t0 + onset / fs, int(onset), t0 + onset / fs, "given", (), fs)
+
+
+#: The free decay starts after the last clipped sample when at least this share of the ring-down remains.
+_MIN_UNCLIPPED = 0.25
+
+
+#: Clipped runs after whose end a repair is tried when the free decay does not fit from the contact's end.
+_RETRIES = 3
+
+
+def _decay_starts(mask: np.ndarray, start: int, end: int) -> list[int]:
+    """Where the free decay may start in a clipped record: the contact's end, then the ends of the first
+    :data:`_RETRIES` clipped runs after it (a clipped contact hides its own end), up to mid-way to ``end``."""
+    runs = [int(last) + 1 for _, last in _runs(mask[start:end])][:_RETRIES]
+    return [start] + [start + r for r in runs if start + r < (start + end) / 2]
+
+
+def _unclipped(y: np.ndarray, fs: float, impact: Impact) -> tuple[np.ndarray, Impact, object]:
+    """A record whose sensor saturated after the contact, and its impact, made free of the clipping: the
+    clipped samples repaired from the unclipped ones (:func:`~.declipping.declip`, started from the
+    spectral peaks of the unclipped tail; from the contact's end, or from the end of one of the first
+    clipped runs when the free decay's model does not hold there yet), or else the free ring-down started
+    after the last clipped sample. When less than :data:`_MIN_UNCLIPPED` of the ring-down is past the
+    last clipped sample, the repair starts from the clipped ring-down's own peaks, those the unclipped
+    samples do not need dropped (the clipping's harmonics), and without a repair the record stays as it
+    is (the quality check says it is clipped). (record, impact, the repair or None)."""
+    mask = saturated_mask(y)
+    found = np.flatnonzero(mask[impact.ringdown_index :])
+    if not found.size:
+        return y, impact, None
+    end = impact.ringdown_index + int(found[-1]) + 1
+    short = y.size - end < _MIN_UNCLIPPED * (y.size - impact.ringdown_index)
+    tail = y[impact.ringdown_index if short else end :]
+    peaks = spectral_peaks(tail - np.mean(tail), fs, refine=False)
+    t0 = impact.onset_time - impact.onset_index / impact.fs
+    for start in _decay_starts(mask, impact.ringdown_index, end):
+        repaired = declip(y, fs, mask, start, peaks.frequency_hz, np.pi * peaks.half_power_width_hz,
+                          prune=short)
+        if repaired is not None and np.abs(repaired.y - y).max() <= 3 * repaired.noise_rms:
+            return y, impact, None  # the samples at the limits are the signal's own peaks (within the noise)
+        if repaired is not None:
+            return repaired.y, replace(impact, ringdown_index=start, ringdown_time=t0 + start / fs,
+                                       saturated=repaired.repaired, clipping="repaired"), repaired
+    if short:
+        return y, impact, None
+    return y, replace(impact, ringdown_index=end, ringdown_time=t0 + end / impact.fs,
+                      saturated=int(found.size), clipping="skipped"), None
 
 
 def _noise_spectrum(y: np.ndarray, impact: Impact, fs: float, peaks: SpectralPeaks):
@@ -127,11 +180,13 @@ def preprocess(y, t=None, *, fs: float | None = None, force=None, n_modes: int |
                threshold_db: float | None = None, quality_warnings: bool = True) -> Preprocessed:
     """Prepare a raw hammer-test record for per-mode identification.
 
-    Impact (onset, end of contact, double hits) -> offset removal -> spectral peaks and bands of the free
-    ring-down -> per band: zero-phase band-pass, transient trim, end at the noise floor, decimation. The
-    noise in each band comes from the pre-trigger's spectrum when it has at least 256 samples, else from
-    the noise floor of the peaks' spectrum. Peaks too close for their damping are also extracted
-    together, in their joint band (``groups``). Every automatic choice can be overridden.
+    Impact (onset, end of contact, double hits; a sensor that saturated: its clipped samples repaired from the
+    unclipped ones, or else the free ring-down started after the last clipped sample) -> offset removal ->
+    spectral peaks and bands of the free ring-down -> per band: zero-phase band-pass, transient trim, end
+    at the noise floor, decimation. The noise in each band comes from the pre-trigger's spectrum when it
+    has at least 256 samples, else from the noise floor of the peaks' spectrum. Peaks too close for their
+    damping are also extracted together, in their joint band (``groups``). Every automatic choice can be
+    overridden.
 
     Parameters
     ----------
@@ -148,7 +203,8 @@ def preprocess(y, t=None, *, fs: float | None = None, force=None, n_modes: int |
     bands : sequence of (low, high), optional
         The bands (Hz), instead of the detected ones.
     onset : "auto" or int
-        First sample of the hit (then also the start of the ring-down).
+        First sample of the hit (then also the start of the ring-down, clipped or not). With "auto" the
+        ring-down starts after the contact, clipped samples repaired (see ``impact.clipping``).
     offset : "auto", "pre_trigger", "tail", "linear" or float
         See :func:`~sindy_impulse.preprocessing.offset.estimate_offset`.
     samples_per_period, min_samples_per_period, method, end_snr_db
@@ -180,11 +236,14 @@ def preprocess(y, t=None, *, fs: float | None = None, force=None, n_modes: int |
     check_param("quality_warnings", quality_warnings, ["boolean"], "preprocess")
     check_param("threshold_db", threshold_db, [None, Real], "preprocess")
     impact = _impact(arr, rate, t0, force, onset)
+    raw, declipped = arr, None
+    if isinstance(onset, str):
+        arr, impact, declipped = _unclipped(arr, rate, impact)
     estimate = estimate_offset(arr, rate, onset_index=impact.onset_index, method=offset)
     clean = remove_offset(arr, rate, estimate)
     ring = clean[impact.ringdown_index :]
     peaks = spectral_peaks(ring, rate, n_modes=n_modes, bands=bands, threshold_db=threshold_db)
-    quality = check_quality(arr, rate, onset_index=impact.onset_index, peaks=peaks)
+    quality = check_quality(raw, rate, onset_index=impact.onset_index, peaks=peaks)
     if quality_warnings:
         for check, problem in quality.problems.items():
             if check != "offset":  # removed here
@@ -193,4 +252,5 @@ def preprocess(y, t=None, *, fs: float | None = None, force=None, n_modes: int |
                    method=method, end_snr_db=end_snr_db)
     noise = _noise_spectrum(clean, impact, rate, peaks)
     extracted, skipped, groups = _extract_all(clean, rate, t0, impact, peaks, noise, options)
-    return Preprocessed(clean, rate, t0, impact, estimate, peaks, extracted, skipped, quality, groups)
+    return Preprocessed(clean, rate, t0, impact, estimate, peaks, extracted, skipped, quality, groups,
+                        declipped)

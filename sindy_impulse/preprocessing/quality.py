@@ -39,6 +39,9 @@ from .spectrum import ringdown_spectrum
 __all__ = [
     "LIMITS",
     "clipping_mask",
+    "clipping_end",
+    "saturated_mask",
+    "MIN_AT_LIMIT",
     "quantisation_step",
     "ringdown_snr_db",
     "decay_db",
@@ -73,6 +76,57 @@ def clipping_mask(y, *, min_run: int = 3) -> np.ndarray:
             if last - first + 1 >= min_run:
                 mask[first : last + 1] = True
     return mask
+
+
+#: Samples at exactly one extreme of a record that is not quantised that make it saturated, with no run.
+MIN_AT_LIMIT = 5
+
+
+def saturated_mask(y, *, min_run: int = 3) -> np.ndarray:
+    """Every sample at a level the sensor saturated at.
+
+    The record saturated when :func:`clipping_mask` finds a run of ``min_run`` samples at one of its
+    extremes, or when :data:`MIN_AT_LIMIT` samples sit exactly at one extreme of a record that is not
+    quantised (:func:`quantisation_step` 0: a continuous signal with noise reaches its maximum once; a
+    sum of modes sampled a few times per period touches its limit one sample at a time); a side saturated
+    then when ``min_run`` samples sit at its extreme, and every sample at that level counts, also alone
+    (the contacts with the limit as the decay leaves it, and many on the side a sensor clips less, are one
+    or two samples).
+
+    Examples
+    --------
+    >>> y = np.clip(np.exp(-np.arange(300) / 60) * np.sin(np.arange(300) / 3), -0.5, 0.5)
+    >>> int(saturated_mask(y).sum()), int(clipping_mask(y).sum())
+    (18, 18)
+    """
+    arr = check_signal_1d(y, "y", 1)
+    out = np.zeros(arr.size, bool)
+    if np.ptp(arr) == 0:
+        return out
+    tol = 1e-12 * np.ptp(arr)
+    sides = (arr >= arr.max() - tol, arr <= arr.min() + tol)
+    many = max(s.sum() for s in sides) >= MIN_AT_LIMIT and quantisation_step(arr) == 0
+    if not (many or clipping_mask(arr, min_run=min_run).any()):
+        return out
+    for at_extreme in sides:
+        if at_extreme.sum() >= min_run:
+            out |= at_extreme
+    return out
+
+
+def clipping_end(y, *, min_run: int = 3) -> int:
+    """Index after the last saturated sample (:func:`saturated_mask`; 0 when the sensor never saturated).
+    After it the record is the sensor's true signal: clipping distorts only the samples it flattens.
+
+    Examples
+    --------
+    >>> y = np.clip(np.exp(-np.arange(300) / 60) * np.sin(np.arange(300) / 3), -0.5, 0.5)
+    >>> end = clipping_end(y)
+    >>> end, bool(np.abs(y[end:]).max() < 0.5), clipping_end(np.sin(np.arange(100) / 5))
+    (35, True, 0)
+    """
+    found = np.flatnonzero(saturated_mask(y, min_run=min_run))
+    return int(found[-1]) + 1 if found.size else 0
 
 
 def quantisation_step(y) -> float:

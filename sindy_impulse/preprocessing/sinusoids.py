@@ -87,10 +87,13 @@ def _split(p: np.ndarray, k: int):
     return p[:k], p[k : 2 * k], p[2 * k : 3 * k], p[3 * k : 4 * k], p[4 * k]
 
 
-def _linear_amplitudes(y, tau, sigma, omega) -> np.ndarray:
-    """Least-squares ``a``, ``b`` and ``c`` for fixed decay rates and frequencies."""
+def _linear_amplitudes(y, tau, sigma, omega, keep=None) -> np.ndarray:
+    """Least-squares ``a``, ``b`` and ``c`` for fixed decay rates and frequencies (on the samples
+    ``keep``)."""
     cos, sin = _basis(tau, sigma, omega)
     design = np.column_stack([cos, sin, np.ones_like(tau)])
+    if keep is not None:
+        design, y = design[keep], y[keep]
     coef = np.linalg.lstsq(design, y, rcond=None)[0]
     k = sigma.size
     return np.concatenate([sigma, omega, coef[:k], coef[k : 2 * k], coef[2 * k :]])
@@ -117,11 +120,14 @@ def _step(jac: np.ndarray, res: np.ndarray, damping: float) -> np.ndarray:
         return np.zeros(jac.shape[1])
 
 
-def _levenberg_marquardt(p, y, tau, k, bounds) -> tuple[np.ndarray, np.ndarray]:
-    """Bounded Levenberg-Marquardt from ``p``: the parameters and the residual (model minus data)."""
+def _levenberg_marquardt(p, y, tau, k, bounds, keep=None) -> tuple[np.ndarray, np.ndarray]:
+    """Bounded Levenberg-Marquardt from ``p`` (on the samples ``keep``): the parameters and the residual
+    (model minus data)."""
 
     def evaluate(q):
         res, jac = _residual_and_jacobian(q, y, tau, k)
+        if keep is not None:
+            res, jac = res[keep], jac[keep]
         return res, jac, float(res @ res)
 
     res, jac, cost = evaluate(p)
@@ -155,7 +161,8 @@ def _check_starts(frequency_hz, decay_rate, frequency_tol_hz):
     return f0, sigma0, np.broadcast_to(tol, f0.shape)
 
 
-def fit_damped_sinusoids(y, fs: float, frequency_hz, decay_rate, *, frequency_tol_hz) -> DampedSinusoids:
+def fit_damped_sinusoids(y, fs: float, frequency_hz, decay_rate, *, frequency_tol_hz,
+                         keep=None) -> DampedSinusoids:
     """Refine damped sinusoids started at ``frequency_hz`` and ``decay_rate`` (see the module).
 
     Parameters
@@ -168,6 +175,9 @@ def fit_damped_sinusoids(y, fs: float, frequency_hz, decay_rate, *, frequency_to
         Start values: damped frequencies (Hz) and decay rates (1/s, clipped at 0).
     frequency_tol_hz : float or array-like (k,)
         Each frequency stays within this distance (Hz) of its start.
+    keep : array-like of bool (n,), optional
+        The samples to fit (default: all); e.g. those a saturated sensor did not clip. The residual
+        covers every sample.
 
     Returns
     -------
@@ -189,12 +199,18 @@ def fit_damped_sinusoids(y, fs: float, frequency_hz, decay_rate, *, frequency_to
     sigma0 = sigma0 * duration
     k = omega0.size
     tol = 2.0 * np.pi * tol * duration
-    p0 = _linear_amplitudes(arr, tau, sigma0, omega0)
+    if keep is not None:
+        keep = np.asarray(keep, bool)
+        if keep.shape != arr.shape or keep.sum() < 4 * k + 1:
+            raise ValueError(f"keep must be {arr.size} booleans selecting at least {4 * k + 1} samples")
+    p0 = _linear_amplitudes(arr, tau, sigma0, omega0, keep)
     lower = np.concatenate([np.zeros(k), omega0 - tol, np.full(2 * k + 1, -np.inf)])
     sigma_max = _MAX_DAMPING / np.sqrt(1.0 - _MAX_DAMPING**2) * (omega0 + tol)
     upper = np.concatenate([sigma_max, omega0 + tol, np.full(2 * k + 1, np.inf)])
     with threadpool_limits(limits=1, user_api="blas"):  # small products: threads only contend
-        p, res = _levenberg_marquardt(np.clip(p0, lower, upper), arr, tau, k, (lower, upper))
+        p, res = _levenberg_marquardt(np.clip(p0, lower, upper), arr, tau, k, (lower, upper), keep)
+    if keep is not None:
+        res = _residual_and_jacobian(p, arr, tau, k)[0]
     sigma, omega, a, b, c = _split(p, k)
     return DampedSinusoids(
         frequency_hz=omega / (2.0 * np.pi * duration),
@@ -206,7 +222,7 @@ def fit_damped_sinusoids(y, fs: float, frequency_hz, decay_rate, *, frequency_to
     )
 
 
-def fit_amplitudes(y, fs: float, frequency_hz, decay_rate) -> DampedSinusoids:
+def fit_amplitudes(y, fs: float, frequency_hz, decay_rate, *, keep=None) -> DampedSinusoids:
     """Amplitudes, phases and the constant of damped sinusoids with given frequencies and decay rates: the
     linear least-squares part of :func:`fit_damped_sinusoids`, the poles held fixed.
 
@@ -218,6 +234,8 @@ def fit_amplitudes(y, fs: float, frequency_hz, decay_rate) -> DampedSinusoids:
         Sampling rate (Hz).
     frequency_hz, decay_rate : array-like (k,)
         Damped frequencies (Hz) and decay rates (1/s, clipped at 0) of the components.
+    keep : array-like of bool (n,), optional
+        The samples to fit (default: all); the residual covers every sample.
 
     Returns
     -------
@@ -235,7 +253,11 @@ def fit_amplitudes(y, fs: float, frequency_hz, decay_rate) -> DampedSinusoids:
     f0, sigma, _ = _check_starts(frequency_hz, decay_rate, 1.0)
     omega = 2.0 * np.pi * f0
     tau = np.arange(arr.size) / fs
-    _, _, a, b, c = _split(_linear_amplitudes(arr, tau, sigma, omega), f0.size)
+    if keep is not None:
+        keep = np.asarray(keep, bool)
+        if keep.shape != arr.shape:
+            raise ValueError(f"keep must be {arr.size} booleans, one per sample")
+    _, _, a, b, c = _split(_linear_amplitudes(arr, tau, sigma, omega, keep), f0.size)
     cos, sin = _basis(tau, sigma, omega)
     return DampedSinusoids(
         frequency_hz=f0,

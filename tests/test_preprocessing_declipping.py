@@ -1,0 +1,151 @@
+"""Clipped records (sindy_impulse.preprocessing.declipping, the saturated samples of quality and the
+pipeline's use of them): repaired from the unclipped samples, no clipping harmonics, no mode lost."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+from sindy_impulse import identify_modes, impact_record
+from sindy_impulse.preprocessing import clipping_end, preprocess, saturated_mask
+from sindy_impulse.preprocessing.declipping import declip
+
+FS = 2000.0
+T = np.arange(4000) / FS
+
+
+def _two_modes():
+    """A lightly damped 40 Hz mode and a 310 Hz mode (damping ratio 2 %) that decays while the first
+    holds the sensor at its limit."""
+    return (np.exp(-2 * T) * np.sin(2 * np.pi * 40 * T)
+            + 0.3 * np.exp(-39 * T) * np.sin(2 * np.pi * 310 * T + 0.5))
+
+
+def test_saturated_mask_counts_every_sample_at_a_clipped_level_also_alone():
+    y = np.clip(np.exp(-T) * np.sin(2 * np.pi * 40 * T), -0.5, 0.7)  # the lower side is clipped more often
+    mask = saturated_mask(y)
+    assert np.array_equal(mask, (y == 0.7) | (y == -0.5))
+    assert clipping_end(y) == int(np.flatnonzero(mask)[-1]) + 1
+    ring = np.exp(-T) * np.sin(2 * np.pi * 40 * T) + 1e-3 * np.random.default_rng(0).standard_normal(T.size)
+    assert not saturated_mask(ring).any() and clipping_end(ring) == 0
+
+
+def test_a_limit_touched_one_sample_at_a_time_is_saturation():
+    """A 570 Hz mode at 3.5 samples a period touches the limit one or two samples at a time."""
+    ring = np.exp(-T) * (np.sin(2 * np.pi * 40 * T) + 0.6 * np.sin(2 * np.pi * 570 * T))
+    y = np.clip(ring + 1e-3 * np.random.default_rng(0).standard_normal(T.size), -1.2, 1.2)
+    assert saturated_mask(y).sum() == np.sum(np.abs(y) == 1.2) >= 5  # no run of 3 samples at the limit
+
+
+def test_a_mode_that_dies_while_the_sensor_clips_is_recovered():
+    clean = _two_modes()
+    y = np.clip(clean + 1e-3 * np.random.default_rng(1).standard_normal(T.size), -0.6, 0.6)
+    mask = np.abs(y) >= 0.6
+    out = declip(y, FS, mask, 0, [40.0], [2.0])  # only the tail's mode given
+    assert out is not None and out.repaired == mask.sum() and out.consistent >= 0.9
+    k = int(np.argmin(np.abs(out.frequency_hz - 310.0)))
+    assert abs(out.frequency_hz[k] / (310 * np.sqrt(1 - 0.02**2)) - 1) < 1e-3
+    assert abs(out.decay_rate[k] / 39.0 - 1) < 0.05
+    assert np.abs(out.y - clean).max() < 0.02 and np.array_equal(out.y[~mask], y[~mask])
+
+
+def test_clipping_harmonics_are_not_taken_for_modes():
+    clean = np.exp(-2 * T) * np.sin(2 * np.pi * 40 * T)
+    y = np.clip(clean + 1e-3 * np.random.default_rng(2).standard_normal(T.size), -0.4, 0.4)
+    out = declip(y, FS, np.abs(y) >= 0.4, 0, [40.0], [2.0])
+    assert out is not None and out.extra_hz.size == 0 and out.frequency_hz.size == 1
+    assert np.abs(out.y - clean).max() < 0.01
+
+
+def test_a_window_that_is_not_a_free_decay_is_not_repaired():
+    y = np.clip(_two_modes() + np.where(T < 0.05, 3 * (0.05 - T), 0.0), -0.6, 0.6)  # a hit still under way
+    y = y + 1e-3 * np.random.default_rng(3).standard_normal(T.size)
+    y = np.clip(y, -0.6, 0.6)
+    assert declip(y, FS, np.abs(y) >= 0.6, 0, [40.0], [2.0]) is None
+    assert declip(y, FS, np.zeros(T.size, bool), 0, [40.0], [2.0]) is None  # nothing clipped
+    with pytest.raises(ValueError, match="one flag per sample"):
+        declip(y, FS, np.ones(3, bool), 0, [40.0], [2.0])
+
+
+CASES = [("displacement", 0.3, 0), ("displacement", 0.5, 1), ("velocity", 0.3, 2), ("velocity", 0.5, 3)]
+
+
+def _record(sensor, clip, seed):
+    """Two modes, the 410 Hz one (damping ratio 2 %) decaying by 2-12 e-folds while the sensor clips."""
+    return impact_record([120.0, 410.0], [0.004, 0.02], fs=5000, duration=1.0, snr_db=50, clip=clip,
+                         sensor=sensor, random_state=seed)
+
+
+@pytest.mark.parametrize(("sensor", "clip", "seed"), CASES)
+def test_preprocess_repairs_a_clipped_impact_record_and_finds_no_harmonic(sensor, clip, seed):
+    rec = _record(sensor, clip, seed)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        pre = preprocess(rec.y, fs=rec.fs)
+    assert pre.impact.clipping == "repaired" and pre.impact.saturated > 0
+    assert "clipping" in pre.quality.problems  # the raw record's quality is reported
+    np.testing.assert_allclose(pre.peaks.frequency_hz, rec.modes.damped_frequency_hz, rtol=2e-3)
+    start = pre.impact.ringdown_index
+    clean = rec.y_clean[start:] - np.mean(rec.y_clean[start:])
+    repaired = pre.y[start:] - np.mean(pre.y[start:])
+    assert np.abs(repaired - clean).max() < 0.05 * np.abs(clean).max()
+
+
+@pytest.mark.parametrize(("sensor", "clip", "seed"), [("velocity", 0.5, 5)]
+                         + [pytest.param(*c, marks=pytest.mark.slow) for c in CASES[::2]])
+def test_identify_modes_on_clipped_records_gives_the_modes_and_no_clipping_harmonic(sensor, clip, seed):
+    rec = _record(sensor, clip, seed)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        survey = identify_modes(rec.y, fs=rec.fs)
+    found = np.array([(m.frequency_hz, m.damping_ratio) for m in survey.modes])
+    assert found.shape == (2, 2)  # no harmonic or intermodulation product of the clipping
+    np.testing.assert_allclose(found[:, 0], rec.modes.frequency_hz, rtol=3e-3)
+    np.testing.assert_allclose(found[:, 1], rec.modes.damping_ratio, rtol=0.1)
+
+
+def test_clipping_harmonics_given_as_start_values_are_dropped():
+    clean = np.exp(-0.1 * T) * np.sin(2 * np.pi * 10.6 * T)  # clipped to the record's end
+    y = np.clip(clean + 1e-3 * np.random.default_rng(4).standard_normal(T.size), -0.8, 0.8)
+    out = declip(y, FS, np.abs(y) >= 0.8, 0, [10.6, 31.8, 53.0], [0.1, 0.1, 0.1], prune=True)
+    assert out is not None and out.frequency_hz.size == 1 and abs(out.frequency_hz[0] - 10.6) < 0.01
+    np.testing.assert_allclose(np.sort(out.dropped_hz), [31.8, 53.0], atol=1.0)
+    assert np.abs(out.y - clean).max() < 0.01
+
+
+def test_a_record_clipped_to_its_end_is_repaired_and_gives_no_harmonic():
+    rec = impact_record(10.6, 0.0015, fs=1000, duration=1.3, sensor="displacement", snr_db=50, clip=0.8,
+                        random_state=0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        pre = preprocess(rec.y, fs=rec.fs)
+    assert pre.impact.clipping == "repaired" and saturated_mask(rec.y)[-200:].any()
+    np.testing.assert_allclose(pre.peaks.frequency_hz, rec.modes.damped_frequency_hz, rtol=2e-3)
+
+
+def test_the_survey_rejects_the_clipping_products_with_evidence():
+    rec = impact_record(10.6, 0.0015, fs=1000, duration=1.3, sensor="displacement", snr_db=50, clip=0.8,
+                        random_state=0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        survey = identify_modes(rec.y, fs=rec.fs)
+    assert len(survey.modes) == 1 and abs(survey.modes[0].frequency_hz / 10.6 - 1) < 3e-3
+    assert abs(survey.modes[0].damping_ratio / 0.0015 - 1) < 0.1
+    products = [r for r in survey.rejected if r.evidence.get("clipping_product")]
+    assert products and all(r.band_hz is not None for r in products)
+    for r in products:  # odd harmonics of the clipped mode
+        n = r.evidence["frequency_hz"] / survey.modes[0].frequency_hz
+        assert abs(n / round(n) - 1) < 5e-3 and round(n) % 2 == 1 and r.evidence["combination_offset"] < 5e-3
+    assert any("repaired from the unclipped samples" in note for note in survey.notes)
+
+
+def test_two_modes_clipped_on_half_the_samples_to_the_end_are_repaired():
+    rec = impact_record([12.0, 47.0], [0.0005, 0.002], fs=2048, duration=3, sensor="displacement", snr_db=50,
+                        clip=0.3, random_state=1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        pre = preprocess(rec.y, fs=rec.fs)
+    assert saturated_mask(rec.y).mean() > 0.4 and pre.impact.clipping == "repaired"
+    assert pre.declipped.dropped_hz.size > 5  # the clipping's products, dropped
+    np.testing.assert_allclose(pre.peaks.frequency_hz, rec.modes.damped_frequency_hz, rtol=1e-3)
+    np.testing.assert_allclose(pre.peaks.damping_ratio, rec.modes.damping_ratio, rtol=0.1)
