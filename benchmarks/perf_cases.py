@@ -120,16 +120,20 @@ def issue26_records() -> dict:
     }
 
 
-def median_beside(function, baseline, repeat: int = 5) -> tuple[float, float]:
-    """Medians of ``repeat`` warm runs of ``function``, each followed by one of ``baseline`` (seconds)."""
+def median_beside(function, baseline, repeat: int = 5, cpu: bool = False) -> tuple:
+    """Medians of ``repeat`` warm runs of ``function``, each followed by one of ``baseline`` (seconds); with
+    ``cpu``, also the median CPU time of ``function``'s runs (this process, all its threads): on a shared
+    machine the wall time grows with the load, the CPU time much less."""
     function()
     baseline()
-    ours, base = [], []
+    ours, base, cpu_times = [], [], []
     for _ in range(repeat):
-        start = time.perf_counter()
+        start, start_cpu = time.perf_counter(), time.process_time()
         function()
         ours.append(time.perf_counter() - start)
+        cpu_times.append(time.process_time() - start_cpu)
         start = time.perf_counter()
         baseline()
         base.append(time.perf_counter() - start)
-    return float(np.median(ours)), float(np.median(base))
+    medians = (float(np.median(ours)), float(np.median(base)))
+    return (*medians, float(np.median(cpu_times))) if cpu else medians

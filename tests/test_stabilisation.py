@@ -101,3 +101,34 @@ def test_the_survey_carries_its_stabilisation_diagram_and_draws_it():
         plot_stabilisation(survey, record=1)
     with pytest.raises(TypeError, match="identify_modes"):
         plot_stabilisation(table)
+
+
+def test_with_several_channels_a_pole_is_stable_only_where_its_mode_shape_recurs():
+    from sindy_impulse.poles.stabilisation import MAC_TOL, _stable
+
+    f = np.array([100.0, 100.0, 100.1, 100.0, 100.05, 100.0])
+    zeta = np.full(6, 0.01)
+    order = np.array([10, 12, 14, 16, 18, 20])
+    same = np.array([[1.0, 0.5]] * 6, dtype=complex)
+    assert _stable(f, zeta, order, 5, same).all()
+    turning = same.copy()
+    turning[1::2] = [0.5, -1.0]  # orthogonal on every other order: MAC 0 between the two families
+    assert not _stable(f, zeta, order, 5, turning).any()
+    assert _stable(f, zeta, order, 3, turning).all()  # each family recurs at 3 orders
+    one_channel = np.ones((6, 1), dtype=complex)
+    assert _stable(f, zeta, order, 5, one_channel).all()  # a single channel has no shape to compare
+    assert 0 < MAC_TOL < 1
+
+
+def test_the_diagram_keeps_each_poles_shape_and_two_channels_see_two_modes():
+    rec = impact_record([60.0, 170.0], [0.01, 0.02], fs=1000, duration=1, sensor_dof=[0, 1], snr_db=40,
+                        random_state=4)
+    table = stabilisation(rec.y[rec.free_decay_index :], fs=rec.fs)
+    assert table.mode_shape.shape == (len(table), 2)
+    np.testing.assert_allclose([m.frequency_hz for m in table.modes()], [60.0, 170.0], rtol=1e-3)
+    low = table.stable & (np.abs(table.frequency_hz - 60) < 1)
+    high = table.stable & (np.abs(table.frequency_hz - 170) < 1)
+    from sindy_impulse.poles import mac_matrix
+
+    assert mac_matrix(table.mode_shape[low], table.mode_shape[low]).min() > 0.99
+    assert mac_matrix(table.mode_shape[low], table.mode_shape[high]).max() < 0.5

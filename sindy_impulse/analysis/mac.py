@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..exceptions import DataWarning
+from ..poles.stabilisation import mac_matrix
 
 __all__ = ["MacResult", "mac", "mac_result"]
 
@@ -157,12 +158,6 @@ def _collect(shapes, name: str):
     return np.array(vectors), np.array(kept, dtype=int), tuple(dropped), labels
 
 
-def _mac(A: np.ndarray, B: np.ndarray) -> np.ndarray:
-    norm_a = np.sum(A.real**2 + A.imag**2, axis=1)
-    norm_b = np.sum(B.real**2 + B.imag**2, axis=1)
-    cross = A.conj() @ B.T
-    return np.minimum((cross.real**2 + cross.imag**2) / np.outer(norm_a, norm_b), 1.0)
-
 
 def mac_result(shapes_a, shapes_b=None) -> MacResult:
     """The MAC matrix with the indices and labels of the modes it is made of.
@@ -188,7 +183,7 @@ def mac_result(shapes_a, shapes_b=None) -> MacResult:
 def _mac_result(shapes_a, shapes_b) -> MacResult:
     A, rows, dropped_a, labels_a = _collect(shapes_a, "shapes_a")
     if shapes_b is None:
-        gram = _mac(A, A)
+        gram = mac_matrix(A, A)
         matrix = np.triu(gram) + np.triu(gram, 1).T  # exactly symmetric
         return MacResult(matrix, rows, rows.copy(), dropped_a, dropped_a, labels_a, list(labels_a), True)
     B, columns, dropped_b, labels_b = _collect(shapes_b, "shapes_b")
@@ -197,7 +192,7 @@ def _mac_result(shapes_a, shapes_b) -> MacResult:
             f"shapes_a has {A.shape[1]} channels but shapes_b has {B.shape[1]}: MAC compares shapes measured "
             "on the same channels"
         )
-    matrix = _mac(A, B)
+    matrix = mac_matrix(A, B)
     return MacResult(matrix, rows, columns, dropped_a, dropped_b, labels_a, labels_b)
 
 

@@ -161,6 +161,8 @@ class _Sensitivity:
         inner = compile_model(
             placeholder, self.terms, self.reference, self.divergence, self.reference_u, self.n_inputs
         )
+        if hasattr(self, "base_model"):  # a new term at 1e-300 leaves the model's time scale as it is
+            inner.spectral_radius = self.base_model.spectral_radius
         return at_rest_level(inner, self.shift)
 
     @staticmethod
@@ -318,7 +320,9 @@ def _solve_gram(G: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _name(fitted: Fitted, i: int, j: int) -> str:
-    return f"{fitted.estimator.feature_names_[i]}' : {fitted.estimator.get_feature_names()[j]}"
+    if getattr(fitted, "_term_names", None) is None:  # PySINDy builds the names anew at every call
+        fitted._term_names = fitted.estimator.get_feature_names()
+    return f"{fitted.estimator.feature_names_[i]}' : {fitted._term_names[j]}"
 
 
 def _drops(fitted, s, active, gram, base):

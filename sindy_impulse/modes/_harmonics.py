@@ -29,6 +29,7 @@ backbone (:func:`_on_backbone`, the rule used before; ``by_backbone`` in the evi
 from __future__ import annotations
 
 import warnings
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -195,7 +196,7 @@ def _analysis_bands(pre, modes: list) -> list:
     return peak_bands(f, np.array([2 * m.damping_ratio * m.frequency_hz for m in modes]), pre.fs)
 
 
-def _parent_band(bands: list, freqs: np.ndarray, i: int, j: int) -> tuple:
+def _parent_band(bands: list, freqs: np.ndarray, i: int, candidate_band) -> tuple:
     """Parent ``i``'s band widened to candidate ``j``'s width where its neighbours leave room (to the
     midpoints between their frequencies and its own): both phases then see the same time resolution. A
     narrow parent band smooths the phase of a mode whose frequency moves fast early in the decay over a
@@ -203,7 +204,7 @@ def _parent_band(bands: list, freqs: np.ndarray, i: int, j: int) -> tuple:
     quarters) and its transient hides a fast-decaying harmonic altogether. Its low edge stays above a
     twentieth of the parent's frequency (a strongly damped candidate's wide band reached 0 Hz: an invalid
     band that aborted the record's survey, family (d) of ``benchmarks/bench_modes.py``)."""
-    half = 0.5 * (bands[j][1] - bands[j][0])
+    half = 0.5 * (candidate_band[1] - candidate_band[0])
     f = freqs[i]
     lo = max(f - half, 0.5 * (freqs[i - 1] + f)) if i > 0 else f - half
     hi = min(f + half, 0.5 * (freqs[i + 1] + f)) if i + 1 < freqs.size else f + half
@@ -239,8 +240,8 @@ def _on_backbone(parent, candidate, order: int) -> bool:
     from ._nonlinear import has_nonlinear_terms
 
     decay = [m.damping_ratio * m.frequency_hz for m in (parent, candidate)]
-    if not has_nonlinear_terms(parent.model) or decay[1] < _MIN_DECAY_RATIO * decay[0]:
-        return False
+    if not has_nonlinear_terms(parent.model) or 0 < decay[1] < _MIN_DECAY_RATIO * decay[0]:
+        return False  # (a failed peak without a damping ratio, 0, is not judged on its decay)
     if not np.isfinite(parent.snr_db):
         return False
     try:
@@ -253,7 +254,8 @@ def _on_backbone(parent, candidate, order: int) -> bool:
     if not f.size:
         return False
     margin = max(_BACKBONE_MARGIN, 2 * candidate.damping_ratio)
-    lo, hi = f.min() * (1 - margin), (f.max() + _BACKBONE_REACH * (f.max() - f.min())) * (1 + margin)
+    reach = _BACKBONE_REACH * (f.max() - f.min())  # either way: a hardening or a softening mode
+    lo, hi = (f.min() - reach) * (1 - margin), (f.max() + reach) * (1 + margin)
     return bool(lo <= candidate.frequency_hz / order <= hi)
 
 
@@ -268,9 +270,11 @@ def _nonlinear_parent(parent, exponent: float, order: int) -> bool:
 
 def _reason(parent, e: dict) -> str:
     if e.get("by_backbone"):
+        locking = (f"frequency ratio {e['frequency_ratio']:.5f} +- {e['ratio_sigma']:.1g}"
+                   if np.isfinite(e["ratio_sigma"]) else "too few periods outlast the band's filter")
         return (f"harmonic {e['order']} of the nonlinear mode at {parent.frequency_hz:.4g} Hz (its backbone "
                 f"passes {e['frequency_hz'] / e['order']:.4g} Hz; the record cannot resolve the phase "
-                f"locking: frequency ratio {e['frequency_ratio']:.5f} +- {e['ratio_sigma']:.1g}), not a mode")
+                f"locking: {locking}), not a mode")
     return (f"harmonic {e['order']} of the mode at {parent.frequency_hz:.4g} Hz, not a mode: phase-locked "
             f"to it (frequency ratio {e['frequency_ratio']:.5f} +- {e['ratio_sigma']:.1g}) and its "
             f"amplitude goes as the mode's to the power {e['exponent']:.2f}")
@@ -281,12 +285,13 @@ def split_harmonics(pre, modes: list, rejected: list) -> tuple:
     evidence in :attr:`Rejected.evidence`: ``(modes, rejected, notes)``. Modes are tested from the lowest
     frequency up against every lower mode near ``1 / n`` of theirs (within :data:`NEAR`)."""
     ordered = sorted(modes, key=lambda m: m.frequency_hz)
+    ring = pre.y[pre.impact.ringdown_index :]
     if len(ordered) < 2:
-        return modes, rejected, []
+        rejected, named = _name_failed_bands(pre, ring, ordered, rejected)
+        return modes, rejected, named
     bands = _analysis_bands(pre, ordered)
     freqs = np.array([m.damped_frequency_hz for m in ordered])
     noise = [band_noise_rms(pre.peaks.spectrum, b) for b in bands]
-    ring = pre.y[pre.impact.ringdown_index :]
     harmonics, notes = set(), []
     for j, candidate in enumerate(ordered):
         for i, parent in enumerate(ordered[:j]):
@@ -296,14 +301,7 @@ def split_harmonics(pre, modes: list, rejected: list) -> tuple:
                                                    / (n * parent.damped_frequency_hz) - 1) <= NEAR), None)
             if order is None:
                 continue
-            parent_band = _parent_band(bands, freqs, i, j)
-            e = harmonic_evidence(ring, pre.fs, parent_band, bands[j], order,
-                                  (band_noise_rms(pre.peaks.spectrum, parent_band), noise[j]))
-            e.update(parent_frequency_hz=parent.frequency_hz, frequency_hz=candidate.frequency_hz)
-            if e["locked"] and not e["harmonic"] and _nonlinear_parent(parent, e["exponent"], order):
-                e.update(harmonic=True)
-            if not e["ratio_sigma"] <= RESOLVED * order and _on_backbone(parent, candidate, order):
-                e.update(harmonic=True, by_backbone=True)
+            e = _evidence(pre, ring, (bands, freqs), i, parent, bands[j], noise[j], order, candidate)
             if e["harmonic"]:
                 harmonics.add(j)
                 why = _reason(parent, e)
@@ -311,4 +309,67 @@ def split_harmonics(pre, modes: list, rejected: list) -> tuple:
                 notes.append(f"record {candidate.record}: the peak at {candidate.frequency_hz:.4g} Hz is the "
                              f"{why}")
                 break
-    return [m for k, m in enumerate(ordered) if k not in harmonics], rejected, notes
+    kept = [m for k, m in enumerate(ordered) if k not in harmonics]
+    rejected, named = _name_failed_bands(pre, ring, kept, rejected)
+    return kept, rejected, notes + named
+
+
+def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: int, candidate,
+              failed: bool = False) -> dict:
+    """:func:`harmonic_evidence` of ``band`` as harmonic ``order`` of mode ``i`` (``analysis``: the modes'
+    bands and damped frequencies), decided with the parent's model where the data leave it open (a locked
+    candidate between whole powers; the backbone when the locking is unresolved). ``candidate``: a mode,
+    or a failed peak (``frequency_hz`` and ``damping_ratio`` only, ``failed=True``)."""
+    bands, freqs = analysis
+    parent_band = _parent_band(bands, freqs, i, band)
+    if failed:  # not among the modes, so keep the parent's band clear of it
+        f = freqs[i]
+        parent_band = (max(parent_band[0], 0.5 * f), min(parent_band[1], 0.5 * (f + band[0])))
+    e = harmonic_evidence(ring, pre.fs, parent_band, band, order,
+                          (band_noise_rms(pre.peaks.spectrum, parent_band), noise))
+    e.update(parent_frequency_hz=parent.frequency_hz, frequency_hz=candidate.frequency_hz)
+    if e["locked"] and not e["harmonic"] and _nonlinear_parent(parent, e["exponent"], order):
+        e.update(harmonic=True)
+    if not e["ratio_sigma"] <= RESOLVED * order and _on_backbone(parent, candidate, order):
+        e.update(harmonic=True, by_backbone=True)
+    return e
+
+
+#: Relative half-width of the band a failed peak is analysed in, around the peak (a peak's own band can be
+#: wide enough to pass its parent's skirt, whose envelope then reads as the parent's: exponent 1).
+_FAILED_BAND = 0.04
+
+
+def _name_failed_bands(pre, ring, modes: list, rejected: list) -> tuple:
+    """A peak whose band gave no mode (its fit failed) near ``n`` times a mode's frequency is tested the same
+    way: a harmonic gets its row's reason and evidence replaced by the harmonic's (the fit's failure is what
+    a harmonic's band gives: the model's mode is its parent's). ``(rejected, notes)``."""
+    if not modes:
+        return rejected, []
+    bands = _analysis_bands(pre, modes)
+    freqs = np.array([m.damped_frequency_hz for m in modes])
+    peaks = {tuple(b): (float(f), float(z)) for b, f, z in
+             zip(pre.peaks.band_hz, pre.peaks.frequency_hz, pre.peaks.damping_ratio)}
+    out, notes = [], []
+    for row in rejected:
+        f, zeta = peaks.get(tuple(row.band_hz), (None, None)) if row.band_hz is not None else (None, None)
+        e = None
+        for i, parent in enumerate(modes if f is not None and "order" not in row.evidence else []):
+            order = next((n for n in ORDERS if abs(f / (n * freqs[i]) - 1) <= NEAR), None)
+            if order is not None:
+                low, high = f * (1 - _FAILED_BAND), f * (1 + _FAILED_BAND)
+                band = (max(row.band_hz[0], low), min(row.band_hz[1], high))
+                try:
+                    peak = SimpleNamespace(frequency_hz=f, damping_ratio=zeta if np.isfinite(zeta) else 0.0)
+                    e = _evidence(pre, ring, (bands, freqs), i, parent, band,
+                                  band_noise_rms(pre.peaks.spectrum, band), order, peak, failed=True)
+                except (ValueError, ArithmeticError, np.linalg.LinAlgError):
+                    break  # the band cannot be analysed: its row stays as it was
+                e.update(fit_failure=row.reason)
+                break
+        if e is not None and e["harmonic"]:
+            why = _reason(modes[i], e)
+            row = Rejected(tuple(row.band_hz), why, row.record, e)
+            notes.append(f"record {row.record}: the peak at {f:.4g} Hz is the {why}")
+        out.append(row)
+    return out, notes

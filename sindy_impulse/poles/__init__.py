@@ -11,9 +11,10 @@ read poles without importing the analyses built on fitted models.
 
 from .esprit import EspritModes, esprit
 from .modal import ModalParameters, jacobian_at_origin, modal_parameters, model_modes
-from .stabilisation import PoleTable, StableMode, stabilisation
+from .stabilisation import PoleTable, StableMode, mac_matrix, stabilisation
 
 __all__ = [
+    "mac_matrix",
     "EspritModes",
     "esprit",
     "PoleTable",

@@ -4,7 +4,8 @@ A physical mode's pole stays put when the model order grows; noise and computati
 experimental modal analysis tools (LSCF, SSI, ERA) show every pole on a chart of order against frequency
 and keep the ones that recur: here a pole is **stable** when, at :data:`MIN_ORDERS` or more orders of the
 range (its own included), some physical pole lies within :data:`FREQUENCY_TOL` (relative) of its
-undamped natural frequency and :data:`DAMPING_TOL` (relative) of its damping ratio. Each order's poles are
+undamped natural frequency and :data:`DAMPING_TOL` (relative) of its damping ratio (and, with several
+channels, whose mode shape has a MAC of at least :data:`MAC_TOL` with its own). Each order's poles are
 :func:`~sindy_impulse.poles.esprit`'s physical ones (oscillatory, decaying, above the noise in their band,
 not a split of a stronger pole), all from one Hankel decomposition (:class:`~.esprit.SignalSpace`).
 
@@ -24,7 +25,10 @@ from .._utils.params import Interval, check_param
 from .._utils.validation import check_signal
 from .esprit import SignalSpace, _sampling_step
 
-__all__ = ["stabilisation", "PoleTable", "StableMode", "ORDERS", "FREQUENCY_TOL", "DAMPING_TOL", "MIN_ORDERS"]
+__all__ = [
+    "stabilisation", "PoleTable", "StableMode", "ORDERS", "FREQUENCY_TOL", "DAMPING_TOL", "MAC_TOL",
+    "MIN_ORDERS", "mac_matrix",
+]
 
 #: Model orders of the diagram (complex exponentials fitted: two per mode).
 ORDERS = tuple(range(10, 61, 2))
@@ -32,6 +36,8 @@ ORDERS = tuple(range(10, 61, 2))
 FREQUENCY_TOL = 0.005
 #: ... and this relative difference of its damping ratio ...
 DAMPING_TOL = 0.1
+#: ... and, with several channels, this modal assurance criterion between the two poles' mode shapes ...
+MAC_TOL = 0.9
 #: ... at this many orders (its own included) to be stable.
 MIN_ORDERS = 5
 
@@ -67,6 +73,8 @@ class PoleTable:
         Whether it recurs (see the module).
     orders : tuple of int
         The orders of the diagram.
+    mode_shape : ndarray of complex (n_poles, n_channels) or None
+        Each pole's complex amplitude in every channel (None for a table without them).
     """
 
     frequency_hz: np.ndarray
@@ -74,6 +82,7 @@ class PoleTable:
     order: np.ndarray
     stable: np.ndarray
     orders: tuple
+    mode_shape: np.ndarray | None = None
 
     def __len__(self) -> int:
         return int(self.order.size)
@@ -102,10 +111,32 @@ class PoleTable:
         ]
 
 
-def _stable(f: np.ndarray, zeta: np.ndarray, order: np.ndarray, min_orders: int) -> np.ndarray:
-    """Per pole: whether poles within the tolerances stand at ``min_orders`` orders or more."""
+def mac_matrix(shapes_a: np.ndarray, shapes_b: np.ndarray) -> np.ndarray:
+    """Modal assurance criterion between every row of ``shapes_a`` and every row of ``shapes_b``:
+    ``|a^H b|**2 / ((a^H a) (b^H b))``, 1 for shapes equal up to a complex factor, 0 for orthogonal ones
+    (and for a zero shape). The arithmetic only; :func:`sindy_impulse.analysis.mac` takes modes and
+    surveys, checks them and leaves out modes without a shape.
+
+    Examples
+    --------
+    >>> a = np.array([[1.0, 2.0], [1.0, -0.5]])
+    >>> np.round(mac_matrix(a, 3j * a), 6).tolist()
+    [[1.0, 0.0], [0.0, 1.0]]
+    """
+    a, b = np.atleast_2d(shapes_a), np.atleast_2d(shapes_b)
+    norms = np.outer(np.sum(a.real**2 + a.imag**2, axis=1), np.sum(b.real**2 + b.imag**2, axis=1))
+    cross = a.conj() @ b.T
+    ratio = (cross.real**2 + cross.imag**2) / np.where(norms > 0, norms, 1.0)
+    return np.where(norms > 0, np.minimum(ratio, 1.0), 0.0)  # a zero shape is like nothing
+
+
+def _stable(f: np.ndarray, zeta: np.ndarray, order: np.ndarray, min_orders: int, shape=None) -> np.ndarray:
+    """Per pole: whether poles within the tolerances (mode shapes too, with several channels) stand at
+    ``min_orders`` orders or more."""
     close = np.abs(f[:, None] - f[None, :]) <= FREQUENCY_TOL * f[:, None]
     close &= np.abs(zeta[:, None] - zeta[None, :]) <= DAMPING_TOL * zeta[:, None]
+    if shape is not None and shape.ndim == 2 and shape.shape[1] > 1:
+        close &= mac_matrix(shape, shape) >= MAC_TOL
     levels = np.unique(order)
     at_order = order[None, :] == levels[:, None]  # (n_orders, n_poles)
     counts = (close.astype(np.int64) @ at_order.T.astype(np.int64) > 0).sum(axis=1)
@@ -161,13 +192,15 @@ def stabilisation(
     integers = wanted.ndim == 1 and wanted.size > 0 and np.issubdtype(wanted.dtype, np.integer)
     if not integers or np.any(wanted < 1):
         raise ValueError(f"orders must be a non-empty sequence of positive integers, got {orders!r}")
-    rows = []
+    rows, shapes = [], []
     with threadpool_limits(limits=1, user_api="blas"):  # a loaded machine: threads made it 100x slower
         space = SignalSpace(Y, max_rows)
         usable = tuple(int(k) for k in np.unique(wanted) if k <= space.rows - 2)
         for k in usable:
-            _, s, _, _, idx = space.poles(k, dt, min_snr_db)
+            _, s, c, _, idx = space.poles(k, dt, min_snr_db)
             rows += [(abs(p) / (2 * np.pi), -p.real / abs(p), k) for p in s[idx]]
+            shapes += list(c[idx])
     f, zeta, order = (np.array(col, dtype=float) for col in zip(*rows)) if rows else (np.empty(0),) * 3
     order = order.astype(int)
-    return PoleTable(f, zeta, order, _stable(f, zeta, order, min_orders), usable)
+    shape = np.array(shapes, dtype=complex).reshape(len(rows), Y.shape[1])
+    return PoleTable(f, zeta, order, _stable(f, zeta, order, min_orders, shape), usable, shape)

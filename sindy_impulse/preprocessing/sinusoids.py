@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from .._utils.powers import complex_powers
 from .._utils.validation import check_array
 from ._record import check_fs, check_signal_1d
 
@@ -69,12 +70,17 @@ class DampedSinusoids:
         return self.amplitude[k] * np.exp(-self.decay_rate[k] * t) * np.cos(omega * t + self.phase[k])
 
 
+def _powers(tau: np.ndarray, sigma: np.ndarray, omega: np.ndarray) -> np.ndarray:
+    """``exp((-sigma + i omega) tau)`` for every component, shape (n, k) (``tau`` a uniform grid from 0;
+    zero past ``exp(-_NEGLIGIBLE)``)."""
+    step = tau[1] - tau[0] if tau.size > 1 else 0.0
+    return complex_powers((-sigma + 1j * omega) * step, tau.size, negligible=_NEGLIGIBLE)
+
+
 def _basis(tau: np.ndarray, sigma: np.ndarray, omega: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``exp(-sigma tau) cos(omega tau)`` and ``... sin`` for every component, shape (n, k)."""
-    exponent = np.outer(tau, sigma)
-    envelope = np.where(exponent < _NEGLIGIBLE, np.exp(-np.minimum(exponent, _NEGLIGIBLE)), 0.0)
-    phase = np.outer(tau, omega)
-    return envelope * np.cos(phase), envelope * np.sin(phase)
+    powers = _powers(tau, sigma, omega)
+    return powers.real, powers.imag
 
 
 def _split(p: np.ndarray, k: int):
@@ -93,12 +99,13 @@ def _linear_amplitudes(y, tau, sigma, omega) -> np.ndarray:
 def _residual_and_jacobian(p: np.ndarray, y: np.ndarray, tau: np.ndarray, k: int):
     """Model minus data and its Jacobian with respect to ``p = (sigma, omega, a, b, c)``."""
     sigma, omega, a, b, c = _split(p, k)
-    cos, sin = _basis(tau, sigma, omega)
-    model = cos * a + sin * b
-    turned = sin * a - cos * b
-    t = tau[:, None]
-    jac = np.column_stack([-t * model, -t * turned, cos, sin, np.ones_like(tau)])
-    return model.sum(axis=1) + c - y, jac
+    powers = _powers(tau, sigma, omega)
+    weighted = powers * (a - 1j * b)  # real part: the model's components, imaginary: their quadrature
+    jac = np.empty((tau.size, 4 * k + 1))
+    np.multiply(weighted.real, -tau[:, None], out=jac[:, :k])
+    np.multiply(weighted.imag, -tau[:, None], out=jac[:, k : 2 * k])
+    jac[:, 2 * k : 3 * k], jac[:, 3 * k : 4 * k], jac[:, 4 * k] = powers.real, powers.imag, 1.0
+    return weighted.real.sum(axis=1) + c - y, jac
 
 
 def _step(jac: np.ndarray, res: np.ndarray, damping: float) -> np.ndarray:

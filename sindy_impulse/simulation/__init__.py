@@ -18,7 +18,15 @@ the terms), the integrators run it, the error measures score it, and the work bu
 
 from .base import Reference
 from .budget import WORK_BUDGET, OutOfBudget, WorkBudget
-from .compile import STEP_SCALE, AtRestLevel, CompiledModel, FallbackModel, at_rest_level, compile_model
+from .compile import (
+    SMOOTH_STEP_SCALE,
+    STEP_SCALE,
+    AtRestLevel,
+    CompiledModel,
+    FallbackModel,
+    at_rest_level,
+    compile_model,
+)
 from .integrators import MAX_SUBSTEPS
 from .scoring import (
     AUTO_PERIODS,
@@ -50,6 +58,7 @@ __all__ = [
     "OutOfBudget",
     "Reference",
     "STEP_SCALE",
+    "SMOOTH_STEP_SCALE",
     "Segmented",
     "TermTable",
     "WORK_BUDGET",

@@ -14,7 +14,7 @@ import numpy as np
 from .integrators import MAX_EVALUATIONS_PER_SAMPLE, MAX_SUBSTEPS, NO_INPUT, solve_ivp_simulate
 from .program import uniform_step
 
-__all__ = ["Reference", "STEP_SCALE", "ADAPTIVE_CALL_COST"]
+__all__ = ["Reference", "STEP_SCALE", "SMOOTH_STEP_SCALE", "ADAPTIVE_CALL_COST"]
 
 #: Work units charged per right-hand-side evaluation through the adaptive integrator on top of the terms'
 #: cost: SciPy's step, the event and the Python call take about 150 us an evaluation, ~2,000 RK4 kernel
@@ -23,8 +23,15 @@ __all__ = ["Reference", "STEP_SCALE", "ADAPTIVE_CALL_COST"]
 ADAPTIVE_CALL_COST = 2000.0
 
 #: Target of ``h * rho`` per Runge-Kutta sub-step (``h`` the sub-step, ``rho`` the spectral radius).
-#: 0.02 keeps RK4's global error below 1e-7 relative on the paper's oscillator.
+#: 0.02 keeps RK4's global error below 1e-7 relative on the paper's oscillator. It is the scale of linear
+#: models (stepped by a propagator, whose cost does not depend on the sub-steps) and of models with
+#: non-polynomial terms (a friction term's ``tanh`` switches within a sub-step).
 STEP_SCALE = 0.02
+#: The scale of nonlinear polynomial models, whose cost is the sub-steps: RK4's error per radian of phase
+#: is about ``(h rho)**4 / 120``, so 0.1 keeps the global error about 1e-6 of the amplitude; against
+#: 0.02 it moved a fitted frequency by about 1e-8 and a damping ratio by 1e-5 relative, at half the
+#: survey's time (issue 26: ``python benchmarks/run.py --only "survey speed"``).
+SMOOTH_STEP_SCALE = 0.1
 
 
 def _as_inputs(u, n_times: int, n_inputs: int) -> np.ndarray:
@@ -104,6 +111,8 @@ class _SparseModel:
         self.work_done = 0.0
         #: ``work_done`` past which the scoring's adaptive simulations stop (NaN rows); set by ``WorkBudget``.
         self.work_limit = math.inf
+        #: ``h * rho`` per RK4 sub-step (:data:`STEP_SCALE`; a compiled polynomial model's is larger).
+        self.step_scale = STEP_SCALE
 
     # -- time scale and cost ---------------------------------------------------------------------------
     def _spectral_radius(self, coef) -> float:
@@ -143,10 +152,10 @@ class _SparseModel:
         return self._last_grid[1]
 
     def required_substeps(self, t, radius: float | None = None) -> float:
-        """RK4 sub-steps per sample interval for ``h * rho <= STEP_SCALE`` (inf if not finite)."""
+        """RK4 sub-steps per sample interval for ``h * rho <= step_scale`` (inf if not finite)."""
         rho = self.spectral_radius if radius is None else radius
         dt_max = self._grid(t)[0]
-        return math.inf if not np.isfinite(rho) else max(1.0, math.ceil(dt_max * rho / STEP_SCALE))
+        return math.inf if not np.isfinite(rho) else max(1.0, math.ceil(dt_max * rho / self.step_scale))
 
     def substeps(self, t, radius: float | None = None) -> int:
         """RK4 sub-steps per sample interval, at most ``MAX_SUBSTEPS``."""

@@ -13,10 +13,10 @@ from __future__ import annotations
 import numpy as np
 
 from . import integrators as kernels
-from .base import STEP_SCALE, Reference, _as_inputs, _SparseModel
+from .base import SMOOTH_STEP_SCALE, STEP_SCALE, Reference, _as_inputs, _SparseModel
 from .integrators import scratch_size
 from .program import build_program, pack, propagators, term_values
-from .terms import TermTable
+from .terms import PLAIN, TermTable
 from .two_state_cubic import dense_coefficients, dense_positions, integrate_cubic2, is_cubic2
 
 __all__ = [
@@ -27,6 +27,7 @@ __all__ = [
     "AtRestLevel",
     "at_rest_level",
     "STEP_SCALE",
+    "SMOOTH_STEP_SCALE",
     "FALLBACK_COST",
 ]
 
@@ -92,6 +93,9 @@ class CompiledModel(_SparseModel):
         self._own = None  # (grid key, packed arrays) of the model's own coefficients
         # a two-state cubic model is stepped with its monomials in registers (cubic2.integrate_cubic2)
         self._dense_positions = dense_positions(self.terms) if is_cubic2(self.terms, self.n_states) else None
+        polynomial = bool(np.all(self.terms.func == PLAIN))
+        if polynomial and np.any(self.terms.powers.sum(axis=1) > 1):  # smooth, nonlinear
+            self.step_scale = SMOOTH_STEP_SCALE
 
     def __getstate__(self):
         state = self.__dict__.copy()
