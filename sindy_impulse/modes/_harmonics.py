@@ -240,8 +240,8 @@ def _on_backbone(parent, candidate, order: int) -> bool:
     from ._nonlinear import has_nonlinear_terms
 
     decay = [m.damping_ratio * m.frequency_hz for m in (parent, candidate)]
-    if not has_nonlinear_terms(parent.model) or decay[1] < _MIN_DECAY_RATIO * decay[0]:
-        return False
+    if not has_nonlinear_terms(parent.model) or 0 < decay[1] < _MIN_DECAY_RATIO * decay[0]:
+        return False  # (a failed peak without a damping ratio, 0, is not judged on its decay)
     if not np.isfinite(parent.snr_db):
         return False
     try:
