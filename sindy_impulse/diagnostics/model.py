@@ -80,6 +80,10 @@ def simulate_residuals(model, fitted: Fitted, coef=None, start_offset=None) -> l
     extra = {} if coef is None else {"coef": coef}
     out = []
     for ref, t, u, starts in zip(fitted.filtered, fitted.times, fitted.inputs, segments(fitted)):
+        if u is None and starts.size > 1 and hasattr(model, "simulate_segments"):  # one run of the kernel
+            x0s = ref[starts] if start_offset is None else ref[starts] + start_offset
+            out.append(model.simulate_segments(x0s, t, starts, **extra) - ref)
+            continue
         ends = np.append(starts[1:], ref.shape[0] - 1)
         sim = np.full_like(ref, np.nan)
         for a, b in zip(starts, ends):
