@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from scipy.ndimage import median_filter
 
@@ -18,12 +20,14 @@ _ROUGH = 0.5
 _GATE_BIAS = 0.96
 #: Resolution bins next to 0 Hz left out of every window (a removed offset depletes them).
 _DC_BINS = 2
+_OCTAVE_RATIO = 2.0 ** (_FLOOR_OCTAVES / 2)
+_HALF_OCTAVE_RATIO = math.sqrt(2.0)
 
 
 def _weighted_quantile(values: np.ndarray, weights: np.ndarray, q: float) -> float:
-    order = np.argsort(values)
-    cum = np.cumsum(weights[order])
-    return float(values[order][min(np.searchsorted(cum, q * cum[-1]), values.size - 1)])
+    order = values.argsort()
+    cum = weights[order].cumsum()
+    return float(values[order[min(cum.searchsorted(q * cum[-1]), values.size - 1)]])
 
 
 def _detrended_quantile(log_p: np.ndarray, bins: np.ndarray, k: int, q: float) -> float:
@@ -31,28 +35,43 @@ def _detrended_quantile(log_p: np.ndarray, bins: np.ndarray, k: int, q: float) -
     least-squares trend in log frequency (a power law of exponent -3 to 1): a power-law floor is
     followed where the window cannot be symmetric about ``k`` (near 0 Hz)."""
     x, w = np.log(bins / k), 1.0 / bins
-    dx = x - np.average(x, weights=w)
-    spread = float(np.sum(w * dx**2))
-    slope = float(np.sum(w * dx * log_p)) / spread if spread > 0 else 0.0
-    return _weighted_quantile(log_p - np.clip(slope, -3.0, 1.0) * x, w, q)
+    dx = x - (x * w).sum() / w.sum()
+    spread = float((w * dx**2).sum())
+    slope = float((w * dx * log_p).sum()) / spread if spread > 0 else 0.0
+    return _weighted_quantile(log_p - min(max(slope, -3.0), 1.0) * x, w, q)
 
 
-def _window_ratio(k: int, half: float) -> float:
-    """Half-width (a frequency ratio) of the log-symmetric window around bin ``k``: one octave, at least
-    ``2 half`` bins."""
-    return max(2.0 ** (_FLOOR_OCTAVES / 2), (half + np.hypot(half, k)) / k)
+def _window_ratio(k, half: float):
+    """Half-width (a frequency ratio) of the log-symmetric window around bin(s) ``k``: one octave, at
+    least ``2 half`` bins."""
+    return np.maximum(_OCTAVE_RATIO, (half + np.hypot(half, k)) / k)
 
 
-def _window_bins(k: int, n: int, half: float, step: int, keep: np.ndarray) -> np.ndarray:
-    """Kept bins of the window around bin ``k`` (:func:`_window_ratio`), widened up to two octaves each
-    side until it holds half its minimum count."""
+def _windows(keep: np.ndarray, grid: np.ndarray, step: int, half: float) -> list:
+    """Kept bins of the window around each grid bin (:func:`_window_ratio`), widened up to two octaves
+    each side until it holds half its minimum count.
+
+    Every window is a slice of the kept bins of its phase of the independent-bin grid (bins ``r, r +
+    step, ...``), found for all grid bins at once by binary search.
+    """
+    phases = [np.flatnonzero(keep[r::step]) * step + r for r in range(step)]
+    k = grid.astype(float)
     ratio = _window_ratio(k, half)
-    while True:
-        bins = np.arange(int(np.ceil(k / ratio)), int(min(n, k * ratio + 1)), step)
-        bins = bins[keep[bins]]
-        if bins.size >= _FLOOR_MIN_BINS // 2 or ratio >= 4.0:
-            return bins
-        ratio *= np.sqrt(2.0)
+    found = np.zeros((3, grid.size), dtype=np.int64)  # phase, first, stop
+    todo = np.arange(grid.size)
+    while todo.size:
+        lo = np.ceil(k[todo] / ratio[todo]).astype(np.int64)
+        hi = np.minimum(keep.size, k[todo] * ratio[todo] + 1).astype(np.int64)
+        phase = lo % step
+        first, stop = np.empty_like(lo), np.empty_like(lo)
+        for r in np.unique(phase):
+            at = phase == r
+            first[at], stop[at] = phases[r].searchsorted(lo[at]), phases[r].searchsorted(hi[at])
+        done = (stop - first >= _FLOOR_MIN_BINS // 2) | (ratio[todo] >= 4.0)
+        found[:, todo[done]] = phase[done], first[done], stop[done]
+        todo = todo[~done]
+        ratio[todo] *= _HALF_OCTAVE_RATIO
+    return [phases[r][i:j] for r, i, j in found.T]
 
 
 def _running_level(log_p: np.ndarray, grid: np.ndarray, pad_factor: int, keep: np.ndarray, q: float):
@@ -60,11 +79,11 @@ def _running_level(log_p: np.ndarray, grid: np.ndarray, pad_factor: int, keep: n
     detrended where 0 Hz cuts the window); NaN where fewer than half the minimum count are kept."""
     level = np.full(grid.size, np.nan)
     half = _FLOOR_MIN_BINS * pad_factor / 2
-    for i, k in enumerate(grid):
-        bins = _window_bins(k, log_p.size, half, pad_factor, keep)
+    near_dc = grid / _window_ratio(grid.astype(float), half) < _DC_BINS * pad_factor
+    for i, (k, bins) in enumerate(zip(grid.tolist(), _windows(keep, grid, pad_factor, half))):
         if bins.size < _FLOOR_MIN_BINS // 2:
             continue
-        if k / _window_ratio(k, half) < _DC_BINS * pad_factor:
+        if near_dc[i]:
             level[i] = _detrended_quantile(log_p[bins], bins, k, q)
         else:
             level[i] = _weighted_quantile(log_p[bins], 1.0 / bins, q)
