@@ -9,7 +9,7 @@ from sklearn.pipeline import make_pipeline
 
 from sindy_impulse import ImpulseSINDy, MechanicalLibrary, ThresholdSweep, damped_oscillator
 from sindy_impulse.exceptions import DataWarning
-from sindy_impulse.identification.estimator import SweepPath
+from sindy_impulse.identification.estimator import SweepPath, fit_deferred
 
 
 @pytest.fixture(scope="module")
@@ -244,3 +244,39 @@ def test_output_error_as_a_number_of_periods_turns_the_fit_on_for_shorter_record
     assert short.output_error_fit_ is not None
     long = ImpulseSINDy(feature_library=linear, output_error=2.5).fit(x, t=t, x_dot=x_dot)
     assert long.output_error_fit_ is None
+
+
+@pytest.mark.parametrize("seed", [1, 4])
+def test_deferred_diagnostics_are_the_fits_own_computed_on_first_read(seed):
+    import warnings
+
+    ring = damped_oscillator(snr_db=20, random_state=seed)
+    eager = ImpulseSINDy().fit(ring.x, t=ring.t)
+    deferred = fit_deferred(ImpulseSINDy(), ring.x, t=ring.t)
+    assert "_diagnostics" not in vars(deferred)
+    restored = pickle.loads(pickle.dumps(deferred))  # not yet computed: computed after unpickling
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # reading them never warns
+        got = deferred.diagnostics_
+        again = restored.diagnostics_
+    assert deferred.diagnostics_ is got  # computed once
+    for d in (got, again):
+        assert d.verdict == eager.diagnostics_.verdict
+        assert d.reasons == eager.diagnostics_.reasons
+        assert d.unsupported_terms == eager.diagnostics_.unsupported_terms
+
+
+def test_an_unfitted_model_has_no_diagnostics_and_a_refit_replaces_them():
+    model = ImpulseSINDy()
+    assert not hasattr(model, "diagnostics_")
+    ring = damped_oscillator(snr_db=40, random_state=0)
+    fit_deferred(model, ring.x, t=ring.t)
+    first = model.diagnostics_
+    model.fit(ring.x[:300], t=ring.t[:300])
+    assert model.diagnostics_ is not first
+
+
+def test_fit_deferred_fits_any_other_estimator_as_it_is():
+    ring = damped_oscillator(snr_db=40, random_state=0)
+    model = fit_deferred(ps.SINDy(), ring.x, t=ring.t)
+    assert np.array_equal(model.coefficients(), ps.SINDy().fit(ring.x, t=ring.t).coefficients())

@@ -73,6 +73,15 @@ def test_each_mode_carries_the_diagnostics_of_its_identification(two_modes):
         assert mode.diagnostics.verdict == "ok", mode.diagnostics.summary()
 
 
+def test_a_surveys_diagnostics_are_computed_when_read_not_during_the_survey():
+    rec = impact_record([60.0, 140.0], [0.01, 0.02], fs=1000.0, duration=2.0, snr_db=50, random_state=3)
+    survey = identify_modes(rec.y, fs=rec.fs)
+    assert len(survey.modes) == 2
+    assert all("_diagnostics" not in vars(m.model) for m in survey.modes)  # the survey skipped them
+    assert [m.diagnostics.verdict for m in survey.modes] == ["ok", "ok"]
+    assert all("_diagnostics" in vars(m.model) for m in survey.modes)
+
+
 def test_table_and_repr(two_modes):
     _, survey = two_modes
     rows = survey.table()

@@ -12,7 +12,7 @@ test's refits call the same functions):
   (:mod:`.components`) and PySINDy's fitted-model methods (:mod:`.fitted`).
 """
 
-from .estimator import ImpulseSINDy
+from .estimator import ImpulseSINDy, fit_deferred
 from .fitted import SweepPath
 from .output_error import OutputErrorResult, fit_output_error
 from .refinement import RefinementResult, refine, refine_coefficients
@@ -21,6 +21,7 @@ from .stages import Problem, StageResult, prepare, run_stages
 
 __all__ = [
     "ImpulseSINDy",
+    "fit_deferred",
     "SweepPath",
     "fit_output_error",
     "OutputErrorResult",

@@ -29,7 +29,7 @@ from .fitted import FittedModelMixin, SweepPath, fresh_measure
 from .selection import SELECTION_RULES
 from .stages import filter_states, prepare, run_stages
 
-__all__ = ["ImpulseSINDy", "SweepPath"]
+__all__ = ["ImpulseSINDy", "SweepPath", "fit_deferred"]
 
 
 class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
@@ -107,6 +107,11 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         The measure between the measured and the filtered states.
     budget_used_ : float
         Fraction of the simulation work budget the fit used.
+    diagnostics_ : FitDiagnostics
+        The checks of the fitted model against its data and their verdict
+        (:func:`~sindy_impulse.diagnostics.diagnose_fit`); ``fit`` warns when it is not ``"ok"``. A model
+        fitted by :func:`fit_deferred` (the modal survey's bands) computes them when first read, without
+        a warning.
     x_filtered_, t_ : ndarray or list of ndarray
         The states the library was built from, and their time vectors.
     model_ : CompiledModel or FallbackModel
@@ -223,7 +228,22 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
             self.diagnostics_ = diagnose_fit(self, stacklevel=2)  # the verdict; warns once if not "ok"
         return self
 
+    @property
+    def diagnostics_(self):
+        """The fit's :class:`~sindy_impulse.diagnostics.FitDiagnostics` (see the class's Attributes)."""
+        if "_diagnostics" not in self.__dict__:
+            if not self.__dict__.get("_diagnose_on_access", False):
+                raise AttributeError("'ImpulseSINDy' object has no attribute 'diagnostics_' (not fitted)")
+            with threadpool_limits(limits=1):
+                self._diagnostics = diagnose_fit(self, warn=False)
+        return self._diagnostics
+
+    @diagnostics_.setter
+    def diagnostics_(self, value) -> None:
+        self._diagnostics = value
+
     def _fit(self, x, t, x_dot, u, feature_names):
+        self.__dict__.pop("_diagnostics", None)  # a refit's diagnostics are its own
         validate_params(self)
         refuse_unsupported(x, self.feature_library)
         data = as_trajectories(x, t, u, default_dt=1.0 if self.dt is None else self.dt, min_samples=3)
@@ -311,6 +331,29 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
             self.gamma_ = _gamma(self.model_, data[0], data[1], inputs=data[2])
             self.gamma_sindy_ = _gamma(compile_(candidates[index]), data[0], data[1], inputs=data[2])
         return self
+
+
+def fit_deferred(model, x, t=None, x_dot=None, u=None, feature_names=None):
+    """``model.fit(...)`` with the diagnostics left until ``diagnostics_`` is first read (then computed
+    without a warning); any estimator other than :class:`ImpulseSINDy` is simply fitted.
+
+    The modal survey fits a model per band and reads few verdicts: the diagnostics' term tests and
+    spectra are a quarter of a band's fit. The data checks that refuse bad input still run in the fit.
+
+    Examples
+    --------
+    >>> from sindy_impulse import damped_oscillator
+    >>> ring = damped_oscillator(snr_db=40, random_state=0)
+    >>> model = fit_deferred(ImpulseSINDy(), ring.x, t=ring.t)
+    >>> "_diagnostics" in vars(model), model.diagnostics_.verdict, "_diagnostics" in vars(model)
+    (False, 'ok', True)
+    """
+    if not isinstance(model, ImpulseSINDy):
+        return model.fit(x, t=t, x_dot=x_dot, u=u, feature_names=feature_names)
+    with threadpool_limits(limits=1):
+        model._fit(x, t, x_dot, u, feature_names)
+    model._diagnose_on_access = True
+    return model
 
 
 def _as_list(value):

@@ -36,6 +36,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from ..identification.estimator import fit_deferred
 from ..optimizers import fresh_copy
 from ..preprocessing.sinusoids import fit_amplitudes
 from ..preprocessing.stable_poles import PERSISTENCE
@@ -152,7 +153,7 @@ def fit_free_decay(pre, stable: list, pole, template, *, index: int = 0):
     states, states_dot, t = free_decay_states(y, t, pole.frequency_hz)
     model = fresh_copy(template)
     x_dot = states_dot if getattr(model, "differentiation_method", None) is None else None
-    model.fit(states, t=t, x_dot=x_dot, feature_names=list(STATE_NAMES))
+    fit_deferred(model, states, t=t, x_dot=x_dot, feature_names=list(STATE_NAMES))
     found, reason = _linear_mode(model, band)
     if found is None:
         return Rejected(band, f"the equation fitted on the free decay: {reason}", index)

@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pysindy as ps
 
+from ..identification.estimator import fit_deferred
 from ..optimizers import fresh_copy
 from ..poles.modal import modal_parameters
 from ..preprocessing import bandpass
@@ -202,7 +203,7 @@ def fit_band(
     model = fresh_copy(template)
     # the band-pass filtered the signal: band-limited derivatives, unless the template asks for its own method
     x_dot = states_dot if getattr(model, "differentiation_method", None) is None else None
-    model.fit(states, t=t, x_dot=x_dot, feature_names=list(STATE_NAMES))
+    fit_deferred(model, states, t=t, x_dot=x_dot, feature_names=list(STATE_NAMES))
     found, reason = _linear_mode(model, band.band_hz)
     if found is None:
         return Rejected(tuple(band.band_hz), reason, index)
@@ -263,7 +264,7 @@ def fit_direct(pre, band_hz, template, *, index: int = 0):
     states, t_states = embedding.transform(y), embedding.transform_time(t)
     model = _without_protection(fresh_copy(template))
     names = [str(n) for n in embedding.get_feature_names_out()]
-    model.fit(states, t=t_states, feature_names=names)
+    fit_deferred(model, states, t=t_states, feature_names=names)
     found, reason = _linear_mode(model, band_hz)
     if found is None:
         return Rejected(tuple(band_hz), reason, index)
@@ -306,7 +307,7 @@ def fit_group(band, peak_bands, template, *, onset_time: float, index: int = 0) 
     model.set_params(feature_library=ps.PolynomialLibrary(degree=1, include_bias=False), sweep=False)
     names = [f"y(t-{k}tau)" if k else "y" for k in range(n_states - 1, -1, -1)]
     x_dot = states_dot if getattr(model, "differentiation_method", None) is None else None
-    model.fit(states, t=t, x_dot=x_dot, feature_names=names)
+    fit_deferred(model, states, t=t, x_dot=x_dot, feature_names=names)
     frequencies, damping = modal_parameters(model)
     fit_error = fit_error_of(model)
     out = []

@@ -109,7 +109,8 @@ class Mode:
         """The checks and verdict of the mode's identification (the model's
         :class:`~sindy_impulse.diagnostics.FitDiagnostics`: fit error, terms, frequencies, data problems).
 
-        A doubtful or unreliable verdict has already warned during :func:`~sindy_impulse.identify_modes`.
+        Computed when first read (:func:`~sindy_impulse.identification.fit_deferred`: the survey fits a
+        model per band and reads few verdicts), without a warning; :meth:`report` shows them.
         """
         return getattr(self.model, "diagnostics_", None)
 
