@@ -111,9 +111,9 @@ def _least_squares(V: np.ndarray, gram: np.ndarray, Y: np.ndarray, refinements: 
     """Least-squares ``c`` with ``V c ~ Y`` from the normal equations ``G c = V^H Y`` (``G = V^H V`` given),
     then up to ``refinements`` steps of iterative refinement on the residual, which win back the digits the
     normal equations lose (none when ``G``'s condition number is below :data:`_NO_REFINEMENT_CONDITION`:
-    then they lose fewer than that many ulps). When ``G`` has an eigenvalue below ``1e-14`` of its largest (nearly equal poles:
-    seen on noise-free records, never on 780 diagrams of noisy ones), the normal equations cannot resolve
-    the poles' amplitudes and the SVD solve of ``V`` is used instead."""
+    then they lose fewer than that many ulps). When ``G`` has an eigenvalue below ``1e-14`` of its largest
+    (nearly equal poles: seen on noise-free records, never on 780 diagrams of noisy ones), the normal
+    equations cannot resolve the poles' amplitudes and the SVD solve of ``V`` is used instead."""
     evals, vecs = np.linalg.eigh(gram)
     if not evals[0] > 1e-14 * evals[-1]:
         return np.linalg.lstsq(V, Y.astype(complex), rcond=None)[0]
