@@ -20,10 +20,10 @@ import numpy as np
 from joblib import Parallel, delayed, effective_n_jobs
 from sklearn.base import BaseEstimator, TransformerMixin, clone
 from sklearn.utils.validation import check_is_fitted
-from threadpoolctl import threadpool_limits
 
 from .._utils.params import HasMethods, Interval, Options, Satisfies, validate_params
 from .._utils.progress import progress_bar
+from .._utils.threads import one_thread
 from .._utils.validation import check_array
 from ..embedding import DelayEmbedding
 from ..exceptions import FitWarning
@@ -51,7 +51,7 @@ def _fit_batch(estimator, batch, dt):
     # One BLAS thread in every worker and in the main process alike: joblib's workers run single-threaded
     # BLAS, and the same fits must give the same features whatever n_jobs is (small matrices gain nothing
     # from BLAS threads anyway).
-    with threadpool_limits(limits=1):
+    with one_thread():
         for series in batch:
             out.append(_fit_one(estimator, series, dt))
     return out

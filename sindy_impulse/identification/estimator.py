@@ -15,9 +15,9 @@ from numbers import Integral, Real
 
 import numpy as np
 import pysindy as ps
-from threadpoolctl import threadpool_limits
 
 from .._utils.params import HasMethods, Interval, Satisfies, validate_params
+from .._utils.threads import one_thread
 from .._utils.trajectories import as_trajectories, refuse_unsupported
 from ..diagnostics import diagnose_fit, screen_states
 from ..optimizers import candidate_path
@@ -223,7 +223,7 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         (x)' =  1.00 v
         (v)' = -64.02 x + -0.80 v +  1.00 f
         """
-        with threadpool_limits(limits=1):  # small matrices: one BLAS thread is faster, and reproducible
+        with one_thread():  # small matrices: one BLAS thread is faster, and reproducible
             self._fit(x, t, x_dot, u, feature_names)
             self.diagnostics_ = diagnose_fit(self, stacklevel=2)  # the verdict; warns once if not "ok"
         return self
@@ -234,7 +234,7 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         if "_diagnostics" not in self.__dict__:
             if not self.__dict__.get("_diagnose_on_access", False):
                 raise AttributeError("'ImpulseSINDy' object has no attribute 'diagnostics_' (not fitted)")
-            with threadpool_limits(limits=1):
+            with one_thread():
                 self._diagnostics = diagnose_fit(self, warn=False)
         return self._diagnostics
 
@@ -350,7 +350,7 @@ def fit_deferred(model, x, t=None, x_dot=None, u=None, feature_names=None):
     """
     if not isinstance(model, ImpulseSINDy):
         return model.fit(x, t=t, x_dot=x_dot, u=u, feature_names=feature_names)
-    with threadpool_limits(limits=1):
+    with one_thread():
         model._fit(x, t, x_dot, u, feature_names)
     model._diagnose_on_access = True
     return model

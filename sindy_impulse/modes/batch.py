@@ -24,10 +24,10 @@ from dataclasses import dataclass
 from numbers import Integral, Real
 
 from joblib import Parallel, delayed, parallel_config
-from threadpoolctl import threadpool_limits
 
 from .._utils.params import check_param
 from .._utils.progress import progress_bar, wants_progress
+from .._utils.threads import one_thread
 from ..exceptions import DataWarning
 from .survey import check_options, identify_modes
 
@@ -103,7 +103,7 @@ def _survey_one(index, name, y, t, fs, force, options, nonlinearity):
     Module level so that every joblib backend, dask included, can pickle it; one BLAS thread, as in
     every worker, so that the numbers do not depend on where the record ran.
     """
-    with warnings.catch_warnings(record=True) as caught, threadpool_limits(limits=1):
+    with warnings.catch_warnings(record=True) as caught, one_thread():
         warnings.simplefilter("always")
         try:
             result = identify_modes(y, t, fs=fs, force=force, **options)

@@ -19,9 +19,9 @@ from dataclasses import dataclass
 from numbers import Integral, Real
 
 import numpy as np
-from threadpoolctl import threadpool_limits
 
 from .._utils.params import Interval, check_param
+from .._utils.threads import one_thread
 from .._utils.validation import check_signal
 from .esprit import SignalSpace, _sampling_step
 
@@ -193,7 +193,7 @@ def stabilisation(
     if not integers or np.any(wanted < 1):
         raise ValueError(f"orders must be a non-empty sequence of positive integers, got {orders!r}")
     rows, shapes = [], []
-    with threadpool_limits(limits=1, user_api="blas"):  # a loaded machine: threads made it 100x slower
+    with one_thread("blas"):  # a loaded machine: threads made it 100x slower
         space = SignalSpace(Y, max_rows)
         usable = tuple(int(k) for k in np.unique(wanted) if k <= space.rows - 2)
         for k in usable:

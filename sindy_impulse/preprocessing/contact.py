@@ -23,9 +23,9 @@ from numbers import Integral
 
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
-from threadpoolctl import threadpool_limits
 
 from .._utils.params import Interval, check_param
+from .._utils.threads import one_thread
 from ._record import check_signal_1d
 
 __all__ = ["contact_end"]
@@ -48,7 +48,7 @@ def _backward_errors(y: np.ndarray, order: int) -> tuple[np.ndarray, float]:
     target = rows[:, 0]
     design = np.column_stack([rows[:, 1:], np.ones(target.size)])  # the constant: any offset
     root_w = np.ones(target.size)
-    with threadpool_limits(limits=1, user_api="blas"):  # small products: threads only contend
+    with one_thread("blas"):  # small products: threads only contend
         for _ in range(_ROUNDS):
             weighted = design * root_w[:, None]
             gram = weighted.T @ weighted

@@ -18,9 +18,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from threadpoolctl import threadpool_limits
 
 from .._utils.powers import complex_powers
+from .._utils.threads import one_thread
 from .._utils.validation import check_array
 from ._record import check_fs, check_signal_1d
 
@@ -207,7 +207,7 @@ def fit_damped_sinusoids(y, fs: float, frequency_hz, decay_rate, *, frequency_to
     lower = np.concatenate([np.zeros(k), omega0 - tol, np.full(2 * k + 1, -np.inf)])
     sigma_max = _MAX_DAMPING / np.sqrt(1.0 - _MAX_DAMPING**2) * (omega0 + tol)
     upper = np.concatenate([sigma_max, omega0 + tol, np.full(2 * k + 1, np.inf)])
-    with threadpool_limits(limits=1, user_api="blas"):  # small products: threads only contend
+    with one_thread("blas"):  # small products: threads only contend
         p, res = _levenberg_marquardt(np.clip(p0, lower, upper), arr, tau, k, (lower, upper), keep)
     if keep is not None:
         res = _residual_and_jacobian(p, arr, tau, k)[0]
