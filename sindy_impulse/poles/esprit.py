@@ -189,12 +189,32 @@ class SignalSpace:
         evals, vecs = np.linalg.eigh(_hankel_gram(Y, self.rows))
         self.singular_values = np.sqrt(np.maximum(evals[::-1], 0.0))
         self.vectors = vecs[:, ::-1]
+        self._shift = np.empty((0, 0))  # U[:-1]^T U[1:] of the leading vectors (grown as orders ask)
 
     def default_order(self) -> int:
         """The singular values above ``1.5 x`` the noise edge (and ``1e-7`` of the largest), <= ``L // 2``."""
         sv, L, n = self.singular_values, self.rows, self.Y.shape[0]
         edge = np.median(sv) * (1 + np.sqrt(L / (n - L + 1))) * _NOISE_MARGIN
         return min(max(int(np.sum(sv > max(edge, _RELATIVE_FLOOR * sv[0]))), 1), L // 2)
+
+    def _rotation(self, order: int) -> np.ndarray:
+        """The least-squares ``Psi`` with ``U[:-1] Psi = U[1:]`` for the first ``order`` vectors ``U``.
+
+        ``U`` has orthonormal columns, so ``U[:-1]^T U[:-1] = I - u u^T`` (``u``: its last row) and
+        ``Psi = A + u (u^T A) / (1 - u^T u)`` with ``A = U[:-1]^T U[1:]`` (Sherman-Morrison); ``A`` of every
+        order is a leading block of one matrix, computed once: ``O(order^2)`` a diagram order instead of
+        a least-squares solve of ``L x order``. Where ``1 - u^T u`` is small the solve is used.
+        """
+        U = self.vectors[:, :order]
+        u = U[-1]
+        rest = 1.0 - float(u @ u)
+        if rest < 1e-6:
+            return np.linalg.lstsq(U[:-1], U[1:], rcond=None)[0]
+        if self._shift.shape[0] < order:
+            V = self.vectors[:, : min(max(order, 64), self.vectors.shape[1])]
+            self._shift = V[:-1].T @ V[1:]
+        A = self._shift[:order, :order]
+        return A + np.outer(u, u @ A) / rest
 
     def poles(self, order: int, dt: float, min_snr_db: float):
         """``(z, s, c, residual, physical)`` at ``order``: every pole, its continuous ``s``, amplitudes, the
@@ -204,8 +224,7 @@ class SignalSpace:
             raise ValueError(
                 f"order={order} needs more Hankel rows: at most {L - 2} with {n} samples and max_rows"
             )
-        U = self.vectors[:, :order]
-        z = np.linalg.eigvals(np.linalg.lstsq(U[:-1], U[1:], rcond=None)[0]).astype(complex)
+        z = np.linalg.eigvals(self._rotation(order)).astype(complex)
         z = z[np.isfinite(z) & (np.abs(z) > 1e-12)]  # a pole at 0 is a one-sample transient, not a mode
         if z.size == 0 or self.singular_values[0] == 0:
             z = np.ones(1, dtype=complex)  # fit the mean only: no physical mode
