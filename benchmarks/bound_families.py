@@ -86,12 +86,14 @@ def record_chance(case: dict) -> dict:
     rec = impact_record(**case["config"])
     f = np.asarray(rec.modes.frequency_hz, float)
     z = np.asarray(rec.modes.damping_ratio, float)
-    counted = band_snr_db(rec) >= case["min_band_snr_db"] if "min_band_snr_db" in case else np.ones(f.size, bool)
+    counted = np.ones(f.size, bool)
+    if "min_band_snr_db" in case:  # family b: modes under 20 dB of band SNR are not counted
+        counted = band_snr_db(rec) >= case["min_band_snr_db"]
     sd_f, sd_z = bound(rec)
     tol_f, tol_z = case["f_tol"] * f, case["z_tol"] * z
     chance = [erf(a / (sqrt(2) * b)) * erf(c / (sqrt(2) * d)) if b > 0 and d > 0 else 1.0
               for a, b, c, d in zip(tol_f, sd_f, tol_z, sd_z)]
-    ok = counted.copy()
+    ok = counted
     return {"chance": float(np.prod(np.where(ok, chance, 1.0))),
             "resolvable": bool(np.all(~ok | ((2 * sd_f <= tol_f) & (2 * sd_z <= tol_z)))),
             "worst_z": float(np.max(np.where(ok, sd_z / z, 0.0))), "f": f, "z": z}
