@@ -178,7 +178,8 @@ class SignalSpace:
     """The Hankel matrix's left singular vectors of a free decay, once, for poles at any model order.
 
     ``L = min(max_rows, n // 3)`` rows; the ``L x L`` Gram matrix is eigen-decomposed (see :func:`esprit`'s
-    cost), for its ``n_vectors`` leading vectors only when given (then ``singular_values`` holds theirs). :meth:`poles` at ``order`` solves the shift invariance of the first ``order`` vectors, fits the
+    cost), for its ``n_vectors`` leading vectors only when given (then ``singular_values`` holds theirs).
+    :meth:`poles` at ``order`` solves the shift invariance of the first ``order`` vectors, fits the
     amplitudes and keeps the physical poles; the stabilisation diagram
     (:func:`~sindy_impulse.poles.stabilisation`) calls it at every order of its range.
     """
