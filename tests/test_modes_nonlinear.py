@@ -284,3 +284,28 @@ def test_a_band_of_hundreds_of_periods_keeps_the_segment_wise_model():
     (mode,) = _survey(rec).modes
     assert mode.t[-1] - mode.t[0] > _fit.OUTPUT_ERROR_PERIODS / mode.frequency_hz
     assert mode.model.output_error_fit_ is None and mode.model.error_measure_ == "segmented"
+
+
+#: Family (e) record 37 of benchmarks/bench_modes.py (seed 0): a softening cubic spring whose third harmonic
+#: (37 dB band SNR) the damped-sinusoid test of the peaks drops (it sweeps three times the mode's chirp).
+_SOFTENING = dict(frequencies_hz=[122.11492978736126], damping_ratios=[0.0023119130379564705], fs=10000.0,
+                  duration=0.6595, sensor="velocity", pre_trigger=0.0394, offset=4.96, snr_db=57.7)
+
+
+@pytest.mark.parametrize("seed", [1, 5])
+def test_a_harmonic_the_peak_detection_dropped_is_named_from_its_phase_locking(seed):
+    rec = impact_record(**_SOFTENING, cubic_stiffness=-44664678453.12216, random_state=seed)
+    survey = identify_modes(rec.y, fs=rec.fs)
+    assert [round(m.frequency_hz) for m in survey.modes] == [122]
+    named = [r for r in survey.rejected if "harmonic 3" in r.reason]
+    assert len(named) == 1
+    e = named[0].evidence
+    assert e["locked"] and not e["by_backbone"] and e["exponent"] >= 1.5 and "detection" in e
+    assert abs(e["frequency_ratio"] - 3) < 2.5e-3
+
+
+def test_a_linear_mode_gets_no_harmonic_from_the_spectrum():
+    rec = impact_record(**_SOFTENING, random_state=1)
+    survey = identify_modes(rec.y, fs=rec.fs)
+    assert [round(m.frequency_hz) for m in survey.modes] == [122]
+    assert not any("harmonic" in r.reason for r in survey.rejected)

@@ -288,7 +288,8 @@ def split_harmonics(pre, modes: list, rejected: list) -> tuple:
     ring = pre.y[pre.impact.ringdown_index :]
     if len(ordered) < 2:
         rejected, named = _name_failed_bands(pre, ring, ordered, rejected)
-        return modes, rejected, named
+        rejected, unseen = _unseen_harmonics(pre, ring, ordered, rejected)
+        return modes, rejected, named + unseen
     bands = _analysis_bands(pre, ordered)
     freqs = np.array([m.damped_frequency_hz for m in ordered])
     noise = [band_noise_rms(pre.peaks.spectrum, b) for b in bands]
@@ -311,7 +312,8 @@ def split_harmonics(pre, modes: list, rejected: list) -> tuple:
                 break
     kept = [m for k, m in enumerate(ordered) if k not in harmonics]
     rejected, named = _name_failed_bands(pre, ring, kept, rejected)
-    return kept, rejected, notes + named
+    rejected, unseen = _unseen_harmonics(pre, ring, kept, rejected)
+    return kept, rejected, notes + named + unseen
 
 
 def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: int, candidate,
@@ -373,3 +375,61 @@ def _name_failed_bands(pre, ring, modes: list, rejected: list) -> tuple:
             notes.append(f"record {row.record}: the peak at {f:.4g} Hz is the {why}")
         out.append(row)
     return out, notes
+
+
+def _unseen_peak(spectrum, target: float) -> float | None:
+    """The highest bin within :data:`NEAR` of ``target`` Hz when it is a local maximum standing
+    :data:`MIN_SNR_DB` over the floor (the height down to which the harmonic test reads envelopes; the
+    phase locking, not this height, tells a harmonic from noise); else None."""
+    window = np.flatnonzero(np.abs(spectrum.frequency_hz / target - 1) <= NEAR)
+    if window.size < 3:
+        return None
+    k = window[np.argmax(spectrum.psd[window])]
+    if k in (window[0], window[-1]):  # the window's edge: a skirt, not a peak
+        return None
+    height = 10 * np.log10(spectrum.psd[k] / max(spectrum.floor[k], np.finfo(float).tiny))
+    return float(spectrum.frequency_hz[k]) if height >= MIN_SNR_DB else None
+
+
+def _unseen_harmonics(pre, ring, modes: list, rejected: list) -> tuple:
+    """Harmonics the detection did not keep: near ``n`` times a mode whose model has nonlinear terms (a
+    linear mode makes none), where no mode, peak or rejected row lies, a spectral peak over the floor
+    (:func:`_unseen_peak`) is tested as that mode's harmonic in a band :data:`_FAILED_BAND` wide (a cubic
+    spring's third harmonic sweeps three times its mode's frequency change: the damped-sinusoid test of the
+    peaks, made for modes, drops it; family (e) of ``benchmarks/bench_modes.py``, records 15 and 37 at 38 and
+    37 dB). Only the data decide here (no mode is at stake, and noise must not be named): a peak phase-locked
+    to the mode whose amplitude goes as a power of at least :data:`MIN_EXPONENT` of the mode's (a chirping
+    harmonic seen over a few periods read 4.8) becomes a rejected row with its evidence; anything else is
+    left alone. ``(rejected, notes)``."""
+    from ._nonlinear import has_nonlinear_terms
+
+    spectrum = pre.peaks.spectrum
+    if not modes or spectrum is None:
+        return rejected, []
+    bands = _analysis_bands(pre, modes)
+    freqs = np.array([m.damped_frequency_hz for m in modes])
+    taken = [*freqs, *pre.peaks.frequency_hz, *(0.5 * sum(r.band_hz) for r in rejected if r.band_hz)]
+    notes = []
+    for i, parent in enumerate(modes):
+        for order in ORDERS if has_nonlinear_terms(parent.model) else ():
+            target = order * freqs[i]
+            if target >= 0.45 * pre.fs or any(abs(f / target - 1) <= NEAR for f in taken):
+                continue
+            f = _unseen_peak(spectrum, target)
+            if f is None:
+                continue
+            band = (f * (1 - _FAILED_BAND), f * (1 + _FAILED_BAND))
+            try:
+                peak = SimpleNamespace(frequency_hz=f, damping_ratio=0.0)
+                e = _evidence(pre, ring, (bands, freqs), i, parent, band, band_noise_rms(spectrum, band),
+                              order, peak, failed=True)
+            except (ValueError, ArithmeticError, np.linalg.LinAlgError):
+                continue  # the band cannot be analysed
+            if e["locked"] and e["exponent"] >= MIN_EXPONENT:
+                e.update(harmonic=True, by_backbone=False,
+                         detection="a spectral peak the damped-sinusoid test of the peaks did not keep")
+                why = _reason(parent, e)
+                rejected.append(Rejected(band, why, parent.record, e))
+                notes.append(f"record {parent.record}: the peak at {f:.4g} Hz is the {why}")
+                taken.append(f)
+    return rejected, notes
