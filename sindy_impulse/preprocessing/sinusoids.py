@@ -99,45 +99,59 @@ def _linear_amplitudes(y, tau, sigma, omega, keep=None) -> np.ndarray:
     return np.concatenate([sigma, omega, coef[:k], coef[k : 2 * k], coef[2 * k :]])
 
 
-def _residual_and_jacobian(p: np.ndarray, y: np.ndarray, tau: np.ndarray, k: int):
-    """Model minus data and its Jacobian with respect to ``p = (sigma, omega, a, b, c)``."""
+def _residual(p: np.ndarray, y: np.ndarray, tau: np.ndarray, k: int):
+    """Model minus data, and the components' powers and weighted powers (what its Jacobian needs) for
+    ``p = (sigma, omega, a, b, c)``."""
     sigma, omega, a, b, c = _split(p, k)
     powers = _powers(tau, sigma, omega)
     weighted = powers * (a - 1j * b)  # real part: the model's components, imaginary: their quadrature
+    return weighted.real.sum(axis=1) + c - y, (powers, weighted)
+
+
+def _jacobian(parts, tau: np.ndarray, k: int) -> np.ndarray:
+    """The residual's Jacobian with respect to ``p`` from :func:`_residual`'s parts."""
+    powers, weighted = parts
     jac = np.empty((tau.size, 4 * k + 1))
     np.multiply(weighted.real, -tau[:, None], out=jac[:, :k])
     np.multiply(weighted.imag, -tau[:, None], out=jac[:, k : 2 * k])
     jac[:, 2 * k : 3 * k], jac[:, 3 * k : 4 * k], jac[:, 4 * k] = powers.real, powers.imag, 1.0
-    return weighted.real.sum(axis=1) + c - y, jac
+    return jac
 
 
-def _step(jac: np.ndarray, res: np.ndarray, damping: float) -> np.ndarray:
+def _normal_equations(jac: np.ndarray, res: np.ndarray) -> tuple:
+    """``J^T J``, its diagonal scale and ``J^T r`` at an accepted point (the trials from it reuse them)."""
     normal = jac.T @ jac
-    scale = np.maximum(np.diag(normal), np.finfo(float).tiny)
+    return normal, np.maximum(np.diag(normal), np.finfo(float).tiny), jac.T @ res
+
+
+def _step(normal_equations: tuple, damping: float) -> np.ndarray:
+    normal, scale, gradient = normal_equations
     try:
-        return -np.linalg.solve(normal + damping * np.diag(scale), jac.T @ res)
+        return -np.linalg.solve(normal + damping * np.diag(scale), gradient)
     except np.linalg.LinAlgError:
-        return np.zeros(jac.shape[1])
+        return np.zeros(gradient.size)
 
 
 def _levenberg_marquardt(p, y, tau, k, bounds, keep=None) -> tuple[np.ndarray, np.ndarray]:
     """Bounded Levenberg-Marquardt from ``p`` (on the samples ``keep``): the parameters and the residual
-    (model minus data)."""
+    (model minus data). The Jacobian and the normal equations are built only at accepted points (about
+    half the trials are not)."""
+    rows = slice(None) if keep is None else keep
 
     def evaluate(q):
-        res, jac = _residual_and_jacobian(q, y, tau, k)
-        if keep is not None:
-            res, jac = res[keep], jac[keep]
-        return res, jac, float(res @ res)
+        res, parts = _residual(q, y, tau, k)
+        return res[rows], parts, float(res[rows] @ res[rows])
 
-    res, jac, cost = evaluate(p)
+    res, parts, cost = evaluate(p)
+    normal = _normal_equations(_jacobian(parts, tau, k)[rows], res)
     damping = 1e-3
     for _ in range(_MAX_ITERATIONS):
-        trial = np.clip(p + _step(jac, res, damping), *bounds)
+        trial = np.clip(p + _step(normal, damping), *bounds)
         out = evaluate(trial)
         if out[2] < cost:
             done = cost - out[2] <= _RTOL * cost
-            p, (res, jac, cost), damping = trial, out, max(damping / 3.0, 1e-9)
+            p, (res, parts, cost), damping = trial, out, max(damping / 3.0, 1e-9)
+            normal = _normal_equations(_jacobian(parts, tau, k)[rows], res)
             if done:
                 break
         else:
@@ -210,7 +224,7 @@ def fit_damped_sinusoids(y, fs: float, frequency_hz, decay_rate, *, frequency_to
     with one_thread("blas"):  # small products: threads only contend
         p, res = _levenberg_marquardt(np.clip(p0, lower, upper), arr, tau, k, (lower, upper), keep)
     if keep is not None:
-        res = _residual_and_jacobian(p, arr, tau, k)[0]
+        res = _residual(p, arr, tau, k)[0]
     sigma, omega, a, b, c = _split(p, k)
     return DampedSinusoids(
         frequency_hz=omega / (2.0 * np.pi * duration),
