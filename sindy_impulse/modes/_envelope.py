@@ -48,9 +48,8 @@ def envelope_decay(y: np.ndarray, dy: np.ndarray, dt: float, omega: float):
 
     Examples
     --------
-    >>> t = np.arange(20000) / 2000.0
-    >>> sigma = 0.5 + 2.0 * np.exp(-2 * 0.5 * t)  # a rate growing with amplitude squared
-    >>> a = np.exp(-np.cumsum(sigma) / 2000.0)
+    >>> t = np.arange(20000) / 2000.0  # a decay rate 0.5 + 2 a^2 (1/s), from a = 1:
+    >>> a = np.sqrt(0.5 / ((0.5 + 2.0) * np.exp(2 * 0.5 * t) - 2.0))
     >>> y, dy = a * np.cos(2 * np.pi * 50 * t), -a * 2 * np.pi * 50 * np.sin(2 * np.pi * 50 * t)
     >>> fit = envelope_decay(y, dy, 1 / 2000.0, 2 * np.pi * 50)
     >>> round(fit[0], 1)  # the rate at zero amplitude
@@ -76,7 +75,8 @@ def envelope_decay(y: np.ndarray, dy: np.ndarray, dt: float, omega: float):
     cov = np.linalg.pinv(design.T @ design) * float(resid @ resid) / dof
     # windows overlap by half: about half as many independent ones
     se = np.sqrt(np.maximum(np.diag(cov), 0) * 2)
-    return float(coef[0]), float(coef[1]), float(se[0]), float(se[1]), float(x.min()), float(np.sqrt(a2.max()))
+    top = float(np.sqrt(a2.max()))
+    return float(coef[0]), float(coef[1]), float(se[0]), float(se[1]), float(x.min()), top
 
 
 def _model_rate_change(model, omega: float, amplitude: float) -> float | None:
