@@ -7,13 +7,15 @@ linear damping term absorbs the amplitude-dependent part: the reported damping r
 decay, not its small-amplitude value (measured on ``benchmarks/bench_modes.py --family g``, seed 0: +11 %
 and +15 % on two lightly damped modes whose damping was 50-70 % higher at the start of the record).
 
-:func:`small_amplitude_damping` checks every mode whose model carries nonlinear terms against its own
-states' decay envelope: the decay rate measured over windows of a few periods, regressed on the squared
+:func:`small_amplitude_damping` checks every mode identified on its ``[y, dy]`` states against their decay
+envelope: the decay rate measured over windows of a few periods, regressed on the squared
 amplitude (first-order averaging: an ``x^2 x'`` or ``x'^3`` damper adds a rate proportional to ``a^2``), and
 the same change predicted by the model's nonlinear terms (their power balance over one period). Where the
-data's change over the decay is significant and the model reproduces less than half of it, the mode's
-damping ratio becomes the regression's intercept (the rate at zero amplitude over the model's natural
-frequency) and its standard deviation the intercept's; a note says so.
+data's change over the decay is significant, the model reproduces less than half of it and the
+mode is nonlinear by the test for nonlinearity (:attr:`~.result.Mode.nonlinear`, run only on the modes
+that pass the first checks: it searches the terms the sweep dropped), the mode's damping ratio becomes the
+regression's intercept (the rate at zero amplitude over the model's natural frequency) and its standard
+deviation the intercept's; a note says so. The model, its frequency and its verdict stay.
 """
 
 from __future__ import annotations
