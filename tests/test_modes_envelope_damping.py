@@ -93,8 +93,9 @@ def test_survey_of_a_damper_record_whose_sweep_drops_the_damper():
     at the hit; its model keeps ``y^3`` but not the damper, so its linear part said +11 %."""
     from sindy_impulse import identify_modes, impact_record
 
-    rec = impact_record([108.53214], [0.0013], [0.4137], fs=1000.0, duration=27.778, sensor="velocity",
-                        pre_trigger=0.016486371752648665, offset=1.9000394831662826, snr_db=30.39023020124656,
+    rec = impact_record([108.53213509223399], [0.0013040495464960464], [0.4136953157710286], fs=1000.0,
+                        duration=27.778, sensor="velocity", pre_trigger=0.016486371752648665,
+                        offset=1.9000394831662826, snr_db=30.39023020124656,
                         random_state=1108615737, cubic_stiffness=-100577498051.19955,
                         damping_amplitude=13172325.265452731)
     with pytest.warns(Warning, match="zero amplitude"):
