@@ -2,6 +2,7 @@
 
     python benchmarks/diagnose_family_g.py --seed 0 10 13 24 35 37 39 55 58
     python benchmarks/diagnose_family_g.py --seed 0 37 --survey     # also the survey's answer
+    python benchmarks/diagnose_family_g.py --seed 0 37 --survey --linear  # and without the element
 
 Family g puts a cubic spring and / or an ``x^2 x'`` damper between the ground and mass 0 of the chain
 (``impact_record``), calibrated on the *lowest* mode, and scores every mode on its linear (small-amplitude)
@@ -80,7 +81,20 @@ def combination_tones(f: np.ndarray, i: int, within: float = 0.02) -> list[str]:
     return out
 
 
-def diagnose(case: dict, survey: bool) -> None:
+def _survey(rec, f, z, label: str) -> None:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        found = identify_modes(rec.y, fs=rec.fs)
+    for m in found.modes:
+        j = int(np.argmin(np.abs(f / m.frequency_hz - 1)))
+        print(f"    {label}: {m.frequency_hz:.6g} Hz (df/f {m.frequency_hz / f[j] - 1:+.1e}), zeta "
+              f"{m.damping_ratio:.4g} (dz/z {m.damping_ratio / z[j] - 1:+.2f}), band "
+              f"{m.band_hz[0]:.4g}-{m.band_hz[1]:.4g} Hz, {len(m.t)} samples, states {m.states.shape[1]}")
+    for r in found.rejected:
+        print(f"    {label}: rejected {r.band_hz}: {r.reason[:120]}")
+
+
+def diagnose(case: dict, survey: bool, linear: bool = False) -> None:
     config = case["config"]
     rec = impact_record(**config)
     f, z = rec.modes.frequency_hz, rec.modes.damping_ratio
@@ -102,16 +116,10 @@ def diagnose(case: dict, survey: bool) -> None:
         if tones:
             print(f"      combination tones within 2 %: {'; '.join(tones)}")
     if survey:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            found = identify_modes(rec.y, fs=rec.fs)
-        for m in found.modes:
-            j = int(np.argmin(np.abs(f / m.frequency_hz - 1)))
-            print(f"    survey: {m.frequency_hz:.6g} Hz (df/f {m.frequency_hz / f[j] - 1:+.1e}), zeta "
-                  f"{m.damping_ratio:.4g} (dz/z {m.damping_ratio / z[j] - 1:+.2f}), band "
-                  f"{m.band_hz[0]:.4g}-{m.band_hz[1]:.4g} Hz, {len(m.t)} samples, states {m.states.shape[1]}")
-        for r in found.rejected:
-            print(f"    rejected {r.band_hz}: {r.reason[:120]}")
+        _survey(rec, f, z, "survey")
+    if linear:  # the same record (same noise seed) without the nonlinear element
+        twin = {k: v for k, v in config.items() if k not in NONLINEAR_TERMS[:4]}
+        _survey(impact_record(**twin), f, z, "without the element")
 
 
 def main() -> None:
@@ -119,12 +127,14 @@ def main() -> None:
     parser.add_argument("indices", type=int, nargs="+", help="record indices of --family g at this seed")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--survey", action="store_true", help="also run identify_modes on each record")
+    parser.add_argument("--linear", action="store_true",
+                        help="also survey the record without the nonlinear element (same noise seed)")
     args = parser.parse_args()
     rng = np.random.default_rng(args.seed)
     cases = [draw("g", rng, i) for i in range(max(args.indices) + 1)]
     for i in args.indices:
         print(f"[g #{i}] seed {args.seed}")
-        diagnose(cases[i], args.survey)
+        diagnose(cases[i], args.survey, args.linear)
 
 
 if __name__ == "__main__":
