@@ -22,7 +22,9 @@ class Mode:
     damped_frequency_hz : float
         ``frequency_hz * sqrt(1 - damping_ratio**2)``.
     damping_ratio : float
-        ``-Re(lambda) / |lambda|`` of the model's linear part.
+        ``-Re(lambda) / |lambda|`` of the model's linear part; for a nonlinear mode whose model lacks the
+        amplitude-dependent damping its decay shows, the decay envelope's at zero amplitude
+        (:mod:`._envelope`; a survey note says so).
     band_hz : (float, float)
         The band the mode was extracted from.
     amplitude : float

@@ -35,6 +35,7 @@ from ..preprocessing import extract_band, preprocess
 from ..preprocessing.deflation import deflated_band
 from ..preprocessing.stable_poles import with_stable_poles
 from ._clipped import clipping_report
+from ._envelope import small_amplitude_damping
 from ._harmonics import split_harmonics
 from ._hits import merge_hits
 from ._nonlinear import has_nonlinear_terms, merge_chirps
@@ -184,8 +185,9 @@ def _fit_record(index, record, pre, force, template, sensor, ref, max_periods, s
                        impulse=impulse, sensor=sensor, index=index)
     modes, rejected, merged = merge_chirps(pre, modes, rejected, fit_options,
                                            lambda band: _first_periods(band, max_periods))
+    modes, damping = small_amplitude_damping(modes)
     modes, rejected, harmonics = split_harmonics(pre, modes, rejected)
-    return modes, rejected, resampled + notes + checked + merged + harmonics
+    return modes, rejected, resampled + notes + checked + merged + damping + harmonics
 
 
 #: Largest disagreement (:func:`_disagreement`) of a jointly fitted mode with its peak's damped sinusoid.
