@@ -272,13 +272,17 @@ def _on_backbone(parent, candidate, order: int) -> bool:
     return bool(lo <= candidate.frequency_hz / order <= hi)
 
 
-def _nonlinear_parent(parent, exponent: float, order: int) -> bool:
+def _nonlinear_parent(parent, exponent: float, order: int, whole: bool = False) -> bool:
     """A locked candidate whose exponent lies between whole powers (noise flattens a harmonic's envelope:
     2.3-2.6 seen for cubic springs' 3 f) is a harmonic only of a parent whose model has nonlinear terms: a
-    linear mode makes none."""
+    linear mode makes none. ``whole``: the exponent must be a whole power (:func:`_whole_power`): for the
+    ratio of the fitted decay rates, which the envelopes' noise and the filters' transients do not bend
+    (family (e) record 71 of ``benchmarks/bench_modes.py``: a cubic spring's third harmonic, locked, whose
+    envelopes gave 3.66 +- 0.06 and whose decay rates 2.92)."""
     from ._nonlinear import has_nonlinear_terms
 
-    return MIN_EXPONENT <= exponent <= order + _EXPONENT_MARGIN and has_nonlinear_terms(parent.model)
+    fits = _whole_power(exponent, order) if whole else MIN_EXPONENT <= exponent <= order + _EXPONENT_MARGIN
+    return fits and has_nonlinear_terms(parent.model)
 
 
 def _reason(parent, e: dict) -> str:
@@ -343,7 +347,12 @@ def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: in
     e = harmonic_evidence(ring, pre.fs, parent_band, band, order,
                           (band_noise_rms(pre.peaks.spectrum, parent_band), noise))
     e.update(parent_frequency_hz=parent.frequency_hz, frequency_hz=candidate.frequency_hz)
-    if e["locked"] and not e["harmonic"] and _nonlinear_parent(parent, e["exponent"], order):
+    if candidate.damping_ratio > 0:  # a fitted mode: its decay rate over its parent's is the exponent too
+        e.update(decay_exponent=float(candidate.damping_ratio * candidate.frequency_hz
+                                      / (parent.damping_ratio * parent.frequency_hz)))
+    if e["locked"] and not e["harmonic"] and (
+            _nonlinear_parent(parent, e["exponent"], order)
+            or _nonlinear_parent(parent, e.get("decay_exponent", np.nan), order, whole=True)):
         e.update(harmonic=True)
     if not e["ratio_sigma"] <= RESOLVED * order and _on_backbone(parent, candidate, order):
         e.update(harmonic=True, by_backbone=True)
