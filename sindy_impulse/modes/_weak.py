@@ -1,0 +1,113 @@
+"""Weak modes: the stable pole's frequency and damping ratio where the band's equation disagrees with it.
+
+A mode 20-40 dB below the strongest one of a record has a band SNR of 15-30 dB: its band signal is a few
+tens of periods above the noise, cut at the start by the band-pass transient and carrying a little of its
+strong neighbours' leakage. The equation fitted on it (:func:`.band_fit.fit_band`) is then the less
+accurate estimate of the mode's linear values: its own standard deviations (``frequency_std_hz``,
+``damping_ratio_std``) reach 0.4 % in frequency and 50 % in damping ratio. The stabilisation diagram's
+stable pole (:func:`~sindy_impulse.poles.stabilisation`: ESPRIT over model orders on the whole free decay,
+no band-pass) has no transient and no leakage. Measured on ``benchmarks/bench_modes.py --family b``
+(seeds 0 and 1, 120 records): of the modes whose equation disagreed with their stable pole
+(:func:`._short.disagreement` over :data:`._short.MODE_POLE_AGREEMENT`), 27 had the pole within the marks
+(0.3 % / 10 %) where the equation was not and one the reverse; family a (60 records) had one such mode,
+family f (30) none.
+
+:func:`pole_values` gives such a mode its stable pole's values -- the nearest stable mode of the diagram
+found at :data:`._short.PERSISTENCE` of its orders or more, inside the mode's band, whose nearest mode it
+is -- when the pole also lies within :data:`MAX_STD_APART` of the equation's own standard deviations: the
+band's data cannot tell the two apart, and the pole is the sharper estimate. A mode whose equation is sure
+of values far from the pole keeps them: a mode whose damping depends on amplitude has a pole that
+averages it over the decay. As :mod:`._short` does for short records, the equation stays the mode's model
+(backbone, nonlinearity test, ``simulate``) and its own linear mode is written in the mode's
+``uncertainty_note``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from ._short import MODE_POLE_AGREEMENT, disagreement, stable_modes
+from .result import Mode
+
+__all__ = ["pole_values"]
+
+#: A mode takes its stable pole's values when the pole lies within this many of the equation's own standard
+#: deviations of its frequency and of its damping ratio (both known): the band's data cannot tell the two
+#: apart. Measured (the module's records): the family b modes whose pole was right and equation wrong were
+#: within 4.3 of them; family g's nonlinear modes, whose poles average an amplitude-dependent damping over
+#: the decay (1.4-4 times the linear one), at 8.4 or more.
+MAX_STD_APART = 5.0
+
+
+def _pole_of(mode: Mode, stable: list):
+    """The stable mode nearest ``mode`` in frequency when it lies inside the mode's band, else None."""
+    if not stable:
+        return None
+    pole = min(stable, key=lambda s: abs(np.log(s.frequency_hz / mode.frequency_hz)))
+    return pole if mode.band_hz[0] <= pole.frequency_hz <= mode.band_hz[1] else None
+
+
+def _within_std(mode: Mode, pole) -> bool:
+    """Whether the pole lies within :data:`MAX_STD_APART` standard deviations of the mode's equation (False
+    when they are not known)."""
+    f_std, z_std = mode.frequency_std_hz, mode.damping_ratio_std
+    if not (np.isfinite(f_std) and np.isfinite(z_std) and f_std > 0 and z_std > 0):
+        return False
+    return (abs(mode.frequency_hz - pole.frequency_hz) <= MAX_STD_APART * f_std
+            and abs(mode.damping_ratio - pole.damping_ratio) <= MAX_STD_APART * z_std)
+
+
+def _nearest_mode(modes: list, pole) -> Mode:
+    return min(modes, key=lambda m: abs(np.log(m.frequency_hz / pole.frequency_hz)))
+
+
+def pole_values(modes: list, table, index: int = 0) -> tuple[list, list[str]]:
+    """Each mode whose equation disagrees with its stable pole (see the module) given the pole's frequency
+    and damping ratio: ``(modes, notes)``.
+
+    Parameters
+    ----------
+    modes : list of Mode
+        One record's modes.
+    table : PoleTable
+        The record's stabilisation diagram (:func:`.result.pole_table`).
+    index : int
+        The record's index (for the notes).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> from sindy_impulse.poles import PoleTable
+    >>> f, z = np.full(26, 100.0), np.full(26, 0.01)
+    >>> table = PoleTable(f, z, np.arange(10, 62, 2), np.ones(26, bool), tuple(range(10, 62, 2)))
+    >>> mode = Mode(100.4, 0.008, (90.0, 110.0), 1.0, 0.05, None, np.zeros((1, 2)), np.zeros(1), snr_db=20.0,
+    ...             frequency_std_hz=0.3, damping_ratio_std=0.002)
+    >>> out, notes = pole_values([mode], table)
+    >>> out[0].frequency_hz, out[0].damping_ratio, out[0].uncertainty_note[:36]
+    (100.0, 0.01, 'frequency and damping ratio from the')
+    """
+    stable = stable_modes(table)
+    out, notes = [], []
+    for mode in modes:
+        pole = _pole_of(mode, stable)
+        if pole is None or _nearest_mode(modes, pole) is not mode:
+            out.append(mode)
+            continue
+        damped = pole.frequency_hz * np.sqrt(1 - pole.damping_ratio**2)
+        apart = disagreement(mode, damped, pole.damping_ratio)
+        if not (apart > MODE_POLE_AGREEMENT and _within_std(mode, pole)):
+            out.append(mode)
+            continue
+        note = (f"frequency and damping ratio from the stabilisation diagram's stable pole ({pole.n_orders} "
+                f"orders); the equation's linear mode: {mode.frequency_hz:.6g} Hz, damping ratio "
+                f"{mode.damping_ratio:.4g} ({apart:.2g} from the pole)")
+        out.append(replace(mode, frequency_hz=float(pole.frequency_hz),
+                           damping_ratio=float(pole.damping_ratio),
+                           uncertainty_note="; ".join(filter(None, [mode.uncertainty_note, note]))))
+        notes.append(f"record {index}: the mode at {mode.frequency_hz:.5g} Hz (damping ratio "
+                     f"{mode.damping_ratio:.3g}, band SNR {mode.snr_db:.0f} dB) disagrees with the stable "
+                     f"pole at {pole.frequency_hz:.5g} Hz (damping ratio {pole.damping_ratio:.3g}): the"
+                     " pole's values are reported, the equation kept as its model")
+    return out, notes
