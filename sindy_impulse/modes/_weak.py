@@ -28,10 +28,12 @@ from dataclasses import replace
 
 import numpy as np
 
-from ._short import MODE_POLE_AGREEMENT, disagreement, stable_modes
+from ..preprocessing.deflation import deflated_band
+from ._short import MODE_POLE_AGREEMENT, _near, disagreement, stable_modes
+from .band_fit import fit_band
 from .result import Mode
 
-__all__ = ["pole_values"]
+__all__ = ["pole_values", "refused_by_poles"]
 
 #: A mode takes its stable pole's values when the pole lies within this many of the equation's own standard
 #: deviations of its frequency and of its damping ratio (both known): the band's data cannot tell the two
@@ -57,6 +59,15 @@ def _within_std(mode: Mode, pole) -> bool:
         return False
     return (abs(mode.frequency_hz - pole.frequency_hz) <= MAX_STD_APART * f_std
             and abs(mode.damping_ratio - pole.damping_ratio) <= MAX_STD_APART * z_std)
+
+
+def _with_pole(mode: Mode, pole, apart: float) -> Mode:
+    """The mode with the pole's frequency and damping ratio, its equation's own in its note."""
+    note = (f"frequency and damping ratio from the stabilisation diagram's stable pole ({pole.n_orders} "
+            f"orders); the equation's linear mode: {mode.frequency_hz:.6g} Hz, damping ratio "
+            f"{mode.damping_ratio:.4g} ({apart:.2g} from the pole)")
+    return replace(mode, frequency_hz=float(pole.frequency_hz), damping_ratio=float(pole.damping_ratio),
+                   uncertainty_note="; ".join(filter(None, [mode.uncertainty_note, note])))
 
 
 def _nearest_mode(modes: list, pole) -> Mode:
@@ -100,14 +111,58 @@ def pole_values(modes: list, table, index: int = 0) -> tuple[list, list[str]]:
         if not (apart > MODE_POLE_AGREEMENT and _within_std(mode, pole)):
             out.append(mode)
             continue
-        note = (f"frequency and damping ratio from the stabilisation diagram's stable pole ({pole.n_orders} "
-                f"orders); the equation's linear mode: {mode.frequency_hz:.6g} Hz, damping ratio "
-                f"{mode.damping_ratio:.4g} ({apart:.2g} from the pole)")
-        out.append(replace(mode, frequency_hz=float(pole.frequency_hz),
-                           damping_ratio=float(pole.damping_ratio),
-                           uncertainty_note="; ".join(filter(None, [mode.uncertainty_note, note]))))
+        out.append(_with_pole(mode, pole, apart))
         notes.append(f"record {index}: the mode at {mode.frequency_hz:.5g} Hz (damping ratio "
                      f"{mode.damping_ratio:.3g}, band SNR {mode.snr_db:.0f} dB) disagrees with the stable "
                      f"pole at {pole.frequency_hz:.5g} Hz (damping ratio {pole.damping_ratio:.3g}): the"
                      " pole's values are reported, the equation kept as its model")
     return out, notes
+
+
+def _apart(mode, pole) -> float:
+    """:func:`._short.disagreement` of a mode with a stable pole."""
+    return disagreement(mode, pole.frequency_hz * np.sqrt(1 - pole.damping_ratio**2), pole.damping_ratio)
+
+
+def _refused_holding(pole, stable: list, modes: list, rejected: list):
+    """The refused band holding the stable pole when no mode is near it (:func:`._short._near`; a
+    harmonic's row excluded)."""
+    if _near(modes, pole, stable):
+        return None
+    return next((r for r in rejected if r.band_hz is not None and "harmonic" not in r.reason
+                 and r.band_hz[0] <= pole.frequency_hz <= r.band_hz[1]), None)
+
+
+def refused_by_poles(pre, modes: list, rejected: list, template, index: int, table,
+                     samples_per_period: float = 16.0) -> tuple[list, list, list[str]]:
+    """A stable pole inside a refused band that no mode's band holds (a weak mode next to a strong one:
+    its own band too narrow for the band-pass transient, its joint and free-decay fits drowned by the
+    strong mode or the broadband noise) is identified once more on its peak's band with the other peaks
+    subtracted (:func:`~sindy_impulse.preprocessing.deflation.deflated_band`, at least 10 % wide, as
+    :func:`.survey._deflated` fits it, there judged against the peak's damped sinusoid): the
+    equation becomes the mode, with the pole's frequency and damping ratio, when the pole lies within
+    :data:`MAX_STD_APART` of its standard deviations; the band's row is then dropped.
+    ``(modes, rejected, notes)``."""
+    peaks, notes = pre.peaks.frequency_hz, []
+    stable = stable_modes(table)
+    for pole in stable if len(peaks) > 1 else []:
+        refused = _refused_holding(pole, stable, modes, rejected)
+        if refused is None or not np.all(np.isfinite(pre.peaks.damping_ratio)):
+            continue
+        i = int(np.argmin(np.abs(np.log(peaks / pole.frequency_hz))))
+        if not refused.band_hz[0] <= peaks[i] <= refused.band_hz[1]:
+            continue
+        try:
+            own = pre.peaks.band_hz[i][1] / peaks[i] - 1
+            band = deflated_band(pre, i, samples_per_period=samples_per_period, min_width=max(own, 0.1))
+        except ValueError:  # too few periods above the noise
+            continue
+        out = fit_band(band, template, onset_time=pre.impact.onset_time, index=index)
+        if not isinstance(out, Mode) or not _within_std(out, pole):
+            continue
+        modes = modes + [replace(_with_pole(out, pole, _apart(out, pole)), band_hz=tuple(refused.band_hz))]
+        rejected = [r for r in rejected if r is not refused]
+        notes.append(f"record {index}: band {refused.band_hz[0]:.4g}-{refused.band_hz[1]:.4g} Hz was "
+                     f"refused ({refused.reason}); its stable pole at {pole.frequency_hz:.5g} Hz was "
+                     "identified on the band with the other peaks subtracted, the pole's values reported")
+    return modes, rejected, notes

@@ -41,7 +41,7 @@ from ._hits import merge_hits
 from ._nonlinear import has_nonlinear_terms, merge_chirps
 from ._short import MODE_POLE_AGREEMENT, checked_by_poles, from_stable_poles, short_from_poles, stable_modes
 from ._short import disagreement as _disagreement
-from ._weak import pole_values
+from ._weak import pole_values, refused_by_poles
 from .band_fit import default_estimator, fit_band, fit_direct, fit_group
 from .result import ModalSurvey, Mode, Rejected, pole_table
 
@@ -188,8 +188,10 @@ def _fit_record(index, record, pre, force, template, sensor, ref, max_periods, s
                                            lambda band: _first_periods(band, max_periods))
     modes, damping = small_amplitude_damping(modes)
     modes, rejected, harmonics = split_harmonics(pre, modes, rejected)
+    modes, rejected, refused = refused_by_poles(pre, modes, rejected, template, index, table,
+                                                samples_per_period)
     modes, weak = pole_values(modes, table, index)
-    return modes, rejected, resampled + notes + checked + merged + damping + harmonics + weak
+    return modes, rejected, resampled + notes + checked + merged + damping + harmonics + refused + weak
 
 
 #: Largest disagreement (:func:`_disagreement`) of a jointly fitted mode with its peak's damped sinusoid.
