@@ -28,6 +28,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..preprocessing.band import ANALYSER_LIMIT
 from ..preprocessing.deflation import deflated_band
 from ._short import MODE_POLE_AGREEMENT, _near, disagreement, stable_modes
 from .band_fit import fit_band
@@ -139,7 +140,8 @@ def refused_by_poles(pre, modes: list, rejected: list, template, index: int, tab
     its own band too narrow for the band-pass transient, its joint and free-decay fits drowned by the
     strong mode or the broadband noise) is identified once more on its peak's band with the other peaks
     subtracted (:func:`~sindy_impulse.preprocessing.deflation.deflated_band`, at least 10 % wide, as
-    :func:`.survey._deflated` fits it, there judged against the peak's damped sinusoid): the
+    :func:`.survey._deflated` fits it, there judged against the peak's damped sinusoid; up to fs / 2.56,
+    resampled where needed, not only up to fs / 8): the
     equation becomes the mode, with the pole's frequency and damping ratio, when the pole lies within
     :data:`MAX_STD_APART` of its standard deviations; the band's row is then dropped.
     ``(modes, rejected, notes)``."""
@@ -154,7 +156,8 @@ def refused_by_poles(pre, modes: list, rejected: list, template, index: int, tab
             continue
         try:
             own = pre.peaks.band_hz[i][1] / peaks[i] - 1
-            band = deflated_band(pre, i, samples_per_period=samples_per_period, min_width=max(own, 0.1))
+            band = deflated_band(pre, i, samples_per_period=samples_per_period, min_width=max(own, 0.1),
+                                 top_hz=ANALYSER_LIMIT * pre.fs)
         except ValueError:  # too few periods above the noise
             continue
         out = fit_band(band, template, onset_time=pre.impact.onset_time, index=index)
