@@ -15,7 +15,10 @@ neighbour, is identified without band-pass from the stable pole of the stabilisa
 other stable modes removed (:mod:`._short`); no stable pole, no mode. A group of
 close peaks that one nonlinear oscillator reproduces better is one nonlinear mode (:mod:`._nonlinear`), and a
 mode near 2 or 3 times another that is phase-locked to it, its amplitude a power (2 or 3) of the other's, is
-that mode's harmonic (:mod:`._harmonics`: decided on the record, not on a model).
+that mode's harmonic (:mod:`._harmonics`: decided on the record, not on a model). A weak mode whose band
+equation disagrees with its stable pole within the equation's own standard deviations reports the pole's
+frequency and damping ratio, and a stable pole left in a refused band is fitted once more on its deflated
+band (:mod:`._weak`).
 Repeated hits of one structure are matched by frequency and combined by the paper's consensus (section
 3.3.2).
 """
