@@ -86,7 +86,12 @@ def _with_pole(mode: Mode, pole, apart: float) -> Mode:
 
 def _noise_terms(mode: Mode) -> bool:
     """Whether the mode's equation is linear, or weak enough for its nonlinear terms to be the noise's
-    (:data:`MAX_NONLINEAR_SNR_DB`)."""
+    (:data:`MAX_NONLINEAR_SNR_DB`); never for a mode the test for nonlinearity has already called
+    nonlinear (:func:`._envelope.small_amplitude_damping` gave it its envelope's damping at zero amplitude;
+    the test is not run here)."""
+    test = mode.__dict__.get("nonlinearity")
+    if test is not None and bool(getattr(test, "nonlinear", False)):
+        return False
     return not has_nonlinear_terms(mode.model) or mode.snr_db < MAX_NONLINEAR_SNR_DB
 
 
