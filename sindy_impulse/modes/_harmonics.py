@@ -247,7 +247,11 @@ def _on_backbone(parent, candidate, order: int) -> bool:
     signal (no band SNR: the direct or free-decay fit of a short record, :mod:`._short`), whose few periods
     do not make a backbone to extrapolate (family (d) of ``benchmarks/bench_modes.py``: a 47.9 Hz mode
     decaying 0.6 times as fast as a 24.3 Hz one was named its harmonic 2, a 307.7 Hz mode at 2.016 times a
-    152.6 Hz one its harmonic 2, both parents' few-period models with cubic terms).
+    152.6 Hz one its harmonic 2, both parents' few-period models with cubic terms), nor for a candidate
+    more than ``order**2`` times as strong as the parent (a harmonic is weaker than its mode in
+    displacement; an acceleration sensor lifts harmonic n by n**2 at most): family (b) of
+    ``benchmarks/bench_modes.py``, seed 1, record 42: a record's strongest mode, 2795.6 Hz, was named harmonic
+    2 of a mode 36 dB weaker whose noisy band equation had cubic terms.
     """
     from ..analysis import backbone
     from ._nonlinear import has_nonlinear_terms
@@ -255,6 +259,8 @@ def _on_backbone(parent, candidate, order: int) -> bool:
     decay = [m.damping_ratio * m.frequency_hz for m in (parent, candidate)]
     if not has_nonlinear_terms(parent.model) or 0 < decay[1] < _MIN_DECAY_RATIO * decay[0]:
         return False  # (a failed peak without a damping ratio, 0, is not judged on its decay)
+    if getattr(candidate, "amplitude", np.nan) > order**2 * parent.amplitude:
+        return False  # stronger than a harmonic can be (a failed peak or a joint mode: no amplitude)
     if not np.isfinite(parent.snr_db):
         return False
     try:

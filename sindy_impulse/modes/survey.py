@@ -15,7 +15,10 @@ neighbour, is identified without band-pass from the stable pole of the stabilisa
 other stable modes removed (:mod:`._short`); no stable pole, no mode. A group of
 close peaks that one nonlinear oscillator reproduces better is one nonlinear mode (:mod:`._nonlinear`), and a
 mode near 2 or 3 times another that is phase-locked to it, its amplitude a power (2 or 3) of the other's, is
-that mode's harmonic (:mod:`._harmonics`: decided on the record, not on a model).
+that mode's harmonic (:mod:`._harmonics`: decided on the record, not on a model). A weak mode whose band
+equation disagrees with its stable pole within the equation's own standard deviations reports the pole's
+frequency and damping ratio, and a stable pole left in a refused band is fitted once more on its deflated
+band (:mod:`._weak`).
 Repeated hits of one structure are matched by frequency and combined by the paper's consensus (section
 3.3.2).
 """
@@ -41,6 +44,7 @@ from ._hits import merge_hits
 from ._nonlinear import has_nonlinear_terms, merge_chirps
 from ._short import MODE_POLE_AGREEMENT, checked_by_poles, from_stable_poles, short_from_poles, stable_modes
 from ._short import disagreement as _disagreement
+from ._weak import pole_values, refused_by_poles
 from .band_fit import default_estimator, fit_band, fit_direct, fit_group
 from .result import ModalSurvey, Mode, Rejected, pole_table
 
@@ -187,7 +191,10 @@ def _fit_record(index, record, pre, force, template, sensor, ref, max_periods, s
                                            lambda band: _first_periods(band, max_periods))
     modes, damping = small_amplitude_damping(modes)
     modes, rejected, harmonics = split_harmonics(pre, modes, rejected)
-    return modes, rejected, resampled + notes + checked + merged + damping + harmonics
+    modes, rejected, refused = refused_by_poles(pre, modes, rejected, template, index, table,
+                                                samples_per_period)
+    modes, weak = pole_values(modes, table, index)
+    return modes, rejected, resampled + notes + checked + merged + damping + harmonics + refused + weak
 
 
 #: Largest disagreement (:func:`_disagreement`) of a jointly fitted mode with its peak's damped sinusoid.

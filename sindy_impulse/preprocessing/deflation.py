@@ -14,8 +14,8 @@ swallows it. When lightly damped neighbours ring inside the wide band they are r
    their poles are estimates);
 3. the remainder is extracted as any band (:func:`.band.extract_band`: zero-phase band-pass, transient
    trimmed, stop at the noise floor, decimation) in a band ``widen`` half-power widths wide on each side
-   of the peak, at least ``min_width`` of its frequency, up to the highest frequency with
-   ``min_samples_per_period``.
+   of the peak, at least ``min_width`` of its frequency, up to ``top_hz`` (default: the highest frequency
+   with ``min_samples_per_period``).
 
 The mode is then identified on that band signal like on any other (its frequency and damping come from
 its model, not from step 1): measured on ``benchmarks/bench_modes.py`` records whose strongly damped mode
@@ -52,6 +52,7 @@ def deflated_band(
     n_efolds: float = 30.0,
     widen: float = 8.0,
     min_width: float = 0.1,
+    top_hz: float | None = None,
     **options,
 ) -> BandSignal:
     """The band signal of peak ``peak`` of ``pre`` with the other peaks subtracted (see the module).
@@ -69,6 +70,10 @@ def deflated_band(
         Half-width of the band around the peak, in half-power half-widths (damping ratios) of the peak.
     min_width : float, default=0.1
         Smallest half-width of the band relative to the peak's frequency.
+    top_hz : float, optional
+        Highest frequency of the band; default: the highest with ``min_samples_per_period`` (8) at the
+        record's rate (a band above it would be resampled by
+        :func:`~sindy_impulse.preprocessing.extract_band`; a higher ``top_hz`` lets it).
     **options
         Passed to :func:`~sindy_impulse.preprocessing.extract_band` (``samples_per_period``,
         ``min_samples_per_period``, ``end_snr_db``, ``min_periods``, ...).
@@ -110,7 +115,7 @@ def deflated_band(
     rest = np.zeros_like(pre.y)  # the record's indices; past the window the target is far under the noise
     rest[start : start + n] = fit.residual + fit.component(peak, n, pre.fs)
     half = max(widen * pre.peaks.damping_ratio[peak], min_width)
-    top = pre.fs / options.get("min_samples_per_period", 8.0) * (1 - 1e-9)
+    top = pre.fs / options.get("min_samples_per_period", 8.0) * (1 - 1e-9) if top_hz is None else top_hz
     band = (float(frequency[peak] / (1 + half)), float(min(frequency[peak] * (1 + half), top)))
     noise = band_noise_rms(_noise_spectrum(pre.y, pre.impact, pre.fs, pre.peaks), band)
     return extract_band(rest, pre.fs, band, start=start, t0=pre.t0, noise_rms=noise, **options)
