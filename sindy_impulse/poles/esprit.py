@@ -20,7 +20,6 @@ from numbers import Integral, Real
 from typing import NamedTuple
 
 import numpy as np
-import scipy.linalg
 from numpy.lib.stride_tricks import sliding_window_view
 from scipy.signal import correlate
 
@@ -178,22 +177,16 @@ class SignalSpace:
     """The Hankel matrix's left singular vectors of a free decay, once, for poles at any model order.
 
     ``L = min(max_rows, n // 3)`` rows; the ``L x L`` Gram matrix is eigen-decomposed (see :func:`esprit`'s
-    cost), for its ``n_vectors`` leading vectors only when given (then ``singular_values`` holds theirs).
-    :meth:`poles` at ``order`` solves the shift invariance of the first ``order`` vectors, fits the
+    cost). :meth:`poles` at ``order`` solves the shift invariance of the first ``order`` vectors, fits the
     amplitudes and keeps the physical poles; the stabilisation diagram
     (:func:`~sindy_impulse.poles.stabilisation`) calls it at every order of its range.
     """
 
-    def __init__(self, Y: np.ndarray, max_rows: int, n_vectors: int | None = None):
+    def __init__(self, Y: np.ndarray, max_rows: int):
         self.Y = Y
         n = Y.shape[0]
         self.rows = max(min(max_rows, n // 3), 3)
-        gram = _hankel_gram(Y, self.rows)
-        if n_vectors is None or n_vectors >= self.rows // 2:
-            evals, vecs = np.linalg.eigh(gram)
-        else:  # the leading vectors only (a diagram's highest order): half the cost of all of them
-            top = (self.rows - n_vectors, self.rows - 1)
-            evals, vecs = scipy.linalg.eigh(gram, subset_by_index=top, driver="evr", check_finite=False)
+        evals, vecs = np.linalg.eigh(_hankel_gram(Y, self.rows))
         self.singular_values = np.sqrt(np.maximum(evals[::-1], 0.0))
         self.vectors = vecs[:, ::-1]
         self._shift = np.empty((0, 0))  # U[:-1]^T U[1:] of the leading vectors (grown as orders ask)

@@ -194,7 +194,7 @@ def stabilisation(
         raise ValueError(f"orders must be a non-empty sequence of positive integers, got {orders!r}")
     rows, shapes = [], []
     with one_thread("blas"):  # a loaded machine: threads made it 100x slower
-        space = SignalSpace(Y, max_rows, n_vectors=int(wanted.max()) + 1)
+        space = SignalSpace(Y, max_rows)
         usable = tuple(int(k) for k in np.unique(wanted) if k <= space.rows - 2)
         for k in usable:
             _, s, c, _, idx = space.poles(k, dt, min_snr_db)
