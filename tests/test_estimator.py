@@ -254,12 +254,14 @@ def test_deferred_diagnostics_are_the_fits_own_computed_on_first_read(seed):
     eager = ImpulseSINDy().fit(ring.x, t=ring.t)
     deferred = fit_deferred(ImpulseSINDy(), ring.x, t=ring.t)
     assert "_diagnostics" not in vars(deferred)
+    assert "_checks" not in vars(deferred)  # the data checks' spectra wait for the diagnostics too
     restored = pickle.loads(pickle.dumps(deferred))  # not yet computed: computed after unpickling
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # reading them never warns
         got = deferred.diagnostics_
         again = restored.diagnostics_
     assert deferred.diagnostics_ is got  # computed once
+    assert deferred._screening.peaks_hz.tolist() == eager._screening.peaks_hz.tolist()
     for d in (got, again):
         assert d.verdict == eager.diagnostics_.verdict
         assert d.reasons == eager.diagnostics_.reasons

@@ -25,7 +25,7 @@ against its data), :mod:`.terms` (whether the data support each term), :mod:`.ve
 :mod:`.report` (:class:`FitDiagnostics`), :mod:`.diagnose` (:func:`diagnose_fit`, every check in order).
 """
 
-from .data import MAGNITUDE_RANGE, DataChecks, check_magnitude, screen_states
+from .data import MAGNITUDE_RANGE, DataChecks, check_magnitude, clipped_samples, screen_states
 from .diagnose import diagnose_fit
 from .report import VERDICTS, FitDiagnostics
 
@@ -37,4 +37,5 @@ __all__ = [
     "check_magnitude",
     "diagnose_fit",
     "screen_states",
+    "clipped_samples",
 ]

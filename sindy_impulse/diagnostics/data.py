@@ -126,7 +126,7 @@ def check_magnitude(trajectories, name: str = "x", refuse_small: bool = True) ->
 def _quality(trajectories, times) -> tuple:
     """Quality reports and spectral peaks of the first trajectory, clipped samples and the coarsest
     relative ADC step."""
-    reports, clipped, step, peaks, widths, heights = [], 0, 0.0, [], [], []
+    reports, step, peaks, widths, heights = [], 0.0, [], [], []
     for k, (x, t) in enumerate(zip(trajectories[:MAX_CHECKED], times[:MAX_CHECKED])):
         if x.shape[0] < MIN_QUALITY_SAMPLES:
             continue
@@ -134,10 +134,7 @@ def _quality(trajectories, times) -> tuple:
         fs = (x.shape[0] - 1) / float(t[-1] - t[0]) / stride
         for j in range(x.shape[1]):
             y = x[:, j]
-            if not np.ptp(y) > 0:
-                continue
-            clipped += int(clipping_mask(y).sum())  # every sample (a run of equal samples)
-            if k > 0:
+            if k > 0 or not np.ptp(y) > 0:
                 continue
             y = y[::stride]
             ring = y - np.mean(y[int(0.75 * y.size) :])
@@ -151,7 +148,28 @@ def _quality(trajectories, times) -> tuple:
             peaks.extend(found.frequency_hz.tolist())
             widths.extend(found.half_power_width_hz.tolist())
             heights.extend(found.height_db.tolist())
-    return reports, clipped, step, np.asarray(peaks), np.asarray(widths), np.asarray(heights)
+    found = (np.asarray(peaks), np.asarray(widths), np.asarray(heights))
+    return (reports, clipped_samples(trajectories), step, *found)
+
+
+def clipped_samples(trajectories) -> int:
+    """Clipped samples (runs of equal samples at the extremes, :func:`~sindy_impulse.preprocessing.
+    clipping_mask`) over every non-constant state of the checked trajectories (the first
+    :data:`MAX_CHECKED`, each at least :data:`MIN_QUALITY_SAMPLES` long).
+
+    Examples
+    --------
+    >>> y = np.sin(np.linspace(0, 20, 400))
+    >>> clipped_samples([np.clip(y, -0.8, 0.8)[:, None]]) > 0, clipped_samples([y[:, None]])
+    (True, 0)
+    """
+    return sum(
+        int(clipping_mask(x[:, j]).sum())
+        for x in trajectories[:MAX_CHECKED]
+        if x.shape[0] >= MIN_QUALITY_SAMPLES
+        for j in range(x.shape[1])
+        if np.ptp(x[:, j]) > 0
+    )
 
 
 def _collinearity(filtered) -> tuple[float, tuple]:

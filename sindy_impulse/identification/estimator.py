@@ -10,7 +10,6 @@ regression (:func:`~.stages.prepare`), enumerate the candidates along the thresh
 
 from __future__ import annotations
 
-from dataclasses import replace
 from numbers import Integral, Real
 
 import numpy as np
@@ -19,7 +18,7 @@ import pysindy as ps
 from .._utils.params import HasMethods, Interval, Satisfies, validate_params
 from .._utils.threads import one_thread
 from .._utils.trajectories import as_trajectories, refuse_unsupported
-from ..diagnostics import diagnose_fit, screen_states
+from ..diagnostics import check_magnitude, clipped_samples, diagnose_fit, screen_states
 from ..optimizers import candidate_path
 from ..preprocessing.states import rest_level
 from ..simulation import ERROR_MEASURES, ErrorMeasure, WorkBudget
@@ -242,6 +241,14 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
     def diagnostics_(self, value) -> None:
         self._diagnostics = value
 
+    @property
+    def _screening(self):
+        """The data checks the diagnostics read (:func:`~sindy_impulse.diagnostics.screen_states`),
+        computed when first read: their spectra are a tenth of a survey band's fit."""
+        if "_checks" not in self.__dict__:
+            self._checks = screen_states(*self._screen_inputs)
+        return self._checks
+
     def _fit(self, x, t, x_dot, u, feature_names):
         self.__dict__.pop("_diagnostics", None)  # a refit's diagnostics are its own
         validate_params(self)
@@ -252,18 +259,20 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         plain = not (self.sweep or self.refine)  # plain PySINDy: one model, no simulation
         filtered, derivs = filter_states(self.differentiation_method_, data, x_dot, plain)
         rest = rest_level(data.x, data.t, allow_removal=not plain)  # a ring-down's rest level (0: none)
-        self._screening = screen_states(data, filtered, rest, plain)  # the data checks of the diagnostics
+        check_magnitude(data.x, refuse_small=not plain)  # states that overflow the library: refused now
         problem = prepare(
             self.feature_library_,
             data,
             filtered,
             derivs,
             rest.shift,
-            leave_out_clipped_samples=bool(self._screening.clipped) and not plain,
+            leave_out_clipped_samples=bool(clipped_samples(data.x)) and not plain,
             divergence_factor=self.divergence_factor,
             refuse_underdetermined=not plain,
         )
-        self._screening = replace(self._screening, excluded=problem.excluded)
+        self._excluded = problem.excluded
+        self._screen_inputs = (data, filtered, rest, plain, problem.excluded)
+        self.__dict__.pop("_checks", None)
         self._record_data(data, filtered, feature_names, problem.theta.shape[1])
         thresholds, candidates = candidate_path(self.optimizer_, problem.theta, problem.y, self.sweep)
         measure = fresh_measure(self.error_measure, filtered)
@@ -301,7 +310,7 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
     def _may_refine(self) -> bool:
         """Whether coefficients may be fitted to simulations: ``refine`` and no clipped stretches (refining
         would fit them)."""
-        return self.refine and not self._screening.excluded
+        return self.refine and not self._excluded
 
     def _keep(self, candidates, thresholds, index, coef, compile_, measure, history, scores, score):
         """Store the selected model and what led to it."""
