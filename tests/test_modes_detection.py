@@ -201,6 +201,22 @@ def test_a_linear_mode_at_exactly_twice_another_is_a_mode_not_its_harmonic(seed)
     assert not any("harmonic" in r.reason for r in survey.rejected)
 
 
+@pytest.mark.parametrize("seed", [0, 1, 3])
+def test_a_linear_mode_0_03_percent_off_twice_another_decaying_faster_is_a_mode(seed):
+    # family (a) record 73 of benchmarks/bench_modes.py: locked within its few independent samples and
+    # with an amplitude exponent of 2.19, but a linear mode's harmonic decays exactly twice as fast: this
+    # one 2.21 times. Three modes on noise seeds 0-11 but 2, 5 and 10 (none before), where the 987.5 Hz
+    # band's fit leaves its damping ratio 25 % uncertain: the decay rates cannot tell it from a harmonic
+    rec = impact_record([493.64, 918.67, 987.54], [0.00929, 0.02407, 0.01027], amplitudes=[0.43, 0.12, 0.15],
+                        fs=10000, duration=1.0556, sensor="velocity", pre_trigger=0.0107, offset=1.45,
+                        snr_db=53.7, random_state=seed)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        survey = identify_modes(rec.y, fs=rec.fs)
+    assert np.allclose([m.frequency_hz for m in survey.modes], [493.64, 918.67, 987.54], rtol=3e-3)
+    assert not any("harmonic" in r.reason for r in survey.rejected)
+
+
 @pytest.mark.slow  # about 4 s
 def test_a_failed_band_at_three_times_a_nonlinear_mode_is_named_its_harmonic():
     """Family e's record 21 (bench_modes.py, seed 0), exactly: a softening spring whose third harmonic's

@@ -158,7 +158,7 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
     f2 = order * 0.5 * (parent_band[0] + parent_band[1])
     nan = dict(order=order, frequency_ratio=np.nan, ratio_sigma=np.nan, phase_drift_rad=np.nan,
                exponent=np.nan, exponent_sigma=np.nan, periods=float(t.size / fs * f2), locked=False,
-               harmonic=False)
+               locked_within_errors=False, harmonic=False)
     if t.size < 8 or t.size / fs * f2 < _MIN_PERIODS:
         return nan
     z1, z2, a1, a2 = z1[keep], z2[keep], a1[keep], a2[keep]
@@ -169,9 +169,10 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
     f1 = float(np.polyfit(t, np.unwrap(np.angle(z1)), 1)[0] / (2 * np.pi))
     ratio, sigma, slope = _ratio(t, psi, w, bandwidth * t.size / fs, order, f1)
     stretches = [np.arange(t.size)] + np.array_split(np.arange(t.size), _SEGMENTS)
-    locked = sigma <= RESOLVED * order and all(
-        _near_order(*_ratio(t[k], psi[k], w[k], bandwidth * k.size / fs, order, f1)[:2],
-                    bandwidth * k.size / fs, order) for k in stretches)
+    pieces = [(*_ratio(t[k], psi[k], w[k], bandwidth * k.size / fs, order, f1)[:2], bandwidth * k.size / fs)
+              for k in stretches]
+    locked = sigma <= RESOLVED * order and all(_near_order(*piece, order) for piece in pieces)
+    within_errors = locked and all(_near_order(*piece, order, tol=0.0) for piece in pieces)
     n_eff = max(t.size * bandwidth / fs, 2.0)
     higher = 10 ** (_EXPONENT_SNR_DB / 20)
     strong = (a1 >= higher * floor[0]) & (a2 >= higher * floor[1])
@@ -182,10 +183,10 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
     return dict(order=order, frequency_ratio=float(ratio), ratio_sigma=float(sigma),
                 phase_drift_rad=float(slope * (t[-1] - t[0])), exponent=float(p), exponent_sigma=p_sigma,
                 periods=float(t.size / fs * f2), locked=bool(locked),
-                harmonic=bool(locked and _whole_power(p, order)))
+                locked_within_errors=bool(within_errors), harmonic=bool(locked and _whole_power(p, order)))
 
 
-def _near_order(ratio: float, sigma: float, n_eff: float, order: int) -> bool:
+def _near_order(ratio: float, sigma: float, n_eff: float, order: int, tol: float = RATIO_TOL) -> bool:
     """Whether a stretch's frequency ratio is ``order`` within :data:`SIGMAS` standard errors or within
     :data:`RATIO_TOL`. The standard error of a stretch of ``n_eff`` independent samples is itself uncertain
     (a line fitted to 4 of them leaves 2 degrees of freedom): the normal's ``SIGMAS`` becomes the Student-t
@@ -193,7 +194,7 @@ def _near_order(ratio: float, sigma: float, n_eff: float, order: int) -> bool:
     quarters of a harmonic 20 dB over the noise hold 1.4-3.8 such samples, and their ratios strayed 3-7
     standard errors from 2 on family (e) records 38 and 60 of ``benchmarks/bench_modes.py``)."""
     sigmas = float(student_t.ppf(normal_cdf(SIGMAS), max(n_eff - 2.0, 1.0)))
-    return abs(ratio - order) <= max(sigmas * sigma, RATIO_TOL * order)
+    return abs(ratio - order) <= max(sigmas * sigma, tol * order)
 
 
 def _whole_power(p: float, order: int) -> bool:
@@ -291,6 +292,35 @@ def _nonlinear_parent(parent, exponent: float, order: int, whole: bool = False) 
     return fits and has_nonlinear_terms(parent.model)
 
 
+def _decays_as_power(parent, candidate, order: int) -> bool:
+    """Whether the candidate's fitted decay rate is ``k`` times the linear parent's (``2 <= k <= order``)
+    within :data:`SIGMAS` standard errors of their ratio (from both modes' standard deviations; True when
+    they have none: nothing to judge). A harmonic's amplitude goes as its mode's to the power ``k``: of a mode
+    whose equation is linear (a constant decay rate) it decays exactly ``k`` times as fast. Family (a)
+    record 73 of ``benchmarks/bench_modes.py``: a linear 987.54 Hz mode 0.026 % off twice a linear 493.64
+    Hz mode, locked within the few independent samples of its stretch, decays 2.21 times as fast.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as Mode
+    >>> std = dict(frequency_std_hz=0.02, damping_ratio_std=2e-5)
+    >>> parent = Mode(frequency_hz=500.0, damping_ratio=0.01, **std)
+    >>> harmonic = Mode(frequency_hz=1000.0, damping_ratio=0.01, **std)
+    >>> mode = Mode(frequency_hz=1000.3, damping_ratio=0.011, **std)
+    >>> _decays_as_power(parent, harmonic, 2), _decays_as_power(parent, mode, 2)
+    (True, False)
+    """
+    modes = (parent, candidate)
+    values = [getattr(m, name, np.nan) for m in modes for name in
+              ("damping_ratio", "damping_ratio_std", "frequency_hz", "frequency_std_hz")]
+    zp, zp_std, fp, fp_std, zc, zc_std, fc, fc_std = values
+    if not (np.all(np.isfinite(values)) and zp > 0 and zc > 0):
+        return True
+    ratio = zc * fc / (zp * fp)
+    sigma = ratio * np.sqrt((zc_std / zc) ** 2 + (fc_std / fc) ** 2 + (zp_std / zp) ** 2 + (fp_std / fp) ** 2)
+    return any(abs(ratio - k) <= SIGMAS * sigma for k in range(2, order + 1))
+
+
 def _reason(parent, e: dict) -> str:
     if e.get("by_backbone"):
         locking = (f"frequency ratio {e['frequency_ratio']:.5f} +- {e['ratio_sigma']:.1g}"
@@ -344,7 +374,15 @@ def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: in
     """:func:`harmonic_evidence` of ``band`` as harmonic ``order`` of mode ``i`` (``analysis``: the modes'
     bands and damped frequencies), decided with the parent's model where the data leave it open (a locked
     candidate between whole powers; the backbone when the locking is unresolved). ``candidate``: a mode,
-    or a failed peak (``frequency_hz`` and ``damping_ratio`` only, ``failed=True``)."""
+    or a failed peak (``frequency_hz`` and ``damping_ratio`` only, ``failed=True``).
+
+    :data:`RATIO_TOL` serves a nonlinear parent, whose frequency moves along its backbone faster than the
+    band-passed phases follow; a parent whose model is linear keeps its frequency, and a harmonic of it
+    (from nonlinear terms too weak for its equation) is at ``n`` times it within the standard errors: family
+    (a) record 73 of ``benchmarks/bench_modes.py``, a linear 987.54 Hz mode 0.026 % off twice a linear
+    493.64 Hz one, read 2.00080 +- 0.00017 (4.7 standard errors off) and was named its harmonic."""
+    from ._nonlinear import has_nonlinear_terms
+
     bands, freqs = analysis
     parent_band = _parent_band(bands, freqs, i, band)
     if failed:  # not among the modes, so keep the parent's band clear of it
@@ -353,9 +391,14 @@ def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: in
     e = harmonic_evidence(ring, pre.fs, parent_band, band, order,
                           (band_noise_rms(pre.peaks.spectrum, parent_band), noise))
     e.update(parent_frequency_hz=parent.frequency_hz, frequency_hz=candidate.frequency_hz)
+    linear = not has_nonlinear_terms(parent.model)
+    if e["locked"] and not e["locked_within_errors"] and linear:
+        e.update(locked=False, harmonic=False)  # a linear parent's harmonic: exactly n times it (see below)
     if candidate.damping_ratio > 0:  # a fitted mode: its decay rate over its parent's is the exponent too
         e.update(decay_exponent=float(candidate.damping_ratio * candidate.frequency_hz
                                       / (parent.damping_ratio * parent.frequency_hz)))
+    if e["harmonic"] and linear and not _decays_as_power(parent, candidate, order):
+        e.update(harmonic=False)
     if e["locked"] and not e["harmonic"] and (
             _nonlinear_parent(parent, e["exponent"], order)
             or _nonlinear_parent(parent, e.get("decay_exponent", np.nan), order, whole=True)):
