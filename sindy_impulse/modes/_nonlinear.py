@@ -24,6 +24,7 @@ import warnings
 import numpy as np
 
 from ..feature_library.terms import term_table
+from ..preprocessing.band import extract_band
 from .band_fit import fit_band
 from .result import Mode
 
@@ -69,29 +70,108 @@ def _on_its_backbone(single, inside: list) -> bool:
 
 
 def merge_chirps(pre, modes: list, rejected: list, fit_options: dict, first_periods) -> tuple:
-    """Groups of close peaks that are one nonlinear mode (module docstring): ``(modes, rejected, notes)``.
+    """Groups of close peaks, and clusters of modes closer than half their half-power bandwidth
+    (:func:`_clusters`), that are one nonlinear mode (module docstring): ``(modes, rejected, notes)``.
 
     ``fit_options`` are passed to :func:`.band_fit.fit_band` (template, onset time, record, ...);
     ``first_periods(band)`` cuts a band signal to the periods a mode is identified on.
     """
     notes = []
     for group, band in pre.groups:
-        lo, hi = band.band_hz
-        inside = [m for m in modes if lo <= m.frequency_hz <= hi]
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # a failed merge leaves the group as it was
-            single = fit_band(first_periods(band), **fit_options)
-        if not isinstance(single, Mode) or not has_nonlinear_terms(single.model):
+        modes, rejected, single = _merged(band, modes, rejected, fit_options, first_periods)
+        if single is not None:
+            peaks = ", ".join(f"{pre.peaks.frequency_hz[i]:.4g}" for i in group)
+            notes.append(
+                f"record {single.record}: the peaks at {peaks} Hz are one nonlinear mode at "
+                f"{single.frequency_hz:.4g} Hz (its frequency changes with amplitude: see its backbone), not "
+                f"{len(group)} modes"
+            )
+    for cluster in _clusters(modes):
+        try:
+            band = extract_band(pre.y, pre.fs, _cluster_band(cluster, modes, pre.fs),
+                                start=pre.impact.ringdown_index, t0=pre.t0)
+        except ValueError:
             continue
-        if inside and not (single.fit_error < min(m.fit_error for m in inside) or (
-                single.fit_error < max(m.fit_error for m in inside) and _on_its_backbone(single, inside))):
-            continue
-        peaks = ", ".join(f"{pre.peaks.frequency_hz[i]:.4g}" for i in group)
-        modes = [m for m in modes if all(m is not x for x in inside)] + [single]
-        rejected = [r for r in rejected if not (lo <= np.sqrt(np.prod(r.band_hz)) <= hi)]
-        notes.append(
-            f"record {single.record}: the peaks at {peaks} Hz are one nonlinear mode at "
-            f"{single.frequency_hz:.4g} Hz (its frequency changes with amplitude: see its backbone), not "
-            f"{len(group)} modes"
-        )
+        modes, rejected, single = _merged(band, modes, rejected, fit_options, first_periods)
+        if single is not None:
+            found = ", ".join(f"{m.frequency_hz:.5g}" for m in cluster)
+            notes.append(
+                f"record {single.record}: the modes at {found} Hz, closer than half their half-power "
+                f"bandwidth, are one nonlinear mode at {single.frequency_hz:.4g} Hz (its frequency changes "
+                "with amplitude: see its backbone)"
+            )
     return modes, rejected, notes
+
+
+def _merged(band, modes: list, rejected: list, fit_options: dict, first_periods) -> tuple:
+    """The modes inside ``band`` (a band signal) replaced by one oscillator fitted on it, when that has a
+    nonlinear term and fits better than them all, or than the worst with every one on its backbone
+    (:func:`_on_its_backbone`); the band's rejected rows dropped then. ``(modes, rejected, single or
+    None)``."""
+    lo, hi = band.band_hz
+    inside = [m for m in modes if lo <= m.frequency_hz <= hi]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # a failed merge leaves the modes as they were
+        single = fit_band(first_periods(band), **fit_options)
+    if not isinstance(single, Mode) or not has_nonlinear_terms(single.model):
+        return modes, rejected, None
+    if inside and not (single.fit_error < min(m.fit_error for m in inside) or (
+            single.fit_error < max(m.fit_error for m in inside) and _on_its_backbone(single, inside))):
+        return modes, rejected, None
+    modes = [m for m in modes if all(m is not x for x in inside)] + [single]
+    rejected = [r for r in rejected if r.band_hz is None or not lo <= np.sqrt(np.prod(r.band_hz)) <= hi]
+    return modes, rejected, single
+
+
+#: A cluster's band reaches this many half-power half-widths (``zeta f``, the widest member's) beyond its
+#: lowest and highest frequencies, never past the geometric midpoints to the modes outside it.
+_CLUSTER_REACH = 4.0
+
+
+def _cluster_band(cluster: list, modes: list, fs: float) -> tuple:
+    """The band a cluster's one oscillator is fitted on (see :data:`_CLUSTER_REACH`).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as Mode
+    >>> found = [(341.4, 0.008), (343.5, 0.023), (385.9, 0.048), (389.1, 0.005)]
+    >>> modes = [Mode(frequency_hz=f, damping_ratio=z) for f, z in found]
+    >>> [round(b, 1) for b in _cluster_band(modes[2:], modes, 10000.0)]
+    [364.1, 463.2]
+    """
+    f = [m.frequency_hz for m in cluster]
+    reach = _CLUSTER_REACH * max(m.damping_ratio * m.frequency_hz for m in cluster)
+    lo, hi = min(f) - reach, max(f) + reach
+    for m in modes:
+        if all(m is not x for x in cluster):
+            g = m.frequency_hz
+            lo = max(lo, np.sqrt(g * min(f))) if g < min(f) else lo
+            hi = min(hi, np.sqrt(g * max(f))) if g > max(f) else hi
+    return float(max(lo, 0.5 * min(f))), float(min(hi, 0.45 * fs))
+
+
+def _clusters(modes: list) -> list:
+    """Runs of modes (by frequency) each closer to the next than half the wider one's half-power bandwidth
+    (``zeta f``): the pieces of a chirp that the stabilisation diagram and the peaks cut in two or three
+    (family (g) of ``benchmarks/bench_modes.py``: 593.0 Hz as 594.2 and 596.2 Hz, 341.2 Hz as 341.4 and
+    343.5 Hz), never a pair of modes the record resolves (family (f) draws them 1-3 bandwidths apart).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as Mode
+    >>> found = [(341.4, 0.008), (343.5, 0.023), (389.1, 0.005)]
+    >>> modes = [Mode(frequency_hz=f, damping_ratio=z) for f, z in found]
+    >>> [[m.frequency_hz for m in c] for c in _clusters(modes)]
+    [[341.4, 343.5]]
+    """
+    ordered = sorted(modes, key=lambda m: m.frequency_hz)
+    runs, run = [], ordered[:1]
+    for previous, mode in zip(ordered, ordered[1:]):
+        width = max(m.damping_ratio * m.frequency_hz for m in (previous, mode))
+        if mode.frequency_hz - previous.frequency_hz < width:
+            run.append(mode)
+        else:
+            runs.append(run)
+            run = [mode]
+    runs.append(run)
+    return [r for r in runs if len(r) > 1]

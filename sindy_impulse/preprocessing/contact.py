@@ -12,7 +12,8 @@ the last ones of the contact, where the force stops abruptly), gaps of up to 16 
 cluster, after which at most 0.2 % of the first quarter fails. A smooth pulse caught from its first
 samples fails at its rise and at its end, with a predictable stretch between: the end of a later cluster
 is taken when the rest after the first one is not quiet, if it lies within the first quarter's first
-quarter. If no such cluster leaves a quiet rest (a nonlinear free decay the recurrence cannot describe,
+quarter and the sensor did not saturate there (clipped runs fail the recurrence too). If no such cluster
+leaves a quiet rest (a nonlinear free decay the recurrence cannot describe,
 e.g. with dry friction), it returns 0.
 
 Measured on 300 records of ``benchmarks/bench_modes.py``'s ``random_case`` (seeds 0-2; contact 1-29
@@ -30,6 +31,7 @@ from numpy.lib.stride_tricks import sliding_window_view
 from .._utils.params import Interval, check_param
 from .._utils.threads import one_thread
 from ._record import check_signal_1d
+from .saturation import clipping_mask
 
 __all__ = ["contact_end"]
 
@@ -107,13 +109,16 @@ def contact_end(y, *, order: int = _ORDER) -> int:
     error, scale = _backward_errors(head, order)
     if scale <= 0:
         return 0
-    return _forced_run(np.abs(error[: error.size // 4]) > _FORCED * scale)
+    exceeds = np.abs(error[: error.size // 4]) > _FORCED * scale
+    return _forced_run(exceeds, later=not clipping_mask(head[: exceeds.size + order]).any())
 
 
-def _forced_run(exceeds: np.ndarray) -> int:
+def _forced_run(exceeds: np.ndarray, later: bool = True) -> int:
     """End of the first cluster of exceedances (gaps up to ``_GAP``) after which the rest is quiet (at most
     ``_QUIET`` of it exceeds: a model that fails all along is no evidence of a contact); clusters after the
-    first only up to ``_LATEST`` of the samples.
+    first only up to ``_LATEST`` of the samples, and only if ``later`` (not where the sensor saturated: its
+    clipped runs fail the recurrence too, and the ring-down would start after them, family (h) of
+    ``benchmarks/bench_modes.py``: records 12 and 58 lost their strongly damped top mode).
 
     Examples
     --------
@@ -128,7 +133,7 @@ def _forced_run(exceeds: np.ndarray) -> int:
     breaks = np.flatnonzero(np.diff(forced) > _GAP)
     ends = np.append(forced[breaks], forced[-1]) + 1
     for k, end in enumerate(ends):
-        if k and end > _LATEST * exceeds.size:
+        if k and (not later or end > _LATEST * exceeds.size):
             break
         if np.mean(exceeds[end:]) <= _QUIET:
             return int(end)

@@ -24,6 +24,7 @@ from .._utils.params import Interval, check_param
 from ..exceptions import DataWarning
 from ._record import MIN_SAMPLES, check_fs, check_signal_1d
 from .contact import contact_end
+from .saturation import runs as _runs
 
 __all__ = ["ForcePulse", "Impact", "response_onset", "force_pulses", "find_impact"]
 
@@ -118,12 +119,6 @@ class ForcePulse:
     peak: int
     end: int
     relative_amplitude: float
-
-
-def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
-    """``(first, last)`` index of every run of True in ``mask``."""
-    edges = np.diff(np.concatenate(([0], mask.astype(np.int8), [0])))
-    return list(zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1))
 
 
 def force_pulses(force, *, level: float = 0.05, n_sigma: float = 6.0) -> list[ForcePulse]:

@@ -14,9 +14,10 @@ from ._record import as_record
 from .band import band_noise_rms, extract_band
 from .declipping import declip
 from .offset import OffsetEstimate, estimate_offset, remove_offset
-from .onset import Impact, _runs, find_impact
+from .onset import Impact, find_impact
 from .peaks import SpectralPeaks, spectral_peaks
 from .quality import QualityReport, check_quality, saturated_mask
+from .saturation import runs as _runs
 from .spectrum import ringdown_spectrum
 
 __all__ = ["Preprocessed", "preprocess"]

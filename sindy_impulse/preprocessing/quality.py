@@ -32,8 +32,8 @@ import numpy as np
 from .._utils.params import Interval, check_param
 from ._record import check_fs, check_signal_1d
 from .offset import estimate_offset
-from .onset import _runs
 from .peaks import SpectralPeaks, spectral_peaks
+from .saturation import clipping_mask
 from .spectrum import ringdown_spectrum
 
 __all__ = [
@@ -51,31 +51,6 @@ __all__ = [
 
 #: Limits past which :func:`check_quality` words a problem.
 LIMITS = {"offset": 0.1, "quantisation": 0.005, "snr_db": 20.0, "decay_db": 6.0}
-
-
-def clipping_mask(y, *, min_run: int = 3) -> np.ndarray:
-    """Samples in runs of at least ``min_run`` equal to the record's maximum or minimum (saturation).
-
-    Examples
-    --------
-    >>> y = np.clip(np.sin(np.arange(100) / 5), -2, 0.9)
-    >>> mask = clipping_mask(y)
-    >>> int(mask.sum()), bool(clipping_mask(np.sin(np.arange(100) / 5)).any())
-    (13, False)
-    >>> bool(clipping_mask(np.ones(50)).any())  # constant: no signal, not saturation
-    False
-    """
-    arr = check_signal_1d(y, "y", 1)
-    check_param("min_run", min_run, [Interval(Integral, 2, None)], "clipping_mask")
-    mask = np.zeros(arr.size, bool)
-    if np.ptp(arr) == 0:  # a constant record has no extremes to saturate at (it has no signal at all)
-        return mask
-    tol = 1e-12 * np.ptp(arr)
-    for at_extreme in (arr >= arr.max() - tol, arr <= arr.min() + tol):
-        for first, last in _runs(at_extreme):
-            if last - first + 1 >= min_run:
-                mask[first : last + 1] = True
-    return mask
 
 
 #: Samples at exactly one extreme of a record that is not quantised that make it saturated, with no run.
