@@ -60,8 +60,8 @@ def _on_its_backbone(single, inside: list) -> bool:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             f = backbone(single.model, coordinate=single.coordinate_).frequency_hz
-    except (ValueError, AttributeError):
-        return False
+    except (ValueError, AttributeError, ArithmeticError, np.linalg.LinAlgError):
+        return False  # no backbone: no evidence of one chirp
     f = f[np.isfinite(f)]
     if not f.size:
         return False
