@@ -25,6 +25,7 @@ import numpy as np
 
 from ..feature_library.terms import term_table
 from ..preprocessing.band import extract_band
+from ..preprocessing.partition import resolved
 from .band_fit import fit_band
 from .result import Mode
 
@@ -187,10 +188,11 @@ def _cluster_band(cluster: list, modes: list, fs: float) -> tuple:
 
 
 def _clusters(modes: list) -> list:
-    """Runs of modes (by frequency) each closer to the next than half the wider one's half-power bandwidth
-    (``zeta f``): the pieces of a chirp that the stabilisation diagram and the peaks cut in two or three
-    (family (g) of ``benchmarks/bench_modes.py``: 593.0 Hz as 594.2 and 596.2 Hz, 341.2 Hz as 341.4 and
-    343.5 Hz), never a pair of modes the record resolves (family (f) draws them 1-3 bandwidths apart).
+    """Runs of modes (by frequency) each not :func:`~sindy_impulse.preprocessing.partition.resolved` from
+    the next (closer than half the wider one's half-power bandwidth, ``zeta f``): the pieces of a chirp
+    that the stabilisation diagram and the peaks cut in two or three (family (g) of
+    ``benchmarks/bench_modes.py``: 593.0 Hz as 594.2 and 596.2 Hz, 341.2 Hz as 341.4 and 343.5 Hz), never a
+    pair of modes the record resolves (family (f) draws them 1-3 bandwidths apart).
 
     Examples
     --------
@@ -203,8 +205,8 @@ def _clusters(modes: list) -> list:
     ordered = sorted(modes, key=lambda m: m.frequency_hz)
     runs, run = [], ordered[:1]
     for previous, mode in zip(ordered, ordered[1:]):
-        width = max(m.damping_ratio * m.frequency_hz for m in (previous, mode))
-        if mode.frequency_hz - previous.frequency_hz < width:
+        pair = (previous, mode)
+        if not resolved(tuple(m.frequency_hz for m in pair), tuple(m.damping_ratio for m in pair)):
             run.append(mode)
         else:
             runs.append(run)

@@ -16,6 +16,8 @@
   for a member); a group's joint band runs from its lowest member's lower edge to its highest member's
   upper edge, each limited only by the neighbours outside the group. Such a group is one band signal
   holding several modes (fitted together, one oscillator each).
+- Resolved modes (:func:`resolved`): two modes closer than the wider one's half-power half-width are not
+  two modes a record can tell apart.
 """
 
 from __future__ import annotations
@@ -28,12 +30,31 @@ from .._utils.params import Interval, check_param
 from ._record import check_fs
 from .filters import transient_samples
 
-__all__ = ["peak_bands", "band_groups", "WIDTH_FACTOR"]
+__all__ = ["peak_bands", "band_groups", "resolved", "WIDTH_FACTOR"]
 
 #: Half-power widths a peak's own band spans on each side (at least ``min_half_width`` of its frequency).
 WIDTH_FACTOR = 12.0
 #: Highest band edge over the sampling rate.
 _TOP = 0.499
+
+
+def resolved(frequency_hz: tuple[float, float], damping_ratio: tuple[float, float]) -> bool:
+    """Whether two modes are at least the wider one's half-power half-width (``zeta f``) apart.
+
+    Closer than that they are the pieces of one mode that a linear fit cuts in two: a chirp's stable poles
+    (family (g) of ``benchmarks/bench_modes.py``: 593.0 Hz as 594.2 and 596.2 Hz), or an
+    amplitude-dependent damping's two decay rates (``benchmarks/bench_model_backbone.py``'s damper seed 39:
+    a 73.0 Hz mode at damping ratio 0.015 as poles at 73.04 Hz, 0.017, and 71.9 Hz, 0.137). Two true modes
+    a record resolves are farther apart (family (f) draws pairs ``k (zeta1 f1 + zeta2 f2)`` apart, ``k >=
+    1``).
+
+    Examples
+    --------
+    >>> resolved((73.04, 71.94), (0.017, 0.137)), resolved((252.99, 253.92), (0.0012, 0.0009))
+    (False, True)
+    """
+    width = max(z * f for f, z in zip(frequency_hz, damping_ratio))
+    return bool(abs(frequency_hz[1] - frequency_hz[0]) >= width)
 
 
 def _ratios(f: np.ndarray, width: np.ndarray, width_factor: float, min_half_width: float):

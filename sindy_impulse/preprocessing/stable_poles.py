@@ -24,7 +24,7 @@ from dataclasses import replace
 import numpy as np
 
 from .detection import _heights, _residual_spectrum, _tolerances
-from .partition import band_groups, peak_bands
+from .partition import band_groups, peak_bands, resolved
 from .peaks import SpectralPeaks
 from .pipeline import Preprocessed, _extract_all, _noise_spectrum
 from .sinusoids import fit_damped_sinusoids
@@ -46,15 +46,20 @@ _HARMONIC_NEAR = 0.06
 
 def _splittable(peaks: SpectralPeaks, k: int, poles: list) -> bool:
     """Whether peak ``k`` is two modes fitted as one: exactly two poles inside it (three or more trace a
-    frequency that moves along the decay: one nonlinear mode), not at a harmonic's place, and not in a
-    group of close peaks (the group is fitted jointly and :func:`sindy_impulse.modes._nonlinear.merge_chirps`
-    tests it as one nonlinear mode: a hardening mode's smeared peak, split in two, gave two poles in each)."""
-    if any(k in group for group in peaks.groups):
+    frequency that moves along the decay: one nonlinear mode) that are :func:`~.partition.resolved` (an
+    amplitude-dependent damping gives two poles at one frequency: a slow and a fast decay), not at a
+    harmonic's place, and not in a group of close peaks (the group is fitted jointly and
+    :func:`sindy_impulse.modes._nonlinear.merge_chirps` tests it as one nonlinear mode: a hardening mode's
+    smeared peak, split in two, gave two poles in each)."""
+    if any(k in group for group in peaks.groups) or len(poles) != 2:
+        return False
+    (f1, s1), (f2, s2) = poles
+    if not resolved((f1, f2), (s1 / np.hypot(2 * np.pi * f1, s1), s2 / np.hypot(2 * np.pi * f2, s2))):
         return False
     f = peaks.frequency_hz
     lower = f[f < f[k] / 1.5]
     at_harmonic = any(np.any(np.abs(f[k] / (n * lower) - 1) <= _HARMONIC_NEAR) for n in (2, 3))
-    return len(poles) == 2 and not at_harmonic
+    return not at_harmonic
 
 
 def _missing(peaks: SpectralPeaks, stable: list, n_orders: int, lo: float, hi: float) -> tuple[list, set]:
