@@ -37,7 +37,7 @@ from scipy.stats import t as student_t
 
 from ..preprocessing.band import band_noise_rms
 from ..preprocessing.filters import bandpass, transient_samples
-from ..preprocessing.partition import peak_bands
+from ..preprocessing.partition import HARMONIC_NEAR, peak_bands
 from .result import Rejected
 
 __all__ = ["harmonic_evidence", "split_harmonics", "SIGMAS", "RATIO_TOL", "RESOLVED", "MIN_EXPONENT",
@@ -47,8 +47,8 @@ __all__ = ["harmonic_evidence", "split_harmonics", "SIGMAS", "RATIO_TOL", "RESOL
 ORDERS = (2, 3)
 #: A mode is tested as harmonic ``n`` of another when its frequency is within this relative distance of
 #: ``n`` times the other's (a nonlinear mode's frequency moves with amplitude; its harmonic is strongest
-#: where the amplitude is largest).
-NEAR = 0.06
+#: where the amplitude is largest). The distance at which the peak steps leave a peak whole for this test.
+NEAR = HARMONIC_NEAR
 #: Envelopes used down to this height over their band's noise (dB).
 MIN_SNR_DB = 10.0
 #: A locked pair's frequency ratio lies within this many standard errors of ``n`` ...

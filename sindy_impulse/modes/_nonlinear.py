@@ -25,7 +25,7 @@ import numpy as np
 
 from ..feature_library.terms import term_table
 from ..preprocessing.band import extract_band
-from ..preprocessing.partition import resolved
+from ..preprocessing.partition import at_harmonic_place, resolved
 from .band_fit import fit_band
 from .result import Mode
 
@@ -120,7 +120,13 @@ _MERGE_REACH = 6.0
 def _refitted(pre, group, band, modes: list, single: Mode, fit_options: dict, first_periods) -> tuple:
     """``(modes, single)`` with the merged oscillator ``single`` of ``group`` fitted again on the narrow
     band of :data:`_MERGE_REACH`; unchanged when that band is the group's, cannot be extracted, or its fit
-    is not a nonlinear mode."""
+    is not a nonlinear mode, and when ``single`` lies at 2 or 3 times a lower mode
+    (:func:`~sindy_impulse.preprocessing.partition.at_harmonic_place`): it is left as decided for the
+    harmonic test, which reads its decay rate (family (e) record 71 of ``benchmarks/bench_modes.py``: a
+    softening mode's third harmonic, split in two poles and merged, decayed 2.92 times as fast as its mode
+    on the group's band and 2.63 times on the narrow one, and became a spurious mode)."""
+    if at_harmonic_place(single.frequency_hz, [m.frequency_hz for m in modes]):
+        return modes, single
     k = list(group)
     f, width = pre.peaks.frequency_hz[k], pre.peaks.half_power_width_hz[k]
     lo, hi = band.band_hz

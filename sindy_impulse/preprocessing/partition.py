@@ -17,7 +17,8 @@
   upper edge, each limited only by the neighbours outside the group. Such a group is one band signal
   holding several modes (fitted together, one oscillator each).
 - Resolved modes (:func:`resolved`): two modes closer than the wider one's half-power half-width are not
-  two modes a record can tell apart.
+  two modes a record can tell apart; a peak at a harmonic's place (:func:`at_harmonic_place`) is left
+  whole for the harmonic test.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ from .._utils.params import Interval, check_param
 from ._record import check_fs
 from .filters import transient_samples
 
-__all__ = ["peak_bands", "band_groups", "resolved", "WIDTH_FACTOR"]
+__all__ = ["peak_bands", "band_groups", "resolved", "at_harmonic_place", "WIDTH_FACTOR", "HARMONIC_NEAR"]
 
 #: Half-power widths a peak's own band spans on each side (at least ``min_half_width`` of its frequency).
 WIDTH_FACTOR = 12.0
@@ -55,6 +56,26 @@ def resolved(frequency_hz: tuple[float, float], damping_ratio: tuple[float, floa
     """
     width = max(z * f for f, z in zip(frequency_hz, damping_ratio))
     return bool(abs(frequency_hz[1] - frequency_hz[0]) >= width)
+
+
+#: A frequency within this relative distance of 2 or 3 times a lower one may be its harmonic (the harmonic
+#: test of :mod:`sindy_impulse.modes._harmonics` looks at the same distance, ``NEAR``).
+HARMONIC_NEAR = 0.06
+
+
+def at_harmonic_place(frequency_hz: float, others) -> bool:
+    """Whether ``frequency_hz`` lies within :data:`HARMONIC_NEAR` of 2 or 3 times one of ``others`` (those
+    below ``frequency_hz / 1.5`` count): a peak or mode there may be a harmonic, and steps that would cut it
+    or refit it leave it as it is for the harmonic test.
+
+    Examples
+    --------
+    >>> at_harmonic_place(55.3, [18.79, 40.0]), at_harmonic_place(70.0, [18.79, 40.0])
+    (True, False)
+    """
+    lower = np.asarray(others, float)
+    lower = lower[lower < frequency_hz / 1.5]
+    return bool(any(np.any(np.abs(frequency_hz / (n * lower) - 1) <= HARMONIC_NEAR) for n in (2, 3)))
 
 
 def _ratios(f: np.ndarray, width: np.ndarray, width_factor: float, min_half_width: float):

@@ -24,7 +24,7 @@ from dataclasses import replace
 import numpy as np
 
 from .detection import _heights, _residual_spectrum, _tolerances
-from .partition import band_groups, peak_bands, resolved
+from .partition import at_harmonic_place, band_groups, peak_bands, resolved
 from .peaks import SpectralPeaks
 from .pipeline import Preprocessed, _extract_all, _noise_spectrum
 from .sinusoids import fit_damped_sinusoids
@@ -38,22 +38,18 @@ PERSISTENCE = 0.5
 #: ``benchmarks/bench_modes.py`` draws damping ratios up to 0.25: a 0.246 mode stable at every order was left
 #: out at 0.2).
 _MAX_DAMPING = 0.3
-#: A peak within this relative distance of 2 or 3 times a lower peak may be that peak's harmonic: it is not
-#: replaced by its poles (the harmonic test of :mod:`sindy_impulse.modes._harmonics`, same distance, decides
-#: on it whole; a harmonic of a mode whose frequency moves is cut into several poles by the diagram).
-_HARMONIC_NEAR = 0.06
 
 
 def _pair_inside(peaks: SpectralPeaks, k: int, poles: list) -> bool:
     """Whether peak ``k`` holds exactly two poles (three or more trace a frequency that moves along the
-    decay: one nonlinear mode), not at a harmonic's place, and not in a group of close peaks (the group is
+    decay: one nonlinear mode), not at a harmonic's place (:func:`~.partition.at_harmonic_place`: left
+    whole for the harmonic test; a harmonic of a mode whose frequency moves is cut into several poles by
+    the diagram), and not in a group of close peaks (the group is
     fitted jointly and :func:`sindy_impulse.modes._nonlinear.merge_chirps` tests it as one nonlinear mode: a
     hardening mode's smeared peak, split in two, gave two poles in each)."""
     if any(k in group for group in peaks.groups) or len(poles) != 2:
         return False
-    f = peaks.frequency_hz
-    lower = f[f < f[k] / 1.5]
-    return not any(np.any(np.abs(f[k] / (n * lower) - 1) <= _HARMONIC_NEAR) for n in (2, 3))
+    return not at_harmonic_place(peaks.frequency_hz[k], peaks.frequency_hz)
 
 
 def _splittable(peaks: SpectralPeaks, k: int, poles: list) -> bool:
