@@ -117,6 +117,23 @@ def merge_chirps(pre, modes: list, rejected: list, fit_options: dict, first_peri
 _MERGE_REACH = 6.0
 
 
+def _narrow_band(pre, group, band):
+    """The band signal of ``group``'s peaks' extent and :data:`_MERGE_REACH` half-power widths of the
+    widest beyond it, within the group's ``band``; None when that is the group's band or cannot be
+    extracted."""
+    k = list(group)
+    f, width = pre.peaks.frequency_hz[k], pre.peaks.half_power_width_hz[k]
+    lo, hi = band.band_hz
+    reach = _MERGE_REACH * float(np.max(width))
+    narrow = (max(lo, float(np.min(f)) - reach), min(hi, float(np.max(f)) + reach))
+    if narrow == (lo, hi):
+        return None
+    try:
+        return extract_band(pre.y, pre.fs, narrow, start=pre.impact.ringdown_index, t0=pre.t0)
+    except ValueError:
+        return None
+
+
 def _refitted(pre, group, band, modes: list, single: Mode, fit_options: dict, first_periods) -> tuple:
     """``(modes, single)`` with the merged oscillator ``single`` of ``group`` fitted again on the narrow
     band of :data:`_MERGE_REACH`; unchanged when that band is the group's, cannot be extracted, or its fit
@@ -127,16 +144,8 @@ def _refitted(pre, group, band, modes: list, single: Mode, fit_options: dict, fi
     on the group's band and 2.63 times on the narrow one, and became a spurious mode)."""
     if at_harmonic_place(single.frequency_hz, [m.frequency_hz for m in modes]):
         return modes, single
-    k = list(group)
-    f, width = pre.peaks.frequency_hz[k], pre.peaks.half_power_width_hz[k]
-    lo, hi = band.band_hz
-    reach = _MERGE_REACH * float(np.max(width))
-    narrow = (max(lo, float(np.min(f)) - reach), min(hi, float(np.max(f)) + reach))
-    if narrow == (lo, hi):
-        return modes, single
-    try:
-        narrow_band = extract_band(pre.y, pre.fs, narrow, start=pre.impact.ringdown_index, t0=pre.t0)
-    except ValueError:
+    narrow_band = _narrow_band(pre, group, band)
+    if narrow_band is None:
         return modes, single
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # a failed refit keeps the first fit
