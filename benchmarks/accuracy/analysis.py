@@ -12,6 +12,7 @@ Run from the repository root with ``PYTHONPATH=. python benchmarks/bench_analysi
 
 from __future__ import annotations
 
+import argparse
 import time
 import warnings
 
@@ -45,9 +46,10 @@ def section(title: str) -> None:
 
 
 # ------------------------------------------------------------------------------------------------------
-def bench_consensus() -> None:
+def bench_consensus() -> dict:
     section("3.3.2 Consensus over 36 initial conditions (Figure 12), degree 1, k=64, c=3.2, t in [0, 4]")
     levels = [1, 0.6, 0.2, -0.2, -0.6, -1]
+    out = {}
     for snr in (None, 40):
         rings = [
             damped_oscillator(x0=(a, v), snr_db=snr, random_state=i)
@@ -82,10 +84,12 @@ def bench_consensus() -> None:
             f"criterion (clean data): consensus within 1 % of (1, -64, -3.2): worst {worst:.2e} "
             f"-> {ok(crit) if snr is None else '(extra, not a criterion) ' + ok(crit)}"
         )
+        out[label] = {"worst_relative_error": worst, "passed": bool(crit), "fit_seconds": fit_time}
+    return out
 
 
 # ------------------------------------------------------------------------------------------------------
-def bench_parameters() -> None:
+def bench_parameters() -> dict:
     section("3.3.1 Parameter dependency: delta in [0.1, 0.3], c = 2 delta sqrt(k), reference delta = 0.2")
     deltas = np.round(np.linspace(0.1, 0.3, 9), 3)
     models = [linear_estimator().fit(damped_oscillator(c=2 * d * np.sqrt(K)).x, t=DT) for d in deltas]
@@ -105,10 +109,11 @@ def bench_parameters() -> None:
     crit = dep.varying_terms == ["x1' : x1"]
     print(f"varying terms (> 1 %): {dep.varying_terms}; invariant: {dep.invariant_terms}")
     print(f"criterion: only the damping coefficient changes by more than 1 % -> {ok(crit)}")
+    return {"varying_terms": dep.varying_terms, "passed": bool(crit)}
 
 
 # ------------------------------------------------------------------------------------------------------
-def bench_nonlinearity() -> None:
+def bench_nonlinearity() -> dict:
     section(
         "3.3.3 Test for nonlinearity: k_nl in {0, 10}, x0 = (a, 0), a in {0.5, 1, 2}, SNR 40 dB, 10 seeds"
     )
@@ -139,6 +144,7 @@ def bench_nonlinearity() -> None:
         f"{time.perf_counter() - t0:.1f} s (fit + test)"
     )
     print(f"criterion: right in >= 95 % of cases -> {ok(rate >= 0.95)}")
+    return {"right": right, "total": total, "passed": bool(rate >= 0.95)}
 
 
 # ------------------------------------------------------------------------------------------------------
@@ -175,7 +181,7 @@ def cpu_speedup() -> float:
     return serial / (time.perf_counter() - t0)
 
 
-def bench_features() -> None:
+def bench_features() -> dict:
     section(
         "3.4 Feature generation: 80 ring-downs, k ~ U[36, 400], k_nl in {0, 50} (40 each), c = 3.2, "
         "x0 = (1, 0), both states, degree 3"
@@ -239,11 +245,14 @@ def bench_features() -> None:
         f"criteria ({label}): zero failures, ARI >= 0.95, <= 20 s with n_jobs=2 -> "
         f"ARI {ari:.3f} {ok(ari >= 0.95)}, time {ok(t2 <= 20)}"
     )
+    return {"ari": ari, "seconds_n_jobs_1": t1, "seconds_n_jobs_2": t2, "identical_features": bool(same),
+            "passed": bool(ari >= 0.95)}
 
 
 # ------------------------------------------------------------------------------------------------------
-def bench_modal() -> None:
+def bench_modal() -> dict:
     section(f"Modal parameters at SNR 40 dB (truth {F_TRUE:.4f} Hz, zeta {ZETA_TRUE:.3f}), 10 seeds")
+    out = {}
     for label, embed in (("both states", False), ("x1 + delay embedding", True)):
         f_err, z_err = [], []
         for seed in range(10):
@@ -261,13 +270,20 @@ def bench_modal() -> None:
             f"{label:<24} max |df/f| = {max(f_err):.2e}, max |dzeta/zeta| = {max(z_err):.2e} "
             f"(criteria 0.5 %, 5 %) -> {ok(crit)}"
         )
+        out[label] = {"max_frequency_error": max(f_err), "max_damping_error": max(z_err),
+                      "passed": bool(crit)}
+    return out
+
+
+def main(argv=None) -> dict:
+    argparse.ArgumentParser(description=__doc__.splitlines()[0]).parse_args(argv)
+    start = time.perf_counter()
+    result = {"consensus": bench_consensus(), "parameter_dependency": bench_parameters(),
+              "nonlinearity_test": bench_nonlinearity(), "features": bench_features(),
+              "modal_parameters": bench_modal()}
+    print(f"\ntotal {time.perf_counter() - start:.0f} s")
+    return result
 
 
 if __name__ == "__main__":
-    start = time.perf_counter()
-    bench_consensus()
-    bench_parameters()
-    bench_nonlinearity()
-    bench_features()
-    bench_modal()
-    print(f"\ntotal {time.perf_counter() - start:.0f} s")
+    main()

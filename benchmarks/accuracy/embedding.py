@@ -12,6 +12,7 @@ is not installed). Prints:
 
 from __future__ import annotations
 
+import argparse
 import time
 import warnings
 from collections import Counter
@@ -50,10 +51,11 @@ def _summary(values) -> str:
     return ", ".join(f"{v}:{counts[v]}" for v in sorted(counts))
 
 
-def accuracy() -> None:
+def accuracy() -> dict:
     ring_down = damped_oscillator()
     x1, x2 = ring_down.x[:, 0], ring_down.x[:, 1]
     print("== x1 of the paper's oscillator (401 samples, dt = 0.01; paper: tau = 18, m = 2)")
+    out = {}
     for label, params in METHODS.items():
         emb = _fit(x1, **params)
         extra = ""
@@ -64,6 +66,7 @@ def accuracy() -> None:
         if emb.acf_zero_crossing_ is not None:
             extra += f"  (ACF zero at lag {emb.acf_zero_crossing_:.2f})"
         print(f"  {label:<26} tau = {emb.tau_:3d}  m = {emb.dimension_}   {extra}")
+        out[label] = {"tau": emb.tau_, "m": emb.dimension_}
 
     print(f"\n== noisy x1, {len(SEEDS)} noise seeds each (value:count)")
     for snr in (40, 30):
@@ -82,13 +85,15 @@ def accuracy() -> None:
             for label, e in ((lab, _fit(s, **p)) for lab, p in METHODS.items())
         )
         print(f"  beta = {beta:4.2f}   {row}")
+    return out
 
 
-def speed() -> None:
+def speed() -> dict:
     print("\n== time to estimate tau and m (default acf + fnn), median of repeats")
     short = damped_oscillator().x[:, 0]
     # 20,001 samples: 200 s of a lightly damped ring-down (c = 0.02), about 250 periods
     long = damped_oscillator(c=0.02, t_end=200.0).x[:, 0]
+    out = {}
     for s, repeats, limit in ((short, 50, 0.020), (long, 7, 1.0)):
         emb = DelayEmbedding().fit(s)
         t_fit = _median_time(lambda s=s: DelayEmbedding().fit(s), repeats)
@@ -106,8 +111,15 @@ def speed() -> None:
             f"  {'':10} mutual_information + fnn {t_mi * 1e3:8.2f} ms | acf + cao {t_cao * 1e3:8.2f} ms "
             f"| transform {t_transform * 1e3:6.3f} ms"
         )
+        out[f"{s.size} samples"] = {"fit": t_fit, "correlate": t_base, "ratio": t_fit / t_base,
+                                    "mutual_information": t_mi, "cao": t_cao, "transform": t_transform}
+    return out
+
+
+def main(argv=None) -> dict:
+    argparse.ArgumentParser(description=__doc__.splitlines()[0]).parse_args(argv)
+    return {"tau_and_m_of_x1": accuracy(), "seconds": speed()}
 
 
 if __name__ == "__main__":
-    accuracy()
-    speed()
+    main()

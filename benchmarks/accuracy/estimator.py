@@ -34,12 +34,13 @@ def describe(model) -> str:
     return " | ".join(model.equations(4))
 
 
-def paper_cases():
+def paper_cases() -> dict:
     t, x, x_dot = damped_oscillator()
     print("== 3.1.1 analytic derivatives (x_dot given)")
     m = ImpulseSINDy().fit(x, t=t, x_dot=x_dot)
     names = m.get_feature_names()
     dk, dc = k_c_errors(m.coefficients(), names)
+    out = {"analytic_derivatives": {"terms": m.complexity, "k_error": dk, "c_error": dc, "gamma": m.gamma_}}
     print(f"  {describe(m)}")
     print(f"  terms {m.complexity} (true 3), |dk|/k {dk:.2e}, |dc|/c {dc:.2e}, Gamma {m.gamma_:.3g}")
 
@@ -60,9 +61,12 @@ def paper_cases():
     print(
         f"  selection='min_gamma' (the paper's rule): {m_paper.complexity} terms, Gamma {m_paper.gamma_:.4f}"
     )
+    out["tvregdiff"] = {"terms": m.complexity, "k_error": dk, "c_error": dc, "gamma": m.gamma_,
+                        "min_gamma_terms": m_paper.complexity, "min_gamma_gamma": m_paper.gamma_}
+    return out
 
 
-def noise_table(n_seeds: int):
+def noise_table(n_seeds: int) -> list:
     print(f"\n== noise, both states measured, {n_seeds} seeds per level, degree 3")
     header = (
         f"  {'method':34s} {'SNR':>4s} {'structure':>10s} {'median |dk|/k':>14s} {'median |dc|/c':>14s} "
@@ -78,6 +82,7 @@ def noise_table(n_seeds: int):
             differentiation_method=ps.SmoothedFiniteDifference(),
         ),
     }
+    rows = []
     for snr in (40, 30, 20):
         for label, make in methods.items():
             ok, dks, dcs, times = 0, [], [], []
@@ -97,9 +102,13 @@ def noise_table(n_seeds: int):
                 f"  {label:34s} {snr:4d} {100 * ok / n_seeds:9.0f}% {100 * np.median(dks):13.3f}% "
                 f"{100 * np.median(dcs):13.3f}% {np.median(times):12.3f}"
             )
+            rows.append({"method": label, "snr_db": snr, "structure_right": ok / n_seeds,
+                         "median_k_error": np.median(dks), "median_c_error": np.median(dcs),
+                         "median_fit_seconds": np.median(times)})
+    return rows
 
 
-def speed():
+def speed() -> dict:
     print("\n== speed (ratios in one run)")
     t, x, x_dot = damped_oscillator()
     model = ImpulseSINDy().fit(x, t=t)
@@ -134,15 +143,18 @@ def speed():
         f"(<= 0.5 s), min {np.min(fits):.3f} s, max {np.max(fits):.3f} s; "
         f"= {np.median(fits) / t_lstsq:.0f}x one 401x20 least-squares solve"
     )
+    return {"simulate_pysindy": t_pysindy, "simulate_ours": t_ours, "simulate_ratio": t_pysindy / t_ours,
+            "fit_median": np.median(fits), "fit_over_lstsq": np.median(fits) / t_lstsq}
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--seeds", type=int, default=20)
-    args = parser.parse_args()
-    paper_cases()
-    noise_table(args.seeds)
-    speed()
+def main(argv=None) -> dict:
+    formatter = argparse.RawDescriptionHelpFormatter
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=formatter)
+    parser.add_argument("--seeds", type=int, default=None, help="noise seeds per level (default 20, quick 5)")
+    parser.add_argument("--quick", action="store_true", help="5 seeds per level")
+    args = parser.parse_args(argv)
+    seeds = args.seeds or (5 if args.quick else 20)
+    return {"paper": paper_cases(), "noise": noise_table(seeds), "seconds": speed()}
 
 
 if __name__ == "__main__":

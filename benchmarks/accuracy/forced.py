@@ -65,9 +65,10 @@ CASES = {
 }
 
 
-def run(seeds: int) -> None:
+def run(seeds: int) -> dict:
     warnings.simplefilter("ignore")
     print(f"k = {K}, c = {C}, m = {M} (wn = {WN:.3f} rad/s, zeta = {ZETA:.3f}); 40 dB on x, v; {seeds} seeds")
+    out = {}
     for force in ("random", "hammer"):
         for label, case in CASES.items():
             rows, times = [], []
@@ -85,9 +86,20 @@ def run(seeds: int) -> None:
                     med, worst = 100 * np.median(values), 100 * np.max(values)
                     cells.append(f"|d{key}| median {med:.3f}% max {worst:.3f}%")
             print(f"{force:6s} | {label:33s} | " + " | ".join(cells) + f" | {np.median(times):.1f} s")
+            out[f"{force}: {label}"] = {
+                "median": {k: float(np.median([r[k] for r in rows])) for k in rows[0]},
+                "worst": {k: float(np.max([r[k] for r in rows])) for k in rows[0]},
+                "median_seconds": float(np.median(times))}
+    return out
+
+
+def main(argv=None) -> dict:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seeds", type=int, default=None, help="seeds (default 5, quick 2)")
+    parser.add_argument("--quick", action="store_true", help="2 seeds")
+    args = parser.parse_args(argv)
+    return run(args.seeds or (2 if args.quick else 5))
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seeds", type=int, default=5)
-    run(parser.parse_args().seeds)
+    main()

@@ -10,6 +10,7 @@ Run from the repository root with ``PYTHONPATH=. python benchmarks/bench_impact.
 
 from __future__ import annotations
 
+import argparse
 import time
 
 import numpy as np
@@ -33,10 +34,11 @@ def timed(fn, repeats=5):
     return np.median(wall), np.median(cpu)
 
 
-def generation():
+def generation() -> dict:
     print("1. generation (median wall / CPU seconds)")
     w, c = timed(lambda: impact_record(F, Z, AMPS, fs=10000.0, duration=4.0, snr_db=40, random_state=0))
     print(f"   linear, 40,000 samples, 4 modes, noise:         {w:.3f} / {c:.3f}")
+    out = {"linear": {"wall": w, "cpu": c}}
     f0, a0 = 50.0, 1e-3
     w0 = 2 * np.pi * f0
     kw = dict(fs=20 * f0, duration=3000 / f0, sensor="displacement", pre_trigger=0.0)
@@ -45,10 +47,13 @@ def generation():
     )
     w, c = timed(lambda: impact_record(f0, 0.002, [a0], **kw))
     print(f"   nonlinear SDOF, 3,000 periods x 20 samples:      {w:.3f} / {c:.3f}")
+    out["nonlinear"] = {"wall": w, "cpu": c}
+    return out
 
 
-def accuracy():
+def accuracy() -> list:
     print("2. ESPRIT on the free decay (10 seeds): CPU s, freq rel err RMS / max, damping rel err RMS / max")
+    rows = []
     for duration in (1.5, 4.0):
         for noise in ("white", "pink"):
             for snr in (60, 40, 30, 20):
@@ -78,8 +83,19 @@ def accuracy():
                     f"   n={int(duration * 1e4):6d} {noise:5s} {snr:2d} dB  cpu {np.median(cpu):.3f}  {stats}"
                     + (f"  ({missed} seeds without 4 modes)" if missed else "")
                 )
+                row = {"samples": int(duration * 1e4), "noise": noise, "snr_db": snr,
+                       "cpu": float(np.median(cpu)), "missed": missed}
+                if len(df):
+                    row.update(frequency_rms=np.sqrt(np.mean(df**2)), frequency_max=df.max(),
+                               damping_rms=np.sqrt(np.mean(dz**2)), damping_max=dz.max())
+                rows.append(row)
+    return rows
+
+
+def main(argv=None) -> dict:
+    argparse.ArgumentParser(description=__doc__.splitlines()[0]).parse_args(argv)
+    return {"generation_seconds": generation(), "esprit": accuracy()}
 
 
 if __name__ == "__main__":
-    generation()
-    accuracy()
+    main()

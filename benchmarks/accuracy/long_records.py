@@ -51,11 +51,11 @@ def _errors(survey, f, z):
     return abs(m.frequency_hz / f - 1), abs(m.damping_ratio / z - 1)
 
 
-def main() -> None:
+def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--seed", type=int, default=0)
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     rng = np.random.default_rng(args.seed)
     n = 20 if args.quick else 100
     gamma = default_estimator().set_params(error_measure="gamma")  # the same estimator, other measure
@@ -89,6 +89,14 @@ def main() -> None:
             f"{100 * (ok_f & ok_z).mean():>5.0f}% {np.median(e[:, 0]):>12.1e} {np.median(e[:, 1]):>12.1e} "
             f"{np.median(e[:, 2]):>11.2f}s"
         )
+    summary = {}
+    for name, rows in results.items():
+        e = np.array(rows)
+        ok_f, ok_z = e[:, 0] <= F_TOL, e[:, 1] <= Z_TOL
+        summary[name] = {"frequency_within": ok_f.mean(), "damping_within": ok_z.mean(),
+                         "both_within": (ok_f & ok_z).mean(), "median_frequency_error": np.median(e[:, 0]),
+                         "median_damping_error": np.median(e[:, 1]), "median_seconds": np.median(e[:, 2])}
+    return {"records": n, "seed": args.seed, "by_measure": summary}
 
 
 if __name__ == "__main__":

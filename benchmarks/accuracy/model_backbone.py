@@ -267,9 +267,10 @@ def _map(function, jobs, n_jobs):
     return [function(job) for job in jobs]
 
 
-def main() -> None:
+def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--records", type=int, default=30, help="records per row (default 30)")
+    parser.add_argument("--records", type=int, default=None, help="records per row (default 30, quick 4)")
+    parser.add_argument("--quick", action="store_true", help="4 records per row")
     parser.add_argument("--jobs", type=int, default=1, help="worker processes")
     parser.add_argument("--misses", action="store_true", help="list the records the mode backbone misses")
     parser.add_argument("--floor", type=float, default=None, help="the survey's segment floor (default 0.1)")
@@ -284,8 +285,9 @@ def main() -> None:
                         help="damper seeds to re-run noise-free and with --draws other noise draws")
     parser.add_argument("--draws", type=int, default=3, help="noise draws per --redraw seed (default 3)")
     parser.add_argument("--rounding", type=int, default=0, help="rounding check on N records per row")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     options = (args.floor, args.gamma_periods, args.segment_periods, args.output_error_periods)
+    args.records = args.records or (4 if args.quick else 30)
     if args.rounding:
         jobs = [(kind, seed, options) for kind in ("damping", "cubic") for seed in range(args.rounding)]
         rows = _map(rounding_one, jobs, args.jobs)
@@ -295,18 +297,20 @@ def main() -> None:
         print(f"same terms {sum(r[2] for r in rows)}/{len(rows)}; worst coefficient change "
               f"{max(r[3] for r in rows):.3g} (mark 1e-2); frequency {max(r[4] for r in rows):.2g}, damping "
               f"ratio {max(r[5] for r in rows):.2g}")
-        return
+        return {"rounding": rows}
     if args.redraw:
-        for seed, errors in _map(redraw_one, [(s, args.draws, options) for s in args.redraw], args.jobs):
+        redrawn = _map(redraw_one, [(s, args.draws, options) for s in args.redraw], args.jobs)
+        for seed, errors in redrawn:
             clean, *noisy = (" / ".join(f"{100 * v:.3g}" for v in e) + " %" for e in errors)
             print(f"damping seed {seed}: noise-free {clean}; other noise draws {', '.join(noisy)} "
                   "(frequency / damping / shift)")
-        return
+        return {"redraw": redrawn}
     jobs = [(kind, seed, options) for kind in ("cubic", "damping") for seed in range(args.records)]
     rows = _map(run_one, jobs, args.jobs)
     print(f"{args.records} records per row; worst pointwise errors over the middle 80 % of the amplitudes,")
     print("median / worst over the records")
     print(f"{'row':8s} {'backbone':13s} {'pass':>9s} {'frequency':>22s} {'damping':>16s} {'shift':>16s}")
+    summary = {}
     for kind in ("cubic", "damping"):
         for name in MARKS:
             e = np.array([r[name] for r in rows if r["kind"] == kind])
@@ -316,6 +320,8 @@ def main() -> None:
                 f"{kind:8s} {name:13s} {ok.sum():>4d}/{len(e):<4d} {cells[0]:>22s} {cells[1]:>16s} "
                 f"{cells[2]:>16s}"
             )
+            summary[f"{kind}: {name}"] = {"passed": int(ok.sum()), "records": len(e),
+                                          "median": np.median(e, axis=0), "worst": np.max(e, axis=0)}
     print("pass marks: models 0.2 % / 10 % / 10 %; hilbert 0.5 % / 20 % / 25 %")
     for kind in ("cubic", "damping"):
         spurious = [r["seed"] for r in rows if r["kind"] == kind and r["spurious"]]
@@ -329,6 +335,9 @@ def main() -> None:
                 cells = " / ".join(f"{100 * v:.3g} %" for v in r["mode"])
                 print(f"  miss {r['kind']} seed {r['seed']}: mode {cells}, compared amplitudes "
                       f"{r['range'][0]:.3g}-{r['range'][1]:.3g}")
+    return {"records_per_row": args.records, "rows": summary,
+            "spurious": {kind: [r["seed"] for r in rows if r["kind"] == kind and r["spurious"]]
+                         for kind in ("cubic", "damping")}}
 
 
 if __name__ == "__main__":

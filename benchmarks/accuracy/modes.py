@@ -125,7 +125,7 @@ def noise_case(rng: np.random.Generator, kind: str) -> int:
         return len(identify_modes(white + 3.0, fs=fs))
 
 
-def _summary(results: list[dict]) -> None:
+def _summary(results: list[dict]) -> dict:
     n = len(results)
     passed = sum(r["passed"] for r in results)
     clean = sum(r["spurious"] == 0 for r in results)
@@ -158,6 +158,11 @@ def _summary(results: list[dict]) -> None:
     t = np.array([r["time"] for r in results])
     te = np.array([r["es_time"] for r in results])
     print(f"time per record: median {np.median(t):.2f} s (ESPRIT {np.median(te):.2f} s), max {t.max():.1f} s")
+    return {"records": n, "right": passed, "no_spurious": clean, "esprit_right": es_passed,
+            "esprit_no_spurious": es_clean, "stabilised_right": st_passed, "stabilised_no_spurious": st_clean,
+            "median_frequency_error": mf, "median_damping_error": mz, "esprit_median_frequency_error": ef,
+            "esprit_median_damping_error": ez, "median_seconds": np.median(t),
+            "esprit_median_seconds": np.median(te)}
 
 
 def _bin_label(bins, v) -> str:
@@ -185,7 +190,7 @@ def _misses(results: list[dict]) -> None:
         print(f"  damping {lo:g}-{hi:g}: {off} of {int(sel.sum())} modes off by > 10 %")
 
 
-def output_error_cost(n: int, rng: np.random.Generator) -> None:
+def output_error_cost(n: int, rng: np.random.Generator) -> dict:
     """Median time ratio of ``identify_modes`` with / without the modes' output-error fit (same run)."""
     from sindy_impulse.modes import band_fit as _fit
 
@@ -206,6 +211,7 @@ def output_error_cost(n: int, rng: np.random.Generator) -> None:
     _fit.OUTPUT_ERROR_PERIODS = default
     print(f"identify_modes with / without the output-error fit, {n} records: median time ratio "
           f"{np.median(ratios):.3f} (range {min(ratios):.3f}-{max(ratios):.3f})")
+    return {"records": n, "median_time_ratio": np.median(ratios), "ratios": ratios}
 
 
 # --------------------------------------------------------------------------------------------------------
@@ -232,6 +238,21 @@ def _median_errors(results, who) -> tuple:
     return tuple(np.median(e, axis=0)) if e.size else (np.nan, np.nan)
 
 
+def family_row(results: list[dict]) -> dict:
+    """One family's figures: n, survey right, baseline right, spurious, failures, median errors, s/record."""
+    (mf, mz), (bf, bz) = _median_errors(results, "ours"), _median_errors(results, "theirs")
+    return {"n": len(results), "right": sum(r["ours"]["passed"] for r in results),
+            "baseline_right": sum(r["theirs"]["passed"] for r in results),
+            "spurious": sum(r["ours"]["spurious"] > 0 for r in results),
+            "baseline_spurious": sum(r["theirs"]["spurious"] > 0 for r in results),
+            "exceptions": sum(r["error"] is not None for r in results),
+            "caught": sum(r["caught"] > 0 for r in results),
+            "median_frequency_error": mf, "baseline_median_frequency_error": bf,
+            "median_damping_error": mz, "baseline_median_damping_error": bz,
+            "median_seconds": np.median([r["time"] for r in results]),
+            "baseline_median_seconds": np.median([r["base_time"] for r in results])}
+
+
 def family_table(rows: dict) -> None:
     """The per-family table: n, survey right, baseline right, spurious, failures, median errors, s/record."""
     print("| family | n | survey right | baseline right | survey spurious | baseline spurious | exceptions "
@@ -239,19 +260,13 @@ def family_table(rows: dict) -> None:
           "| s/record (survey / baseline) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for name, results in rows.items():
-        n = len(results)
-        right = sum(r["ours"]["passed"] for r in results)
-        base = sum(r["theirs"]["passed"] for r in results)
-        sp = sum(r["ours"]["spurious"] > 0 for r in results)
-        bsp = sum(r["theirs"]["spurious"] > 0 for r in results)
-        exc = sum(r["error"] is not None for r in results)
-        caught = sum(r["caught"] > 0 for r in results)
-        (mf, mz), (bf, bz) = _median_errors(results, "ours"), _median_errors(results, "theirs")
-        t = np.median([r["time"] for r in results])
-        tb = np.median([r["base_time"] for r in results])
+        r = family_row(results)
+        n, right, base = r["n"], r["right"], r["baseline_right"]
         print(f"| {name} | {n} | {right} ({100 * right / n:.1f} %) | {base} ({100 * base / n:.1f} %) "
-              f"| {sp} | {bsp} | {exc} | {caught} | {mf:.1e} / {bf:.1e} | {mz:.1e} / {bz:.1e} "
-              f"| {t:.2f} / {tb:.2f} |")
+              f"| {r['spurious']} | {r['baseline_spurious']} | {r['exceptions']} | {r['caught']} "
+              f"| {r['median_frequency_error']:.1e} / {r['baseline_median_frequency_error']:.1e} "
+              f"| {r['median_damping_error']:.1e} / {r['baseline_median_damping_error']:.1e} "
+              f"| {r['median_seconds']:.2f} / {r['baseline_median_seconds']:.2f} |")
 
 
 def show_failures(name: str, results: list[dict], seed: int) -> None:
@@ -265,7 +280,7 @@ def show_failures(name: str, results: list[dict], seed: int) -> None:
         print(f"      config {json.dumps(r['case']['config'])}")
 
 
-def run_families(names: list[str], n: int | None, seed: int, failures: bool, budget: float = np.inf) -> None:
+def run_families(names: list[str], n: int | None, seed: int, failures: bool, budget: float = np.inf) -> dict:
     """Each family in turn: its records (at most ``budget`` seconds of drawing new ones; Ctrl-C also stops
     the family early), then its failures and its table row."""
     rows = {}
@@ -299,9 +314,10 @@ def run_families(names: list[str], n: int | None, seed: int, failures: bool, bud
     if len(rows) > 1:
         print("all families:")
         family_table(rows)
+    return {name: family_row(results) for name, results in rows.items() if results}
 
 
-def main() -> None:
+def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--n", type=int, default=None)
@@ -314,15 +330,14 @@ def main() -> None:
                         help="per family: draw no new record after this long (the table covers those done)")
     parser.add_argument("--table", action="store_true",
                         help="family a / high: also the per-family table (one-to-one matching, as b-h)")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     if args.family not in ("a", "high") or args.table:
         names = [*FAMILY_SIZES] if args.family == "all" else [args.family]
-        run_families(names, args.n or (5 if args.quick else None), args.seed, args.show_failures,
-                     args.budget)
-        return
+        return {"families": run_families(names, args.n or (5 if args.quick else None), args.seed,
+                                         args.show_failures, args.budget)}
     if args.output_error_cost:
-        output_error_cost(args.output_error_cost, np.random.default_rng(args.seed))
-        return
+        cost = output_error_cost(args.output_error_cost, np.random.default_rng(args.seed))
+        return {"output_error_cost": cost}
     n = args.n or (30 if args.quick else 200)
     rng = np.random.default_rng(args.seed)
     results = []
@@ -338,11 +353,13 @@ def main() -> None:
                 f"errors {[(f'{a:.1e}', f'{b:.2f}') for a, b in r['ours']]} spurious {r['spurious']}",
                 flush=True,
             )
-    _summary(results)
+    summary = _summary(results)
     _misses(results)
     n_noise = 10 if args.quick else 50
     found = [noise_case(rng, kind) for kind in ("white", "pink") for _ in range(n_noise // 2)]
     print(f"noise-only records: {sum(f == 0 for f in found)} of {len(found)} give no mode")
+    return {"family": args.family, "seed": args.seed, **summary, "noise_only_records": len(found),
+            "noise_only_without_mode": sum(f == 0 for f in found)}
 
 
 if __name__ == "__main__":

@@ -136,7 +136,7 @@ def rounding(n: int) -> None:
               f"{same_verdict:>5d}/{n}")
 
 
-def main() -> None:
+def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--quick", action="store_true", help="8 records per row, units 1 and 1e6, rounding 2")
     parser.add_argument("--records", type=int, default=None, help="records per row (default 100, quick 8)")
@@ -146,10 +146,11 @@ def main() -> None:
     parser.add_argument("--rounding", type=int, default=None, help="records per row, rounding check (10)")
     parser.add_argument("--out", default=None, help="write one JSON line per record here")
     parser.add_argument("--table", default=None, help="print the table of an --out file and stop")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     if args.table:
-        table([json.loads(line) for line in Path(args.table).read_text().splitlines()])
-        return
+        rows = [json.loads(line) for line in Path(args.table).read_text().splitlines()]
+        table(rows)
+        return {"rows": rows}
     n = args.records or (8 if args.quick else 100)
     units = (1.0, 1e6) if args.quick else UNITS
     if args.units:
@@ -166,6 +167,7 @@ def main() -> None:
     print(f"{len(rows)} records in units {', '.join(f'{u:g}' for u in units)}: {elapsed:.0f} s")
     table(rows)
     rounding(args.rounding if args.rounding is not None else (2 if args.quick else 10))
+    return {"units": units, "seconds": elapsed, "rows": rows}
 
 
 if __name__ == "__main__":

@@ -84,15 +84,19 @@ def distortion(modes, method, rng, duration=3.0):
     return np.max(errors, axis=0), trim * f / FS
 
 
-def distortion_table():
+def distortion_table() -> dict:
     rng = np.random.default_rng(0)
     print("1. Band-pass distortion of the first mode (worst of 6 phases); trim in periods; residual relative")
     print("   to the envelope at the first kept sample / RMS over the kept samples")
+    out = {}
     for method in ("fft", "butter"):
         print(f"\n   {method}\n   {'case':38s} {'df/f':>8s} {'dsig/sig':>9s} {'trim':>6s} {'residual':>17s}")
         for name, modes in CASES.items():
             (df, ds, r0, rr), trim = distortion(modes, method, rng)
             print(f"   {name:38s} {df:8.1e} {ds:9.1e} {trim:6.1f} {r0:8.1e} /{rr:8.1e}")
+            out[f"{method}: {name}"] = {"frequency_error": df, "decay_rate_error": ds, "trim_periods": trim,
+                                        "residual_first": r0, "residual_rms": rr}
+    return out
 
 
 def pink(n, rng, exponent):
@@ -102,14 +106,17 @@ def pink(n, rng, exponent):
     return np.fft.irfft(spectrum / f ** (exponent / 2), n)
 
 
-def false_peaks(count=1000):
+def false_peaks(count=1000) -> dict:
     rng = np.random.default_rng(5)
     print(f"\n2. False peaks on pure noise records of 1,000-40,000 samples ({count} of each colour)")
+    out = {}
     for name, exponent in (("white", 0.0), ("pink", 1.0), ("brown", 2.0)):
         found = 0
         for _ in range(count):
             found += len(spectral_peaks(pink(int(rng.integers(1000, 40001)), rng, exponent), FS))
         print(f"   {name:6s}: {found} false peak(s) in {count} records")
+        out[name] = {"records": count, "false_peaks": found}
+    return out
 
 
 def detect(case):
@@ -126,8 +133,8 @@ def detect(case):
     return missed, spurious, elapsed
 
 
-def detection(seeds=(0, 1, 2), count=100):
-    print(f"\n3. Mode detection on bench_modes.random_case records (seeds {seeds}, {count} each)")
+def detection(seeds=(0, 1, 2), count=100) -> dict:
+    print(f"\n3. Mode detection on families.random_case records (seeds {seeds}, {count} each)")
     missed = spurious = 0
     times = []
     for seed in seeds:
@@ -150,20 +157,20 @@ def detection(seeds=(0, 1, 2), count=100):
             warnings.simplefilter("ignore")
             pre = preprocess(impact_record(**case).y, fs=case["fs"])
         print("   seed 0 case 4:\n" + "\n".join("   " + line for line in repr(pre).splitlines()))
+    return {"records": n, "missed": missed, "spurious": spurious, "median_seconds": np.median(times)}
 
 
-def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--detection", action="store_true")
-    args = parser.parse_args()
+def main(argv=None) -> dict:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="the distortion table only")
+    parser.add_argument("--detection", action="store_true", help="the detection study only")
+    args = parser.parse_args(argv)
     if args.detection:
-        detection()
-        return
-    distortion_table()
+        return {"detection": detection()}
+    out = {"distortion": distortion_table()}
     if not args.quick:
-        false_peaks()
-        detection()
+        out.update(false_peaks=false_peaks(), detection=detection())
+    return out
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-"""Scoring of the modal-table studies: true and found modes matched, the marks, the stabilised ESPRIT baseline.
+"""Scoring of the modal-table studies: true and found modes matched, the marks, the ESPRIT baseline.
 
 Shared by the accuracy benchmarks (``modes``, ``detection``, ``short_records``) and ``real_records``:
 :func:`match` (per true mode, the closest found mode), :func:`assign` and :func:`judge` (one-to-one

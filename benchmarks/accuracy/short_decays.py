@@ -60,11 +60,12 @@ def run(seeds: int, snr_db: float) -> dict:
     return {"rows": rows, "times": times}
 
 
-def report(result: dict, seeds: int, snr_db: float) -> None:
+def report(result: dict, seeds: int, snr_db: float) -> dict:
     marks = f"one mode within {F_TOL:.1%} / {Z_TOL:.0%}"
     print(f"paper's oscillator, seeds 0-{seeds - 1}, {snr_db:g} dB: {marks}")
     print(f"{'method':<10} {'right':>6} {'none':>5} {'extra':>6} {'median |df/f|':>14} {'median |dz/z|':>14} "
           f"{'median s':>9}")
+    out = {}
     for name in ("survey", "baseline"):
         found = result["rows"][name]
         right = sum(_passes(f) for f in found)
@@ -75,6 +76,10 @@ def report(result: dict, seeds: int, snr_db: float) -> None:
         dz = np.median([abs(z / Z_TRUE - 1) for _, z in first]) if first else np.nan
         print(f"{name:<10} {right:>3}/{len(found):<2} {none:>5} {extra:>6} {df:>14.2e} {dz:>14.2e} "
               f"{np.median(result['times'][name]):>9.3f}")
+        out[name] = {"right": right, "records": len(found), "none": none, "extra": extra,
+                     "median_frequency_error": df, "median_damping_error": dz,
+                     "median_seconds": np.median(result["times"][name])}
+    return out
 
 
 def _pink(n: int, rng: np.random.Generator) -> np.ndarray:
@@ -85,7 +90,7 @@ def _pink(n: int, rng: np.random.Generator) -> np.ndarray:
     return np.fft.irfft(spectrum, n)
 
 
-def noise_only(seeds: int) -> None:
+def noise_only(seeds: int) -> dict:
     """Records of noise alone (white, pink, brown; 4,000 samples at 1 kHz): any mode is spurious."""
     spurious = 0
     for seed in range(seeds):
@@ -96,16 +101,22 @@ def noise_only(seeds: int) -> None:
                 spurious += bool(identify_modes(y, fs=1000.0).modes)
     kinds = f"white, pink, brown; seeds 0-{seeds - 1}"
     print(f"noise-only records ({kinds}): {spurious} of {3 * seeds} with a mode")
+    return {"records": 3 * seeds, "with_a_mode": spurious}
 
 
-def main() -> None:
+def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--seeds", type=int, default=100)
+    parser.add_argument("--seeds", type=int, default=None, help="oscillator seeds (default 100, quick 10)")
     parser.add_argument("--snr-db", type=float, default=40.0)
-    parser.add_argument("--noise-seeds", type=int, default=10)
-    args = parser.parse_args()
-    report(run(args.seeds, args.snr_db), args.seeds, args.snr_db)
-    noise_only(args.noise_seeds)
+    parser.add_argument("--noise-seeds", type=int, default=None,
+                        help="noise-only seeds (default 10, quick 2)")
+    parser.add_argument("--quick", action="store_true", help="10 oscillator seeds, 2 noise-only seeds")
+    args = parser.parse_args(argv)
+    seeds = args.seeds or (10 if args.quick else 100)
+    noise_seeds = args.noise_seeds if args.noise_seeds is not None else (2 if args.quick else 10)
+    oscillator = report(run(seeds, args.snr_db), seeds, args.snr_db)
+    return {"seeds": seeds, "snr_db": args.snr_db, "oscillator": oscillator,
+            "noise_only": noise_only(noise_seeds)}
 
 
 if __name__ == "__main__":

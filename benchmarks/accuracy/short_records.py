@@ -25,6 +25,7 @@ import json
 import multiprocessing as mp
 import signal
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -60,7 +61,7 @@ def _one(args) -> dict:
     return r
 
 
-def pole_vs_equation(cases: list) -> None:
+def pole_vs_equation(cases: list) -> dict:
     """Per true mode matched (within 1 %) to a stable pole of its record: the error of the pole and of the
     linear mode of the equation fitted on its free decay (``modes._short.fit_free_decay``), medians and
     largest; the share of poles whose equation agrees (is kept)."""
@@ -96,11 +97,15 @@ def pole_vs_equation(cases: list) -> None:
         print(f"{name}: |df/f| median {np.median(e[:, 0]):.1e} max {e[:, 0].max():.1e}; |dz/z| median "
               f"{np.median(e[:, 1]):.1e} max {e[:, 1].max():.1e} ({len(e)} modes)")
     print(f"true modes with a stable pole: {total}; its equation agrees (kept): {kept}")
+    return {"true_modes_with_a_stable_pole": total, "kept": kept,
+            "pole_median_errors": np.median(pole_err, axis=0),
+            "equation_median_errors": np.median(eq_err, axis=0)}
 
 
-def main() -> None:
+def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--n", type=int, default=30)
+    parser.add_argument("--n", type=int, default=None, help="records 0..N-1 (default 30, quick 5)")
+    parser.add_argument("--quick", action="store_true", help="records 0-4")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--records", type=int, nargs="*", default=None)
     parser.add_argument("--jobs", type=int, default=1)
@@ -108,13 +113,14 @@ def main() -> None:
     parser.add_argument("--json", default=None)
     parser.add_argument("--poles", action="store_true",
                         help="instead: errors of the stable poles and the free-decay equations' modes")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
+    args.n = args.n or (5 if args.quick else 30)
     rng = np.random.default_rng(args.seed)
     n = max(args.n, 1 + max(args.records or [0]))
     cases = [draw("d", rng, i) for i in range(n)]
     if args.poles:
-        pole_vs_equation([cases[i] for i in (args.records if args.records is not None else range(args.n))])
-        return
+        chosen = args.records if args.records is not None else range(args.n)
+        return pole_vs_equation([cases[i] for i in chosen])
     wanted = args.records if args.records is not None else range(args.n)
     work = [(i, cases[i], args.timeout) for i in wanted]
     results = []
@@ -136,6 +142,10 @@ def main() -> None:
           f"max {cpu.max():.1f}")
     if args.json:
         Path(args.json).write_text(json.dumps(results, indent=1, default=float))
+    return {"seed": args.seed, "records": m, "right": right, "spurious": spurious, "baseline_right": base,
+            "cpu_median": np.median(cpu), "cpu_mean": cpu.mean(), "cpu_max": cpu.max(),
+            "per_record": [{k: r[k] for k in ("index", "passed", "spurious", "base_passed", "cpu",
+                                              "problems")} for r in results]}
 
 
 if __name__ == "__main__":

@@ -168,20 +168,24 @@ def speed(repeats: int):
           f"(np.gradient {rms_error(np.gradient(f_long[:, 0], t_long), xd_long):.2f})")
 
 
-def main():
+def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
     parser.add_argument("--seeds", type=int, default=10)
     parser.add_argument("--repeats", type=int, default=30)
     parser.add_argument("--quick", action="store_true", help="3 seeds, default order, fewer repeats")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     if args.quick:
         args.seeds, args.repeats = 3, 10
     orders = (3,) if args.quick else (1, 2, 3)
     print(f"x(t) = exp(-1.6 t) cos(7.8 t), 401 samples, {args.seeds} noise seeds, interior samples\n")
-    print_table(accuracy(args.seeds, orders, selection_rows=not args.quick))
+    rows = accuracy(args.seeds, orders, selection_rows=not args.quick)
+    print_table(rows)
     speed(args.repeats)
+    label = {snr: "clean" if snr is None else f"{snr} dB" for snr in SNRS}
+    return {"seeds": args.seeds,
+            "median_rms_error": {name: {label[s]: v for s, v in vals.items()} for name, vals in rows.items()}}
 
 
 if __name__ == "__main__":

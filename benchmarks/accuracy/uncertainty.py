@@ -139,10 +139,11 @@ def _stats(errors: np.ndarray, stds: np.ndarray, truth: np.ndarray) -> tuple:
             int((~ok).sum()))
 
 
-def _table(title: str, groups: dict) -> None:
+def _table(title: str, groups: dict) -> dict:
     print(f"\n{title}")
     print(f"{'':28s} {'quantity':10s} {'n':>5s} {'within 2 std':>13s} {'RMS(err/std)':>13s} "
           f"{'median |err|':>13s} {'median std':>11s} {'no std':>7s}")
+    out = {}
     for name, rows in groups.items():
         found = [r for r in rows if r["found"]]
         for quantity, err, std, truth in (("frequency", "df", "f_std", "f"), ("damping", "dz", "z_std", "z")):
@@ -150,18 +151,23 @@ def _table(title: str, groups: dict) -> None:
             n, cover, rms, med_e, med_s, bad = _stats(e, s, t)
             print(f"{name:28s} {quantity:10s} {n:5d} {cover:13.1%} {rms:13.2f} {med_e:13.2e} {med_s:11.2e} "
                   f"{bad:7d}")
+            out[f"{name}: {quantity}"] = {"n": n, "within_2_std": cover, "rms_error_over_std": rms,
+                                          "median_relative_error": med_e, "median_relative_std": med_s,
+                                          "no_std": bad}
+    return out
 
 
-def summarise(results: list, levels) -> None:
+def summarise(results: list, levels) -> dict:
     """Print the calibration tables of ``results`` (one dict per record, from :func:`run_case`)."""
     by_level = {f"{level:g} dB": [r for res in results if res["snr_db"] == level for r in res["rows"]]
                 for level in levels}
     missed = sum(not r["found"] for rows in by_level.values() for r in rows)
     print(f"true modes: {sum(map(len, by_level.values()))}, not found: {missed}")
-    _table("per noise level (marks: within 2 std 90-98 %, RMS(err/std) 0.8-1.25)", by_level)
+    per_level = _table("per noise level (marks: within 2 std 90-98 %, RMS(err/std) 0.8-1.25)", by_level)
     rows = [r for rs in by_level.values() for r in rs if r["found"]]
     kinds = sorted({r["kind"] for r in rows})
-    _table("by how the mode was fitted (all levels)", {k: [r for r in rows if r["kind"] == k] for k in kinds})
+    by_kind = {k: [r for r in rows if r["kind"] == k] for k in kinds}
+    by_fit = _table("by how the mode was fitted (all levels)", by_kind)
     notes = sorted({r["note"] for r in rows if r["note"]})
     if notes:
         print("\nwhy a std is missing:", "; ".join(notes))
@@ -170,6 +176,8 @@ def summarise(results: list, levels) -> None:
     share = spent / np.maximum(total - spent, 1e-12)
     print(f"\ntime of the standard deviations / survey time without them: median {np.median(share):.1%}, "
           f"90th percentile {np.percentile(share, 90):.1%}, total {spent.sum() / (total - spent).sum():.1%}")
+    return {"true_modes": sum(map(len, by_level.values())), "not_found": missed, "per_level": per_level,
+            "by_fit": by_fit, "std_time_share_median": np.median(share)}
 
 
 def _records(cases: list, jobs: int):
@@ -181,7 +189,7 @@ def _records(cases: list, jobs: int):
         yield from pool.map(run_case, cases, chunksize=2)
 
 
-def main() -> None:
+def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
@@ -192,13 +200,12 @@ def main() -> None:
     parser.add_argument("--levels", type=float, nargs="+", default=list(LEVELS))
     parser.add_argument("--save", help="append each record's result to this JSON-lines file")
     parser.add_argument("--summary", help="only print the tables of a --save file")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     if args.summary:
         with open(args.summary) as f:
             results = [json.loads(line) for line in f if line.strip()]
         print(f"{len(results)} records from {args.summary}")
-        summarise(results, sorted({r["snr_db"] for r in results}))
-        return
+        return summarise(results, sorted({r["snr_db"] for r in results}))
     n = 30 if args.quick else args.n
     rng = np.random.default_rng(args.seed)
     drawn = {level: [draw_case(rng, 1 + i % 2, level) for i in range(n)] for level in args.levels}
@@ -212,7 +219,7 @@ def main() -> None:
                 f.write(json.dumps(res, default=float) + "\n")
     print(f"{len(cases)} records ({n} per level, half single-, half two-mode), seed {args.seed}, "
           f"{time.perf_counter() - start:.0f} s")
-    summarise(results, args.levels)
+    return {"seed": args.seed, "records_per_level": n, **summarise(results, args.levels)}
 
 
 if __name__ == "__main__":

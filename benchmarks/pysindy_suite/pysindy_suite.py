@@ -49,12 +49,12 @@ TEST_FILES = [
     "test_scikit_time.py",
     "test_differentiation.py",
 ]
-TVREGDIFF_TESTS = Path(__file__).with_name("pysindy_suite_tvregdiff.py")
+TVREGDIFF_TESTS = Path(__file__).with_name("tvregdiff_tests.py")
 TVREGDIFF_COPY = "test_differentiation_tvregdiff.py"
 
 #: Written next to the copied test directory for the ImpulseSINDy run (conftest files of parent
 #: directories load first, so the swap happens before PySINDy's conftest and the test modules import SINDy).
-SWAP_CONFTEST = '''"""Written by benchmarks/pysindy_suite.py: SINDy becomes a plain ImpulseSINDy."""
+SWAP_CONFTEST = '''"""Written by python -m benchmarks pysindy_suite: SINDy becomes a plain ImpulseSINDy."""
 import inspect
 
 import pysindy
@@ -164,7 +164,7 @@ def _counts(outcomes: dict, module: str) -> collections.Counter:
     return collections.Counter(o for name, (o, _) in outcomes.items() if name.split("::")[0] == module)
 
 
-def _print_summary(plain: dict, impulse: dict, modules: list[str]) -> None:
+def _print_summary(plain: dict, impulse: dict, modules: list[str]) -> dict:
     kinds = ["passed", "failed", "error", "skipped", "xfailed"]
     head = " ".join(f"{k[:6]:>6}" for k in kinds)
     print(f"\n{'test file':34} | pysindy.SINDy: {head} | ImpulseSINDy: {head}")
@@ -179,6 +179,7 @@ def _print_summary(plain: dict, impulse: dict, modules: list[str]) -> None:
     row_a = " ".join(f"{totals[0][k]:6d}" for k in kinds)
     row_b = " ".join(f"{totals[1][k]:6d}" for k in kinds)
     print(f"{'total':34} | {'':15}{row_a} | {'':14}{row_b}")
+    return {"pysindy.SINDy": dict(totals[0]), "ImpulseSINDy": dict(totals[1])}
 
 
 def _print_causes(plain: dict, impulse: dict) -> None:
@@ -206,7 +207,7 @@ def _print_causes(plain: dict, impulse: dict) -> None:
     )
 
 
-def main(argv=None) -> int:
+def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--pysindy-repo", required=True, type=Path, help="PySINDy checkout at tag v2.1.0")
     parser.add_argument("--ref", default="v2.1.0", help="tag read from a bare git directory")
@@ -229,15 +230,16 @@ def main(argv=None) -> int:
         files = list(args.files) + [TVREGDIFF_COPY]
         plain = _outcomes(_run(args.python, plain_root, files, "pysindy.SINDy", args.timeout))
         impulse = _outcomes(_run(args.python, impulse_root, files, "ImpulseSINDy", args.timeout))
-        _print_summary(plain, impulse, [Path(f).stem for f in files])
+        totals = _print_summary(plain, impulse, [Path(f).stem for f in files])
         _print_causes(plain, impulse)
         if args.keep:
             print(f"\nkept {tmp}")
     finally:
         if not args.keep:
             shutil.rmtree(tmp, ignore_errors=True)
-    return 0
+    failed = sorted(name for name, (outcome, _) in impulse.items() if outcome in ("failed", "error"))
+    return {"totals": totals, "impulse_failures": failed}
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    main()

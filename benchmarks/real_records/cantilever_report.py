@@ -29,7 +29,7 @@ import tempfile
 import time
 from pathlib import Path
 
-DOCS = Path(__file__).resolve().parent.parent / "docs"
+DOCS = Path(__file__).resolve().parents[2] / "docs"
 #: The frequencies the record's source publishes (its README), Hz.
 SOURCE_HZ = (6.62, 41.4, 117.5)
 
@@ -44,7 +44,7 @@ def run_cli(record: Path, report: Path, table: Path) -> float:
     return time.perf_counter() - start
 
 
-def print_table(table: Path) -> None:
+def print_table(table: Path) -> list:
     modes = json.loads(table.read_text())["modes"]
     print("\n  f_n [Hz]   damping ratio   nonlinear   nearest published [Hz]   difference")
     for m in modes:
@@ -53,6 +53,8 @@ def print_table(table: Path) -> None:
         shown = f"{near:<24g} {100 * diff:+.2f} %" if abs(diff) < 0.05 else "-"
         nonlinear = str(m.get("nonlinear"))
         print(f"  {m['frequency_hz']:<10.5g} {m['damping_ratio']:<15.4g} {nonlinear:<11} {shown}")
+    return [{"frequency_hz": m["frequency_hz"], "damping_ratio": m["damping_ratio"],
+             "nonlinear": m.get("nonlinear")} for m in modes]
 
 
 def screenshot(report: Path, png: Path, height: int) -> None:
@@ -74,22 +76,24 @@ def screenshot(report: Path, png: Path, height: int) -> None:
     print(f"screenshot: {png.relative_to(DOCS.parent)} ({png.stat().st_size / 1e3:.0f} kB)")
 
 
-def main() -> None:
+def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("record", type=Path, help="timeseries_data.lvm, fetched as the docstring says")
     parser.add_argument("--name", default="report-cantilever", help="base name of the files in docs/")
     parser.add_argument("--height", type=int, default=2600, help="screenshot height in pixels")
     parser.add_argument("--no-screenshot", action="store_true")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     report = DOCS / f"{args.name}.html"
     with tempfile.TemporaryDirectory() as folder:
         table = Path(folder) / "modes.json"
         seconds = run_cli(args.record, report, table)
         size = report.stat().st_size / 1e6
         print(f"\nreport: {report.relative_to(DOCS.parent)} ({size:.2f} MB), {seconds:.0f} s")
-        print_table(table)
+        modes = print_table(table)
     if not args.no_screenshot:
         screenshot(report, DOCS / f"{args.name}.png", args.height)
+    return {"report": str(report.relative_to(DOCS.parent)), "seconds": seconds, "modes": modes,
+            "published_hz": SOURCE_HZ}
 
 
 if __name__ == "__main__":

@@ -18,6 +18,8 @@ Run: PYTHONPATH=. python benchmarks/classical_look_flutter_rig.py
 
 from __future__ import annotations
 
+import argparse
+
 import numpy as np
 from scipy.signal import butter, find_peaks, hilbert, sosfiltfilt
 
@@ -114,7 +116,7 @@ def backbone(yb: np.ndarray, fs: float, t_max: float) -> list:
     return list(zip(a[:-1], fs / np.diff(pk), d / np.sqrt(4 * np.pi**2 + d**2)))
 
 
-def survey_mode(name: str, y: np.ndarray, fs: float, lo: float, hi: float, t_max: float) -> None:
+def survey_mode(name: str, y: np.ndarray, fs: float, lo: float, hi: float, t_max: float) -> dict:
     seg = y[: int(t_max * fs)]
     yb = band(seg, fs, lo, hi)
     z_all, fd, n = envelope_fit(yb, fs, 0.7, 0.05)
@@ -131,6 +133,9 @@ def survey_mode(name: str, y: np.ndarray, fs: float, lo: float, hi: float, t_max
         a0 = rows[0][0]
         text = "; ".join(f"{a / a0:5.3f}: {f:.3f} Hz {z:.3f}" for a, f, z in rows[::2])
         print(f"      period by period (amplitude / first, f, zeta): {text}")
+    return {"damped_frequency_hz": fd, "zeta_hilbert": z_all, "zeta_upper_half": z_hi,
+            "zeta_lower_half": z_lo, "zeta_log_decrement": log_decrement(yb, fs), "zeta_half_power": z_hp,
+            "half_power_hz": f_hp}
 
 
 def survey_channel(y: np.ndarray, fs: float, noise: float) -> int:
@@ -143,8 +148,10 @@ def survey_channel(y: np.ndarray, fs: float, noise: float) -> int:
     return end
 
 
-def main() -> None:
+def main(argv=None) -> dict:
+    argparse.ArgumentParser(description=__doc__.splitlines()[0]).parse_args(argv)
     rig = load_flutter_rig()
+    out = {}
     y = rig.centered()
     fs = rig.fs
     quiet = int(4.0 * fs)
@@ -160,12 +167,15 @@ def main() -> None:
         f1 = max(spectrum_peaks(y[r, : ends[0], 0], fs), key=lambda p: p[1])[0]
         split = f1 + 0.25
         print("  per mode:")
-        survey_mode("mode 1 in heave", y[r, :, 0], fs, 1.6, split, ends[0] / fs)
-        survey_mode("mode 1 in pitch", y[r, :, 1], fs, 1.6, split, ends[1] / fs)
-        survey_mode("mode 2 in pitch", y[r, :, 1], fs, split, 3.6, 3.0)
+        out[name] = {
+            "mode 1 in heave": survey_mode("mode 1 in heave", y[r, :, 0], fs, 1.6, split, ends[0] / fs),
+            "mode 1 in pitch": survey_mode("mode 1 in pitch", y[r, :, 1], fs, 1.6, split, ends[1] / fs),
+            "mode 2 in pitch": survey_mode("mode 2 in pitch", y[r, :, 1], fs, split, 3.6, 3.0)}
         dec = y[r, : int(8 * fs) : 10] / np.abs(y[r, : int(8 * fs)]).max(axis=0)
         poles = ", ".join(f"{f:.3f} Hz / {z:.4f}" for f, z in esprit(dec, fs / 10))
         print(f"  ESPRIT (both channels, 50 Hz, 8 s, 4 pole pairs; frequency / zeta): {poles}")
+        out[name]["esprit"] = esprit(dec, fs / 10)
+    return out
 
 
 if __name__ == "__main__":

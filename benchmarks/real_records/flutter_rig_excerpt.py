@@ -33,7 +33,7 @@ SOURCES = {  # record name -> (file, sha256 of the file at commit 0a20f21)
 }
 STRIDE = 10
 SOURCE_FS = 5000.0
-OUT = Path(__file__).resolve().parents[1] / "sindy_impulse" / "data" / "flutter_rig_free_decay.npz"
+OUT = Path(__file__).resolve().parents[2] / "sindy_impulse" / "data" / "flutter_rig_free_decay.npz"
 
 
 def sha256(path: Path) -> str:
@@ -100,19 +100,20 @@ def write_npz(arrays: dict, out: Path) -> str:
     return hashlib.sha256(buf.getvalue()).hexdigest()
 
 
-def main() -> None:
+def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
     parser.add_argument("source_dir", type=Path, help="folder with Measured_data.mat and Measured_data2.mat")
     parser.add_argument("-o", "--out", type=Path, default=OUT, help=f"output file (default {OUT})")
     parser.add_argument("--no-hash-check", action="store_true", help="accept source files of other commits")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     arrays = build_arrays(args.source_dir, check_hash=not args.no_hash_check)
     digest = write_npz(arrays, args.out)
     print(f"wrote {args.out} ({args.out.stat().st_size} bytes), sha256 {digest}")
     for key in sorted(arrays):
         print(f"  {key}: {np.asarray(arrays[key]).dtype} {np.asarray(arrays[key]).shape}")
+    return {"out": str(args.out), "bytes": args.out.stat().st_size, "sha256": digest}
 
 
 if __name__ == "__main__":

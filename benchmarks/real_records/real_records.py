@@ -36,7 +36,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import sys
 import time
 import warnings
 from pathlib import Path
@@ -73,7 +72,7 @@ def baseline(y: np.ndarray, fs: float) -> list:
     return stabilisation(ref[onset: onset + BASELINE_SAMPLES], fs=fs).modes()
 
 
-def survey_record(record: dict) -> None:
+def survey_record(record: dict) -> dict:
     print(f"\n== {record['name']}: {len(record['y'])} samples at {record['fs']:.6g} Hz"
           + (", with force" if record["force"] is not None else ""))
     start = time.perf_counter()
@@ -95,6 +94,10 @@ def survey_record(record: dict) -> None:
     print(f"   survey {elapsed:.1f} s, baseline {base_time:.1f} s")
     if survey is not None:
         _print_modes(survey, poles)
+    return {"name": record["name"], "samples": len(record["y"]), "fs": record["fs"],
+            "modes": None if survey is None else [(m.frequency_hz, m.damping_ratio) for m in survey.modes],
+            "baseline": [(p.frequency_hz, p.damping_ratio) for p in poles], "seconds": elapsed,
+            "baseline_seconds": base_time}
 
 
 def _print_modes(survey, poles) -> None:
@@ -122,7 +125,7 @@ def _print_modes(survey, poles) -> None:
         print(f"   note: {note[:160]}")
 
 
-def main(argv=None) -> int:
+def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--mirror", default=os.environ.get(ENV),
                         help=f"folder of the bare git copies (or set {ENV})")
@@ -132,7 +135,7 @@ def main(argv=None) -> int:
     wanted = [s.strip() for s in args.sets.split(",")]
     loaders = {"flutter rig": lambda m: flutter_records(), "pyFRF": pyfrf_records, "case1": case1_record,
                "beam": beam_record}
-    missing = 0
+    missing, surveyed = 0, []
     for name in wanted:
         if name != "flutter rig" and not args.mirror:
             print(f"\n{name}: no mirror folder given: pass --mirror DIR or set {ENV} to the folder holding "
@@ -146,10 +149,9 @@ def main(argv=None) -> int:
             missing += 1
             continue
         print(f"\n#### {name}: what the records show: {REFERENCE[name]}")
-        for record in records:
-            survey_record(record)
-    return 1 if missing else 0
+        surveyed += [survey_record(record) for record in records]
+    return {"records": surveyed, "sets_missing": missing, "ok": not missing}
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    raise SystemExit(0 if main()["ok"] else 1)

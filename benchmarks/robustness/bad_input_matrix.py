@@ -308,3 +308,10 @@ def all_cases() -> list[dict]:
         _calls,
     )
     return [case for group in groups for case in group()]
+
+
+def fast_cases() -> list[dict]:
+    """The fast part of the matrix: every scikit-learn style call and every 25th other case (so that each
+    group is represented); what ``tests/test_bad_inputs.py`` runs and ``bad_inputs --quick`` runs."""
+    cases = all_cases()
+    return [c for c in cases if c["group"] == "sklearn"] + [c for c in cases if c["group"] != "sklearn"][::25]

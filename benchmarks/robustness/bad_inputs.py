@@ -45,7 +45,7 @@ from collections import Counter
 import numpy as np
 
 from benchmarks.robustness.bad_input_cases import FAILURES
-from benchmarks.robustness.bad_input_matrix import all_cases
+from benchmarks.robustness.bad_input_matrix import all_cases, fast_cases
 from benchmarks.robustness.watchdog import run_pool
 
 
@@ -72,14 +72,17 @@ def report(outcomes: list[dict]) -> dict:
     return dict(total)
 
 
-def main(argv=None) -> int:
+def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--jobs", type=int, default=2, help="worker processes")
     parser.add_argument("--timeout", type=float, default=120.0, help="hard limit per case (s)")
     parser.add_argument("--group", help="run one group only")
     parser.add_argument("--verbose", action="store_true", help="print every case")
+    parser.add_argument("--quick", action="store_true",
+                        help="the fast part: every scikit-learn style call and every 25th other case")
     args = parser.parse_args(argv)
-    cases = [c for c in all_cases() if args.group is None or c["group"] == args.group]
+    cases = fast_cases() if args.quick else all_cases()
+    cases = [c for c in cases if args.group is None or c["group"] == args.group]
     print(f"{len(cases)} cases")
     start = time.perf_counter()
 
@@ -87,15 +90,16 @@ def main(argv=None) -> int:
         if args.verbose or out["outcome"] in FAILURES:
             print(f"[{out['outcome']:12s}] {out['time']:6.2f}s {out['id']}: {out['detail']}", flush=True)
 
-    outcomes = run_pool(cases, "benchmarks.robustness.bad_input_cases:run_case", args.timeout, args.jobs, "id", None, show)
+    target = "benchmarks.robustness.bad_input_cases:run_case"
+    outcomes = run_pool(cases, target, args.timeout, args.jobs, "id", None, show)
     for o in outcomes:
         o.setdefault("group", next(c["group"] for c in cases if c["id"] == o["id"]))
         o.setdefault("outcome", o.get("kind"))
         o.setdefault("detail", o.get("error", ""))
     counts = report(outcomes)
     print(f"wall time {time.perf_counter() - start:.0f} s")
-    return 1 if any(counts.get(k, 0) for k in FAILURES) else 0
+    return {"cases": len(cases), "outcomes": counts, "ok": not any(counts.get(k, 0) for k in FAILURES)}
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    raise SystemExit(0 if main()["ok"] else 1)

@@ -44,29 +44,37 @@ def _right(survey) -> bool:
             and np.all(np.abs(z / Z_TRUE - 1) <= 0.1))
 
 
-def main(seeds: int, repeat: int) -> None:
+def survey_seeds(seeds: int, repeat: int) -> dict:
+    """The table over seeds: the clipped record's modes and CPU time beside the unclipped one's."""
     identify_modes(impact_record(F_TRUE, Z_TRUE, random_state=0, **RECORD).y, fs=RECORD["fs"])  # warm
     print("| seed | clipped: modes (Hz / damping ratio) | right | clipped samples | CPU s clipped "
           "| CPU s unclipped | ratio |")
     print("|---|---|---|---|---|---|---|")
-    ratios = []
+    ratios, right = [], []
     for seed in range(seeds):
         clipped = impact_record(F_TRUE, Z_TRUE, clip=0.6, random_state=seed, **RECORD)
         plain = impact_record(F_TRUE, Z_TRUE, random_state=seed, **RECORD)
         t_clip, survey = _cpu(clipped.y, clipped.fs, repeat)
         t_plain, _ = _cpu(plain.y, plain.fs, repeat)
         ratios.append(t_clip / t_plain)
+        right.append(_right(survey))
         impact = survey.preprocessing[0].impact
         modes = ", ".join(f"{m.frequency_hz:.1f} / {m.damping_ratio:.4f}" for m in survey.modes)
         clipped_note = f"{getattr(impact, 'saturated', '-')} {getattr(impact, 'clipping', '') or '-'}"
         print(f"| {seed} | {modes} | {'yes' if _right(survey) else 'NO'} | {clipped_note} "
               f"| {t_clip:.2f} | {t_plain:.2f} | {ratios[-1]:.2f} |")
     print(f"median CPU ratio clipped / unclipped: {np.median(ratios):.2f}")
+    return {"seeds": seeds, "right": right, "cpu_ratios": ratios, "median_cpu_ratio": np.median(ratios)}
+
+
+def main(argv=None) -> dict:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--seeds", type=int, default=None, help="seeds 0..N-1 (default 5, quick 2)")
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--quick", action="store_true", help="2 seeds")
+    args = parser.parse_args(argv)
+    return survey_seeds(args.seeds or (2 if args.quick else 5), args.repeat)
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--seeds", type=int, default=5)
-    parser.add_argument("--repeat", type=int, default=3)
-    args = parser.parse_args()
-    main(args.seeds, args.repeat)
+    main()

@@ -56,7 +56,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
 import time
 import traceback
 import warnings
@@ -267,7 +266,8 @@ def soak(cases: list[dict], timeout: float, jobs: int, tolerance: float, verbose
         if verbose or out["kind"] in ("crash", "hang"):
             print(_line(out), flush=True)
 
-    outcomes = run_pool(cases, "benchmarks.robustness.soak:run_case", timeout, jobs, "seed", {"tolerance": tolerance}, show)
+    outcomes = run_pool(cases, "benchmarks.robustness.soak:run_case", timeout, jobs, "seed",
+                        {"tolerance": tolerance}, show)
     for out in outcomes:
         out["case"] = by_seed[out["seed"]]
     return outcomes
@@ -356,7 +356,7 @@ def report(outcomes: list[dict], timeout: float) -> dict:
     }
 
 
-def main(argv=None) -> int:
+def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--n", type=int, default=1000, help="number of random ring-downs")
     parser.add_argument("--quick", action="store_true", help="100 cases")
@@ -379,8 +379,8 @@ def main(argv=None) -> int:
         with open(args.json, "w") as fh:
             json.dump(outcomes, fh, default=str)
     failed = figures["crashes"] or figures["hangs"]
-    return 1 if failed or figures["wrong_silent"] > 0.01 or figures["warned_right"] > 0.05 else 0
+    return {**figures, "ok": not (failed or figures["wrong_silent"] > 0.01 or figures["warned_right"] > 0.05)}
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    raise SystemExit(0 if main()["ok"] else 1)

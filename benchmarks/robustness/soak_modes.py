@@ -1,5 +1,6 @@
 """Exception run of the modal-table issue: identify_modes on random impact_record configurations, under the
-watchdog of the soak test (benchmarks/_watchdog.py), counting every exception, hang and caught failure.
+watchdog of the soak test (:mod:`benchmarks.robustness.watchdog`), counting every exception, hang and caught
+failure.
 
 Run:  python benchmarks/soak_modes.py [--n 1000] [--seed 0] [--jobs 2] [--timeout 300] [--json out.json]
 
@@ -19,7 +20,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
 import time
 import traceback
 import warnings
@@ -79,22 +79,24 @@ def report(outcomes: list[dict], timeout: float) -> dict:
     return {"failures": bad, "caught_share": kinds.get("caught", 0) / max(n, 1)}
 
 
-def main(argv=None) -> int:
+def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--n", type=int, default=1000)
+    parser.add_argument("--n", type=int, default=None, help="configurations (default 1000, quick 20)")
+    parser.add_argument("--quick", action="store_true", help="20 configurations")
     parser.add_argument("--seed", type=int, default=0, help="first configuration seed")
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--timeout", type=float, default=300.0, help="hard limit per record (s)")
     parser.add_argument("--json", help="write every outcome to this file")
     args = parser.parse_args(argv)
     start = time.perf_counter()
-    tasks = [{"seed": args.seed + i} for i in range(args.n)]
+    tasks = [{"seed": args.seed + i} for i in range(args.n or (20 if args.quick else 1000))]
 
     def show(out):
         what = f": {out.get('error', out.get('caught'))}" if out["kind"] != "ok" else ""
         print(f"  seed {out['seed']} {out['kind']} {out['time']:.1f} s{what}", flush=True)
 
-    outcomes = run_pool(tasks, "benchmarks.robustness.soak_modes:run_config", args.timeout, args.jobs, "seed", on_result=show)
+    outcomes = run_pool(tasks, "benchmarks.robustness.soak_modes:run_config", args.timeout, args.jobs, "seed",
+                        on_result=show)
     for out in outcomes:
         if "config" not in out:  # a crash or hang: the worker's outcome is lost, the configuration is not
             out["config"] = random_config(out["seed"])
@@ -103,8 +105,8 @@ def main(argv=None) -> int:
     if args.json:
         with open(args.json, "w") as fh:
             json.dump(outcomes, fh, default=str)
-    return 1 if figures["failures"] or figures["caught_share"] > 0.01 else 0
+    return {**figures, "ok": not (figures["failures"] or figures["caught_share"] > 0.01)}
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    raise SystemExit(0 if main()["ok"] else 1)

@@ -94,20 +94,22 @@ def run_one(task, timeout: float) -> tuple | None:
     return results.get() if not results.empty() else None
 
 
-def main() -> None:
+def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--mirror", help="folder of bare git copies (pyFRF); without it pyFRF is skipped")
     parser.add_argument("--only", choices=("cost", "records"), default=None)
     parser.add_argument("--timeout", type=float, default=900.0)
     parser.add_argument("--records", default="d0,d21,soak20,soak25",
                         help="comma-separated subset of d0, d21, soak20, soak25 (pyFRF: --mirror)")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
+    out = {}
     if args.only != "records":
-        ratio = cost_ratio()
+        ratio = out["seconds_per_work_unit"] = cost_ratio()
         print(f"seconds per work unit: kernel {ratio['kernel']:.3g}, adaptive {ratio['adaptive']:.3g} "
               f"(adaptive / kernel = {ratio['adaptive'] / ratio['kernel']:.2f})")
     if args.only == "cost":
-        return
+        return out
+    out["records"] = {}
     named = {"d0": ("d", 0), "d21": ("d", 21), "soak20": ("soak", 20), "soak25": ("soak", 25)}
     tasks = [named[k] for k in args.records.split(",") if k]
     tasks += [("pyfrf", args.mirror)] if args.mirror else []
@@ -118,10 +120,14 @@ def main() -> None:
         out = run_one(task, args.timeout)
         if out is None:
             print(f"| {label} | | over {args.timeout:g} s or crashed | | | |")
+            out["records"][label] = None
             continue
         n, elapsed, peak, n_modes, n_rejected, modes = out
         row = f"| {label} | {n} | {elapsed:.1f} | {peak:.0f} | {n_modes} ({modes}) | {n_rejected} |"
         print(row, flush=True)
+        out["records"][label] = {"samples": n, "seconds": elapsed, "peak_memory_mb": peak, "modes": n_modes,
+                                 "rejected": n_rejected}
+    return out
 
 
 if __name__ == "__main__":

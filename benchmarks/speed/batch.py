@@ -81,15 +81,17 @@ def batch_rows(quick: bool, n: int | None = None) -> list:
     return rows
 
 
-def main(argv=None) -> int:
+def main(argv=None) -> dict:
     formatter = argparse.RawDescriptionHelpFormatter
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=formatter)
-    parser.add_argument("--n", type=int, default=50, help="records (default 50)")
+    parser.add_argument("--n", type=int, default=None, help="records (default 50, quick 10)")
+    parser.add_argument("--quick", action="store_true", help="10 records")
     args = parser.parse_args(argv)
-    for name, ours, base, ratio, goal in batch_rows(False, args.n):
+    rows = batch_rows(args.quick, args.n)
+    for name, ours, base, ratio, goal in rows:
         print(f"{name}: {ours:.3g} s, serial {base:.3g} s, ratio {ratio:.3g} (goal {goal})")
-    return 0
+    return {"rows": [dict(zip(("figure", "ours", "baseline", "ratio", "goal"), row)) for row in rows]}
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    main()

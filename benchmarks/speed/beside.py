@@ -57,13 +57,13 @@ def measure(tree: Path, case: str, repeat: int) -> dict:
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
-def main() -> None:
+def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--other", type=Path, required=True, help="the other checkout (a source tree)")
     parser.add_argument("--case", default="nonlinear")
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--repeat", type=int, default=3)
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     trees = {"this": ROOT, "other": args.other.resolve()}
     rows = {name: [] for name in trees}
     for r in range(args.rounds):
@@ -73,6 +73,8 @@ def main() -> None:
     this, other = (float(np.median([x["cpu"] for x in rows[k]])) for k in ("this", "other"))
     print(f"{args.case}: CPU median this {this:.3f} s, other {other:.3f} s, ratio {this / other:.3f}; "
           f"nonlinear: this {rows['this'][-1]['nonlinear']}, other {rows['other'][-1]['nonlinear']}")
+    return {"case": args.case, "other": str(args.other), "cpu_this": this, "cpu_other": other,
+            "ratio": this / other, "rounds": rows}
 
 
 if __name__ == "__main__":

@@ -42,12 +42,14 @@ def measure(fn, repeats: int) -> tuple[float, float]:
     return float(np.median(on)), float(np.median(off))
 
 
-def main(argv=None) -> None:
+def main(argv=None) -> dict:
     from sindy_impulse import ImpulseSINDy, damped_oscillator, identify_modes, impact_record
 
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--repeats", type=int, default=10)
+    parser.add_argument("--repeats", type=int, default=None, help="timed runs each (default 10, quick 3)")
+    parser.add_argument("--quick", action="store_true", help="3 timed runs each")
     args = parser.parse_args(argv)
+    args.repeats = args.repeats or (3 if args.quick else 10)
     ring = damped_oscillator(snr_db=40, random_state=0)
     rec = impact_record(
         [120.0, 240.0, 410.0], [0.005, 0.01, 0.02], fs=5000, duration=1.0, snr_db=40, random_state=0
@@ -57,9 +59,12 @@ def main(argv=None) -> None:
         "identify_modes, 3 modes": lambda: identify_modes(rec.y, fs=rec.fs),
     }
     print(f"{'case':34s} {'with [s]':>10s} {'without [s]':>12s} {'ratio':>7s}")
+    out = {}
     for name, fn in cases.items():
         on, off = measure(fn, args.repeats)
         print(f"{name:34s} {on:10.3f} {off:12.3f} {on / off:7.2f}")
+        out[name] = {"with": on, "without": off, "ratio": on / off}
+    return out
 
 
 if __name__ == "__main__":

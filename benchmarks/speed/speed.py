@@ -98,7 +98,7 @@ def write_readme(table: str, readme: Path = ROOT / "README.md") -> None:
     readme.write_text(f"{head}{START}\n{table}\n{END}{tail}")
 
 
-def main(argv=None) -> int:
+def main(argv=None) -> dict:
     formatter = argparse.RawDescriptionHelpFormatter
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=formatter)
     parser.add_argument("--quick", action="store_true", help="smaller inputs, fewer repetitions")
@@ -122,8 +122,9 @@ def main(argv=None) -> int:
     print("\n" + table)
     if args.write_readme:
         write_readme(table)
-    return 0
+    return {"quick": args.quick, "load_averages": loads,
+            "rows": [dict(zip(("figure", "ours", "baseline", "ratio", "goal"), row)) for row in rows]}
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    main()
