@@ -1,7 +1,7 @@
 """Benchmark of sindy_impulse.analysis and SINDyFeatures on the paper's studies (sections 3.3 and 3.4).
 
-Run from the repository root with ``PYTHONPATH=. python benchmarks/bench_analysis.py`` (or without
-``PYTHONPATH`` once the package is installed). Prints, with the acceptance criterion of each:
+Run from the repository root with ``python -m benchmarks analysis``. Prints, with the acceptance criterion of
+each:
 
 1. 3.3.2 consensus over the 36 initial conditions of Figure 12 (degree 1, clean data), beside the paper;
 2. 3.3.1 parameter dependency along the damping delta in [0.1, 0.3] (c = 2 delta sqrt(k));

@@ -1,6 +1,6 @@
 """Benchmark of the backbone curves (sindy_impulse.analysis.hilbert_backbone and backbone).
 
-Run from the repository root with ``PYTHONPATH=. python benchmarks/bench_backbone.py [n_seeds]``. On the
+Run from the repository root with ``python -m benchmarks backbone [n_seeds]``. On the
 free decays of ``tests/test_backbone.py`` (``x'' + (c0 + c2 x^2) x' + w0^2 x + k3 x^3 = 0`` at 10 Hz, 20
 samples per period, fine-step RK4, SNR 40 dB), against first-order averaging over the middle 80 % of each
 curve's amplitude range, prints the worst over seeds of:

@@ -2,12 +2,12 @@
 and true harmonics of single nonlinear oscillators (issue 25, items 1 and 3), through ``identify_modes`` and
 through the stabilised ESPRIT baseline.
 
-    python benchmarks/bench_detection.py                     # 12 records per family
-    python benchmarks/bench_detection.py --family pair --n 40 --seed 1
+    python -m benchmarks detection                     # 12 records per family
+    python -m benchmarks detection --family pair --n 40 --seed 1
 
 Families (SNR 30-60 dB, frequencies compared as undamped natural frequencies, damping ratios 0.1-3 %):
 
-- ``weak``: 2-4 modes as in ``bench_modes.random_case``, one of them 20-40 dB below the strongest, the noise
+- ``weak``: 2-4 modes as in ``families.random_case``, one of them 20-40 dB below the strongest, the noise
   level drawn so that the weak mode's own band SNR (its initial RMS against the noise in the band of 12
   half-power widths, at least 10 % of its frequency, on each side) is at least 20 dB;
 - ``close``: two modes 1-3 half-power bandwidths (``2 zeta f``, the larger of the two) apart, within 6 dB;
@@ -18,9 +18,9 @@ Families (SNR 30-60 dB, frequencies compared as undamped natural frequencies, da
   A record is right when the one mode is found and nothing else; how many records name the harmonic in a
   rejected row is counted beside (a harmonic under the noise gives no peak to name).
 
-Pass marks per record (as ``bench_modes``): every true mode within 0.3 % in frequency and 10 % in damping
-ratio, no spurious mode (farther than 1 % from every true mode). The baseline is the stabilisation diagram
-(:func:`sindy_impulse.poles.stabilisation`) from the same onset as in ``bench_modes``.
+Pass marks per record (as ``benchmarks.accuracy.modes``): every true mode within 0.3 % in frequency and 10 %
+in damping ratio, no spurious mode (farther than 1 % from every true mode). The baseline is the stabilisation
+diagram (:func:`sindy_impulse.poles.stabilisation`) from the same onset as in ``benchmarks.accuracy.modes``.
 """
 
 from __future__ import annotations

@@ -1,7 +1,6 @@
 """Benchmark of DelayEmbedding: accuracy of tau and m on the paper's oscillator, and speed.
 
-Run with ``python benchmarks/bench_embedding.py`` from the repository root (``PYTHONPATH=.`` if the package
-is not installed). Prints:
+Run with ``python -m benchmarks embedding`` from the repository root. Prints:
 
 1. tau and m on x1 of the paper's oscillator with the defaults (paper: tau = 18, m = 2), with the mutual
    information delay and with Cao's dimension;

@@ -1,7 +1,6 @@
 """Benchmark: single-sensor identification, DelayEmbedding + ImpulseSINDy (paper sections 3.1.3 and 3.2).
 
-Run with ``python benchmarks/bench_embedding_sindy.py`` from the repository root (``PYTHONPATH=.`` if the
-package is not installed). Prints:
+Run with ``python -m benchmarks embedding_sindy`` from the repository root. Prints:
 
 1. Table 1 of the paper: x1 of the oscillator (x1'' = -64 x1 - 3.2 x1', x(0) = (1, 0), 4 s at dt = 0.01)
    embedded (tau, m estimated), then ImpulseSINDy with PolynomialLibrary degrees p = 1..5: terms, Gamma

@@ -1,6 +1,6 @@
 """Issue 3 acceptance: ImpulseSINDy on the paper's oscillator (sections 3.1.1, 3.1.2, noise, speed).
 
-Run:  python benchmarks/bench_estimator.py [--seeds 20]
+Run:  python -m benchmarks estimator [--seeds 20]
 
 Oscillator x1' = x2, x2' = -64 x1 - 3.2 x2, x(0) = (1, 0), t in [0, 4], dt = 0.01, polynomial degree 3.
 Prints the tables quoted in the README. Speeds are ratios measured in the same run.

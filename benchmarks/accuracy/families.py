@@ -1,4 +1,5 @@
-"""Seeded random hammer-test configurations for the modal-table acceptance study (benchmarks/bench_modes.py).
+"""Seeded random hammer-test configurations for the modal-table acceptance study
+(benchmarks/accuracy/modes.py).
 
 Each generator takes a numpy Generator and returns a *case*: ``{"family", "config", ...}`` where ``config``
 holds the keyword arguments of :func:`sindy_impulse.datasets.impact_record` (frequencies, damping ratios,
@@ -21,8 +22,8 @@ b      2-4 modes; one at 0 dB, at least one weak mode 20-40 dB below it (each fu
 d      1-3 modes, damping ratios 2-25 % (log-uniform), 3-15 periods of the lowest mode after the hit (at
        12-100 samples per period of the lowest mode, more where needed for at least 150 samples), the
        others 1.1-4 times its frequency (below fs / 4), spacing at least 10 % and the half-power bands
-       apart, the three sensors in turn; marks 0.5 % / 10 %. ``bench_modes.py`` adds the paper's
-       oscillator (seeds 0-99 at 40 dB, ``bench_short_decays.py``)
+       apart, the three sensors in turn; marks 0.5 % / 10 %. ``benchmarks/accuracy/modes.py`` adds the paper's
+       oscillator (seeds 0-99 at 40 dB, ``benchmarks/accuracy/short_decays.py``)
 e      a 1:2 or 1:3 near-resonant linear pair (the second frequency 0.5-2 % above or below the exact ratio,
        the second mode 0-20 dB weaker; damping independent, or equal ratios) against one nonlinear
        oscillator with a quadratic spring (its second harmonic 26-40 dB below the fundamental in
@@ -39,8 +40,8 @@ g      1-4 modes and a nonlinear element at mass 0: a cubic spring (the linear f
 h      family a's records clipped at 0.3-0.9 of the clean peak (``clip``)
 ====== ==============================================================================================
 
-:func:`random_config` draws the configurations of the exception run (``benchmarks/soak_modes.py``): 1-4
-modes up to fs / 2.56, damping 0.05-8 %, any sensor and sensor mass (or several), offset, pre-trigger,
+:func:`random_config` draws the configurations of the exception run (``python -m benchmarks soak_modes``):
+1-4 modes up to fs / 2.56, damping 0.05-8 %, any sensor and sensor mass (or several), offset, pre-trigger,
 clipping, white or pink noise at 15-60 dB, nonlinear terms.
 """
 
@@ -88,7 +89,7 @@ def _case(family, f, z, a, terms, **score) -> dict:
 
 
 def _draw_modes(rng, n_modes, lo, hi, z_range=(1e-3, 3e-2), min_gap=0.03, need_above=None):
-    for _ in range(1000):  # the draws in the order of the original bench_modes.random_case
+    for _ in range(1000):  # the draws in the order of the original families.random_case
         f = np.sort(rng.uniform(lo, hi, n_modes))
         if need_above is not None and f[-1] <= need_above:
             continue
@@ -99,7 +100,7 @@ def _draw_modes(rng, n_modes, lo, hi, z_range=(1e-3, 3e-2), min_gap=0.03, need_a
 
 
 def family_a(rng: np.random.Generator, high: bool = False) -> dict:
-    """Family (a), or (c) with ``high``: the draw of ``bench_modes.random_case`` (kept as it was)."""
+    """Family (a), or (c) with ``high``: the draw of ``families.random_case`` (kept as it was)."""
     n_samples = int(rng.integers(2000, 40001))
     fs = float(rng.choice(FS_CHOICES))
     nyquist = fs / 2

@@ -1,12 +1,12 @@
 """How many records of a linear family any unbiased estimator can get right: the Cramer-Rao bound.
 
-Each record of ``bench_modes.py``'s families (same draws: ``--seed``, record ``i`` of the family) is a free
-decay of damped sinusoids in white Gaussian noise of known standard deviation (``ImpactRecord.noise_std``)
-from the end of the hit (``free_decay_index``) on. Its parameters per mode are the natural frequency, the
-damping ratio and the cosine and sine amplitudes; a constant offset is a nuisance parameter (the record's
-offset is unknown to every estimator). The Fisher information ``J^T J / sigma^2`` (``J``: derivatives of the
-clean free decay by the parameters, by central differences) gives the smallest standard deviation an
-unbiased estimator can have for each mode's frequency and damping ratio.
+Each record of ``benchmarks/accuracy/modes.py``'s families (same draws: ``--seed``, record ``i`` of the
+family) is a free decay of damped sinusoids in white Gaussian noise of known standard deviation
+(``ImpactRecord.noise_std``) from the end of the hit (``free_decay_index``) on. Its parameters per mode are
+the natural frequency, the damping ratio and the cosine and sine amplitudes; a constant offset is a nuisance
+parameter (the record's offset is unknown to every estimator). The Fisher information ``J^T J / sigma^2``
+(``J``: derivatives of the clean free decay by the parameters, by central differences) gives the smallest
+standard deviation an unbiased estimator can have for each mode's frequency and damping ratio.
 
 Per record, the chance that an efficient unbiased estimator puts every counted mode within the family's
 tolerances (0.3 % / 10 %, family d 0.5 % / 10 %) is the product over modes of
@@ -15,8 +15,8 @@ ones); their sum is the expected number of records right: a ceiling for the surv
 (a biased estimator can beat it on some records, not on average over the family). A record is also counted
 "resolvable" when twice the bound's standard deviations are inside the tolerances for every mode.
 
-    python benchmarks/bound_families.py --family d --n 100          # the issue's family (d)
-    python benchmarks/bound_families.py --family b --n 60 --list    # one line per record
+    python -m benchmarks family_bounds --family d --n 100          # the issue's family (d)
+    python -m benchmarks family_bounds --family b --n 60 --list    # one line per record
 """
 
 from __future__ import annotations

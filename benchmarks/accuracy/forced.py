@@ -1,6 +1,6 @@
 """A forced oscillator identified from its measured force and response (the issue "A true drop-in", item 3).
 
-Run:  python benchmarks/bench_forced.py [--seeds 5]
+Run:  python -m benchmarks forced [--seeds 5]
 
 System: x'' + c x' + k x = f(t)/m with k = 64, c = 0.8, m = 1 (8 rad/s, damping ratio 5 %), from rest, 10 s
 at dt = 0.01, 40 dB noise on the response [x, v], the force exact

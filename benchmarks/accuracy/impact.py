@@ -1,6 +1,6 @@
 """Benchmark of the synthetic hammer tests (``datasets.impact_record``) and the ESPRIT baseline.
 
-Run from the repository root with ``PYTHONPATH=. python benchmarks/bench_impact.py``. Prints:
+Run from the repository root with ``python -m benchmarks impact``. Prints:
 
 1. generation time of a linear 40,000-sample 4-mode record and of a nonlinear single-mode record of
    3,000 periods at 20 samples per period (median of 5 runs after a warm-up; wall and CPU time);

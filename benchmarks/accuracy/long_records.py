@@ -1,7 +1,7 @@
 """Long ring-downs: the segment-wise error measure against the paper's first-sample Gamma.
 
-    python benchmarks/bench_long_records.py            # 100 records
-    python benchmarks/bench_long_records.py --quick    # 20 records
+    python -m benchmarks long_records            # 100 records
+    python -m benchmarks long_records --quick    # 20 records
 
 Single-mode hammer-test records (``impact_record``), 300-3,000 periods long, damping ratio 0.05-2 %
 (log-uniform), SNR 40 dB, 16-64 samples per period, displacement / velocity / acceleration sensors,

@@ -1,10 +1,10 @@
 """Backbones of identified models and of the data against the true backbone (issue 13's acceptance).
 
-Run from the repository root: ``python benchmarks/bench_model_backbone.py [--records N] [--jobs J]``.
+Run from the repository root: ``python -m benchmarks model_backbone [--records N] [--jobs J]``.
 
-Single-mode hammer tests from ``bench_nonlinearity.py`` (accelerometer, pre-trigger, hammer force, SNR
-30-60 dB, 25-60 samples per period, natural frequency 20-200 Hz, damping ratio 0.3-2 %), in two rows whose
-nonlinearity is large enough for a backbone to matter:
+Single-mode hammer tests from ``benchmarks/accuracy/nonlinearity.py`` (accelerometer, pre-trigger, hammer
+force, SNR 30-60 dB, 25-60 samples per period, natural frequency 20-200 Hz, damping ratio 0.3-2 %), in two
+rows whose nonlinearity is large enough for a backbone to matter:
 
 ``cubic``
     A Duffing spring whose natural frequency rises by 2-4 % from the end to the start of the kept decay.
@@ -23,7 +23,8 @@ backbone 0.2 %, 10 %, 10 %). Backbones compared (rows):
   (``mode.nonlinearity.backbone_model`` when it calls the mode nonlinear, else ``mode.backbone``): the
   selection may keep a linear model when an amplitude-dependent damper lowers the error by less than its
   tolerance, while the test, which refines the nonlinear alternatives, finds it;
-* ``mechanical`` and ``mech., tested``: the same from the pipeline of ``bench_nonlinearity.py`` (preprocess,
+* ``mechanical`` and ``mech., tested``: the same from the pipeline of ``benchmarks/accuracy/nonlinearity.py``
+(preprocess,
   the band signal and its TVRegDiff derivative as states, ``ImpulseSINDy(feature_library=
   MechanicalLibrary())``, no protected terms);
 * ``hilbert_backbone`` of the band signal (model-free), the same errors (pass marks 0.5 %, 20 %, 25 %);

@@ -1,12 +1,12 @@
 """The modal-table acceptance study: random hammer-test records through identify_modes and through ESPRIT.
 
-    python benchmarks/bench_modes.py            # 200 records + 50 noise-only records (a few minutes)
-    python benchmarks/bench_modes.py --quick    # 30 + 10
-    python benchmarks/bench_modes.py --seed 3 --n 50
-    python benchmarks/bench_modes.py --output-error-cost 20   # time of the output-error fit (see below)
-    python benchmarks/bench_modes.py --family high --n 60      # family (c): modes between fs/8 and fs/2.56
-    python benchmarks/bench_modes.py --family e --show-failures   # one family of the modal-table issue
-    python benchmarks/bench_modes.py --family all --show-failures # every family (a, high, b, d, e, f, g, h)
+    python -m benchmarks modes            # 200 records + 50 noise-only records (a few minutes)
+    python -m benchmarks modes --quick    # 30 + 10
+    python -m benchmarks modes --seed 3 --n 50
+    python -m benchmarks modes --output-error-cost 20   # time of the output-error fit (see below)
+    python -m benchmarks modes --family high --n 60      # family (c): modes between fs/8 and fs/2.56
+    python -m benchmarks modes --family e --show-failures   # one family of the modal-table issue
+    python -m benchmarks modes --family all --show-failures # every family (a, high, b, d, e, f, g, h)
 
 Each record (``sindy_impulse.datasets.impact_record``): 1-4 modes between 2 and 25 % of the Nyquist
 frequency (>= 8 samples per period), at least 3 % apart with non-overlapping half-power bands, damping
@@ -30,15 +30,15 @@ with every mode within the marks (ESPRIT 59, stabilised ESPRIT 59), none with a 
 period (604 Hz at 2,048 Hz). Before the bands were resampled, every mode above fs / 8 was refused.
 
 ``--family b|d|e|f|g|h|all`` draws the other families of the modal-table issue from
-:mod:`mode_families` (its docstring gives every generator's ranges): (b) weak modes 20-40 dB below the
-strongest, scored where their own band SNR is >= 20 dB; (d) short, strongly damped records (3-15 periods,
-damping 2-25 %, marks 0.5 % / 10 %) plus the paper's oscillator on seeds 0-99 at 40 dB
-(:mod:`bench_short_decays`); (e) 1:2 and 1:3 near-resonant pairs (two modes) against the harmonics of single
-quadratic and cubic oscillators (one mode and a rejected row naming ``harmonic 2`` / ``harmonic 3``); (f)
-close pairs 1-3 half-power bandwidths apart; (g) 1-4 modes with a nonlinear element; (h) clipped records.
-Default sizes: a 200, high 60, b 60, d 100 (+ 100 oscillator records), e 80, f 60, g 60, h 60 (740). These
-runs (and ``--table`` for a / high) score both answers alike: true and found modes paired one to one
-(closest first, within 1 %), a record right when every counted mode is within the marks and no found mode
+:mod:`benchmarks.accuracy.families` (its docstring gives every generator's ranges): (b) weak modes 20-40 dB
+below the strongest, scored where their own band SNR is >= 20 dB; (d) short, strongly damped records (3-15
+periods, damping 2-25 %, marks 0.5 % / 10 %) plus the paper's oscillator on seeds 0-99 at 40 dB
+(:mod:`benchmarks.accuracy.short_decays`); (e) 1:2 and 1:3 near-resonant pairs (two modes) against the
+harmonics of single quadratic and cubic oscillators (one mode and a rejected row naming ``harmonic 2`` /
+``harmonic 3``); (f) close pairs 1-3 half-power bandwidths apart; (g) 1-4 modes with a nonlinear element; (h)
+clipped records. Default sizes: a 200, high 60, b 60, d 100 (+ 100 oscillator records), e 80, f 60, g 60, h 60
+(740). These runs (and ``--table`` for a / high) score both answers alike: true and found modes paired one to
+one (closest first, within 1 %), a record right when every counted mode is within the marks and no found mode
 is left unpaired (spurious); the baseline is the stabilised ESPRIT above, unchanged. Per family the table
 gives n, records right (survey, baseline), records with a spurious mode, exceptions raised by
 ``identify_modes``, records with a failure caught inside the survey (a ``Rejected`` row of band None or with

@@ -1,6 +1,6 @@
 """Benchmark of ``analysis.nonlinearity_test`` on synthetic single-mode hammer tests.
 
-Run from the repository root with ``PYTHONPATH=. python benchmarks/bench_nonlinearity.py [--quick]
+Run from the repository root with ``python -m benchmarks nonlinearity [--quick]
 [--records N] [--jobs J]``. Three rows of single-mode hammer tests (``impact_record``, accelerometer,
 pre-trigger and hammer force as in a laboratory record), N records each (default 100; ``--quick``: 8):
 

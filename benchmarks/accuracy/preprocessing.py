@@ -10,16 +10,16 @@
    the first kept sample and RMS over the kept samples. Worst over the phases.
 2. False peaks of ``spectral_peaks`` on white, pink (1/f) and brown (1/f^2) Gaussian noise records of
    1,000 to 40,000 samples (uniform; 1,000 records of each colour, seed 5).
-3. Mode detection on the records of ``benchmarks/bench_modes.py`` (``random_case``: 1-4 modes, damping
+3. Mode detection on the records of ``benchmarks/accuracy/modes.py`` (``random_case``: 1-4 modes, damping
    0.1-3 %, SNR 30-60 dB, ...; 100 records per seed, seeds 0, 1, 2), through ``preprocess``: records where
    a true mode has no peak within 1 % of its frequency, records with a peak farther than 1 % from every
    true mode, the time per record; and the bands of case 4 of seed 0 (205.9 Hz at 2 % next to 216.6 Hz
    at 0.12 %).
 
 Run (from the repository root):
-      PYTHONPATH=. python benchmarks/bench_preprocessing.py              (about 10 minutes)
-      PYTHONPATH=. python benchmarks/bench_preprocessing.py --quick      (distortion only)
-      PYTHONPATH=. python benchmarks/bench_preprocessing.py --detection  (3. only, about 2 minutes)
+      python -m benchmarks preprocessing              (about 10 minutes)
+      python -m benchmarks preprocessing --quick      (distortion only)
+      python -m benchmarks preprocessing --detection  (3. only, about 2 minutes)
 """
 
 from __future__ import annotations

@@ -1,8 +1,8 @@
 """Short, strongly damped ring-downs (family (d) of the modal-table issue, its first part): the paper's
 oscillator through ``identify_modes`` and through the stabilised ESPRIT baseline.
 
-    python benchmarks/bench_short_decays.py              # seeds 0-99 at 40 dB
-    python benchmarks/bench_short_decays.py --seeds 20 --snr-db 30
+    python -m benchmarks short_decays              # seeds 0-99 at 40 dB
+    python -m benchmarks short_decays --seeds 20 --snr-db 30
 
 Each record is ``damped_oscillator(snr_db, random_state=seed).x[:, 0]`` (401 samples at 100 Hz, 4 s; the
 linear oscillator ``x'' + 3.2 x' + 64 x = 0``: natural frequency 8 / (2 pi) = 1.2732 Hz, damping ratio

@@ -1,13 +1,13 @@
 """Family (d) of the modal-table issue record by record, with CPU time: short, strongly damped records.
 
-    python benchmarks/bench_short_records.py --n 30                 # records 0-29 of family d (seed 0)
-    python benchmarks/bench_short_records.py --n 30 --jobs 2 --json out.json
-    python benchmarks/bench_short_records.py --records 5 13 17      # only these indices (same draws)
-    python benchmarks/bench_short_records.py --poles --n 30         # stable poles vs free-decay equations
+    python -m benchmarks short_records --n 30                 # records 0-29 of family d (seed 0)
+    python -m benchmarks short_records --n 30 --jobs 2 --json out.json
+    python -m benchmarks short_records --records 5 13 17      # only these indices (same draws)
+    python -m benchmarks short_records --poles --n 30         # stable poles vs free-decay equations
 
-The records are those of ``bench_modes.py --family d`` (``mode_families.draw("d", rng, i)`` with one
+The records are those of ``python -m benchmarks modes --family d`` (``families.draw("d", rng, i)`` with one
 generator seeded ``--seed``, drawn in order, so index i is the same record in both scripts); each is scored
-as there (:func:`bench_modes.run_family_case`: survey and stabilised ESPRIT baseline, 0.5 % / 10 %, no
+as there (:func:`scoring.run_family_case`: survey and stabilised ESPRIT baseline, 0.5 % / 10 %, no
 spurious mode). Time is CPU time of the survey (``time.process_time`` in the worker: the machine is
 shared, wall time is not a speed). ``--timeout`` stops a record after that many seconds of wall time (it
 is then counted wrong, with its time). The table prints records right, spurious, the baseline's, and the

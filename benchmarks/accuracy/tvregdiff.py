@@ -7,9 +7,9 @@ last 5 are dropped for every method), median over noise seeds.
 The oracle is the best alpha in hindsight: a 0.1-decade scan of fixed alphas around the automatic choice,
 scored with the true derivative.
 
-Run (from the repository root, or after `pip install .` without PYTHONPATH):
-      PYTHONPATH=. python benchmarks/bench_tvregdiff.py            (10 seeds, all orders, a few minutes)
-      PYTHONPATH=. python benchmarks/bench_tvregdiff.py --quick    (3 seeds, default order only)
+Run (from the repository root):
+      python -m benchmarks tvregdiff            (10 seeds, all orders, a few minutes)
+      python -m benchmarks tvregdiff --quick    (3 seeds, default order only)
 """
 
 from __future__ import annotations

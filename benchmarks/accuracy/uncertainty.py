@@ -1,12 +1,12 @@
 """Calibration of the modes' standard deviations (``Mode.frequency_std_hz``, ``Mode.damping_ratio_std``).
 
-    python benchmarks/bench_uncertainty.py             # 200 records per noise level (30, 45, 60 dB)
-    python benchmarks/bench_uncertainty.py --quick     # 30 per level
-    python benchmarks/bench_uncertainty.py --n 100 --seed 3 --jobs 2 --save results.jsonl
-    python benchmarks/bench_uncertainty.py --summary results.jsonl   # the tables of the records done so far
+    python -m benchmarks uncertainty             # 200 records per noise level (30, 45, 60 dB)
+    python -m benchmarks uncertainty --quick     # 30 per level
+    python -m benchmarks uncertainty --n 100 --seed 3 --jobs 2 --save results.jsonl
+    python -m benchmarks uncertainty --summary results.jsonl   # the tables of the records done so far
 
 Each record (``sindy_impulse.datasets.impact_record``): half single-mode, half two-mode, drawn as
-``benchmarks/bench_modes.py`` draws them (modes between 2 and 25 % of the Nyquist frequency, at least 3 %
+``benchmarks/accuracy/modes.py`` draws them (modes between 2 and 25 % of the Nyquist frequency, at least 3 %
 apart with non-overlapping half-power bands, damping ratios 0.1-3 % log-uniform, amplitudes within 20 dB,
 offset up to 5x, pre-trigger 0-10 %, displacement / velocity / acceleration sensor, 2,000-40,000 samples),
 at exactly the level's SNR. Every true mode that ``identify_modes(y, fs=fs)`` finds (the identified mode
@@ -57,7 +57,7 @@ LEVELS = (30.0, 45.0, 60.0)
 
 
 def draw_case(rng: np.random.Generator, n_modes: int, snr_db: float) -> dict:
-    """Parameters of one record (the constraints of ``bench_modes.py``'s family (a))."""
+    """Parameters of one record (the constraints of ``benchmarks/accuracy/modes.py``'s family (a))."""
     n_samples = int(rng.integers(2000, 40001))
     fs = float(rng.choice([1000.0, 2048.0, 5000.0, 10000.0, 25600.0]))
     nyquist = fs / 2

@@ -11,8 +11,8 @@ The to-do list of the drop-in work: PySINDy's test files ``test_pysindy.py``, ``
    given optimizer, library and differentiation are fitted in place, nothing is simulated),
 
 and the script prints the counts side by side and the failures of the ImpulseSINDy run grouped by cause
-(the first line of the error). ``benchmarks/pysindy_suite_tvregdiff.py`` (PySINDy's differentiation tests
-asked of TVRegDiff) runs along in both.
+(the first line of the error). ``benchmarks/pysindy_suite/tvregdiff_tests.py`` (PySINDy's differentiation
+tests asked of TVRegDiff) runs along in both.
 
 No PySINDy code is part of this project: the test files are copied from a PySINDy checkout into a
 temporary directory, where two imports are patched (``pytest.lazy_fixture`` becomes
@@ -22,7 +22,7 @@ a virtual environment of its own::
     git clone --branch v2.1.0 https://github.com/dynamicslab/pysindy /tmp/pysindy
     python -m venv /work/venv-suite
     /work/venv-suite/bin/pip install -e ".[suite]" pytest
-    /work/venv-suite/bin/python benchmarks/pysindy_suite.py --pysindy-repo /tmp/pysindy
+    /work/venv-suite/bin/python -m benchmarks pysindy_suite --pysindy-repo /tmp/pysindy
 
 ``--pysindy-repo`` may also be a bare git directory (the tests are then read from ``--ref``, default
 ``v2.1.0``, with ``git archive``).

@@ -1,4 +1,5 @@
-"""PySINDy 2.1.0's differentiation tests, asked of TVRegDiff (used by ``benchmarks/pysindy_suite.py``).
+"""PySINDy 2.1.0's differentiation tests, asked of TVRegDiff (used by
+``benchmarks/pysindy_suite/pysindy_suite.py``).
 
 Each test repeats the assertion of the PySINDy test of the same name (``test/test_differentiation.py``)
 with ``TVRegDiff`` in place of the method that test is about: the same fixtures (PySINDy's conftest), the

@@ -9,7 +9,7 @@ reaches the noise after 10-20 s). University of South Carolina (Downey lab), rep
 CC BY-SA 4.0 (its ``LICENSE.txt``). Not shipped (1.6 MB, share-alike); fetch it first::
 
     curl -L -o timeseries_data.lvm https://github.com/PujaChowdhury/Dataset-4-Univariate-signal-with-non-stationarity/raw/42c970f7e931e879f9179475b758267d9c12b538/modal_analysis/data/timeseries_data.lvm
-    python benchmarks/real_record_report.py timeseries_data.lvm            # report + screenshot in docs/
+    python -m benchmarks cantilever_report timeseries_data.lvm            # report + screenshot in docs/
 
 It runs ``sindy-impulse modes timeseries_data.lvm --report docs/report-cantilever.html`` (the command a
 user types, with ``--json`` to a temporary file for the table below, and ``--overwrite`` to replace the

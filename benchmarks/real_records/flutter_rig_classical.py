@@ -13,7 +13,7 @@ moving peak falls below 20 x the rest noise):
   - half-power bandwidth of the (Hann-free) decay spectrum, zeta = df / (2 f);
 * ESPRIT (Hankel SVD, 4 complex pairs) on the centered 2-channel record decimated to 50 Hz, first 8 s.
 
-Run: PYTHONPATH=. python benchmarks/classical_look_flutter_rig.py
+Run: python -m benchmarks flutter_rig_classical
 """
 
 from __future__ import annotations

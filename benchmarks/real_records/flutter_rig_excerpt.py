@@ -12,8 +12,8 @@ filtering: the rig's content is below 10 Hz, the few sensor tones above 250 Hz f
 The archive is written with a fixed time stamp, so the same source gives the same bytes (sha256 printed).
 
 Run (from the repository root):
-    python benchmarks/make_flutter_rig_excerpt.py PATH/TO/System_ID_flutter/Linear_system_Identification
-    python benchmarks/make_flutter_rig_excerpt.py SOURCE_DIR -o other.npz
+    python -m benchmarks flutter_rig_excerpt PATH/TO/System_ID_flutter/Linear_system_Identification
+    python -m benchmarks flutter_rig_excerpt SOURCE_DIR -o other.npz
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Real impact and ring-down records through identify_modes, each mode beside the stabilised ESPRIT baseline.
 
-    python benchmarks/bench_real_records.py --mirror /path/to/mirrors
-    SINDY_IMPULSE_MIRROR=/path/to/mirrors python benchmarks/bench_real_records.py
+    python -m benchmarks real_records --mirror /path/to/mirrors
+    SINDY_IMPULSE_MIRROR=/path/to/mirrors python -m benchmarks real_records
 
 The shipped flutter-rig free decays (:func:`sindy_impulse.datasets.load_flutter_rig`, 2 records, heave and
 pitch at 500 Hz) and three public record sets (docs/real-records.md has their provenance, licences and the
@@ -27,9 +27,9 @@ repository is reported with how to get it, and the others still run.
 Every record is surveyed (``identify_modes(y, fs=..., force=...)``; an exception is printed, not raised) and
 the baseline is the stabilisation diagram (:func:`sindy_impulse.poles.stabilisation`: ESPRIT over model
 orders 10-60, a pole kept when it recurs within 0.5 % in frequency and 10 % in damping ratio at 5 orders)
-on at most 20,000 samples from the detected onset (plus 2 ms, as in bench_modes.py). Each mode is printed
-beside the baseline's nearest stable pole (frequency, damping ratio, their relative differences), then the
-baseline's poles no mode is near (within 1 %), the rejected peaks and the survey's notes.
+on at most 20,000 samples from the detected onset (plus 2 ms, as in benchmarks/accuracy/modes.py). Each mode
+is printed beside the baseline's nearest stable pole (frequency, damping ratio, their relative differences),
+then the baseline's poles no mode is near (within 1 %), the rejected peaks and the survey's notes.
 """
 
 from __future__ import annotations

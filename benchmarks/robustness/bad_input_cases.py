@@ -1,4 +1,5 @@
-"""The cases of the bad-input matrix (benchmarks/bad_inputs.py): data recipes, actions and expectations.
+"""The cases of the bad-input matrix (benchmarks/robustness/bad_inputs.py): data recipes, actions and
+expectations.
 
 :func:`run_case` builds and runs one case and judges the outcome against its expectation (never raising).
 

@@ -1,4 +1,5 @@
-"""The list of the bad-input matrix (benchmarks/bad_inputs.py): every case and its stated expectation."""
+"""The list of the bad-input matrix (benchmarks/robustness/bad_inputs.py): every case and its stated
+expectation."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """The bad-input matrix: hundreds of awkward inputs, each with its stated expectation, run under a watchdog.
 
-Run:  python benchmarks/bad_inputs.py [--jobs 2] [--timeout 120] [--group offset] [--verbose]
+Run:  python -m benchmarks bad_inputs [--jobs 2] [--timeout 120] [--group offset] [--verbose]
 
 Every case states what a trustworthy library must do with its input -- the right terms and coefficients
 within a tolerance, a named warning, or a named error -- and the run classifies what happened:
@@ -24,10 +24,10 @@ noise only, clipping, steps and glitches, quantisation, redundant channels, stro
 Coulomb friction, and their modal parameters), sampling (coarse, dense, short, long), several
 trajectories, simulation from far states, SINDyFeatures on noise, plain PySINDy mode, and scikit-learn style
 bad inputs (types, shapes, time vectors, parameters, unfitted models). The case definitions are in
-:mod:`bad_input_matrix` (the list) and :mod:`bad_input_cases` (data, actions, scikit-learn style calls);
-``tests/test_bad_inputs.py`` runs a representative part of them.
+:mod:`benchmarks.robustness.bad_input_matrix` (the list) and :mod:`benchmarks.robustness.bad_input_cases`
+(data, actions, scikit-learn style calls); ``tests/test_bad_inputs.py`` runs a representative part of them.
 
-Figures (``python benchmarks/bad_inputs.py --jobs 2``, 2 shared cores, wall time 2 min, median case 0.2 s,
+Figures (``python -m benchmarks bad_inputs --jobs 2``, 2 shared cores, wall time 2 min, median case 0.2 s,
 longest 15 s; hard limit 120 s per case)::
 
     418 cases: expected 416, warned 0, refused 2, silent wrong 0, crash 0, hang 0

@@ -2,13 +2,15 @@
 (``impact_record([804, 2400, 4800], [0.01, 0.005, 0.006], fs=50000, duration=0.11, pre_trigger=0.005,
 sensor="acceleration", snr_db=40, clip=0.6)``) over seeds, each beside the same record unclipped (same seed,
 same noise) in the same run, and what was done with the clipped samples (also runs on versions before the
-repair: ``PYTHONPATH=OLD_CHECKOUT python benchmarks/bench_clipped.py``).
+repair, from outside this tree so that the other package comes first on the path:
+``cd /tmp && PYTHONPATH=OLD_CHECKOUT:THIS_TREE python -m benchmarks clipped``).
 
-    python benchmarks/bench_clipped.py              # seeds 0-4, 3 warm runs each (median CPU time)
-    python benchmarks/bench_clipped.py --seeds 10   # seeds 0-9
+    python -m benchmarks clipped              # seeds 0-4, 3 warm runs each (median CPU time)
+    python -m benchmarks clipped --seeds 10   # seeds 0-9
 
 CPU time (``time.process_time``), so a shared machine's load does not count; a mode is right within 0.3 % in
-frequency and 10 % in damping ratio. Family (h) of ``bench_modes.py`` (``--family h``) is the accuracy study.
+frequency and 10 % in damping ratio. Family (h) of ``benchmarks/accuracy/modes.py`` (``--family h``) is the
+accuracy study.
 """
 
 from __future__ import annotations

@@ -3,8 +3,8 @@ gives the same modes from each file as from the arrays.
 
 Run from the repository root::
 
-    python benchmarks/bench_file_round_trip.py            # seeds 0-4
-    python benchmarks/bench_file_round_trip.py --seeds 2
+    python -m benchmarks file_round_trip            # seeds 0-4
+    python -m benchmarks file_round_trip --seeds 2
 
 For each seed, a 3-sensor, 3-mode ``impact_record`` with its force channel is surveyed from the arrays, then
 written with :func:`sindy_impulse.io.write_record` to UFF 58 (ASCII and binary), LabVIEW ``.lvm``, TDMS,

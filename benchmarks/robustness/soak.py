@@ -1,7 +1,7 @@
 """Soak test (not CI): random ring-downs of known structure; how often is the answer right, and is a wrong
 answer ever given without a warning?
 
-Run:  python benchmarks/soak.py [--n 1000] [--quick] [--jobs 2] [--timeout 120] [--seed 0] [--json out.json]
+Run:  python -m benchmarks soak [--n 1000] [--quick] [--jobs 2] [--timeout 120] [--seed 0] [--json out.json]
 
 Each case draws a system of known structure, simulates its free decay, adds white noise and fits
 ``ImpulseSINDy`` (default settings) with the case's library:
@@ -34,7 +34,7 @@ worker replaced); 0 crashes and 0 hangs are required.
 
 Figures (2 worker processes on 2 shared cores, 12 min per 1000 fits, median fit 0.7 s):
 
-``python benchmarks/soak.py --n 1000 --seed 1000`` (seeds 1000-1999, not used to choose any threshold)::
+``python -m benchmarks soak --n 1000 --seed 1000`` (seeds 1000-1999, not used to choose any threshold)::
 
     1000 cases: ok 1000, refusal 0, crash 0, hang 0
     true structure / right   clean 160/177 (90.4 %) / 90.4 %     40-60 dB 307/366 (83.9 %) / 83.9 %
@@ -45,7 +45,7 @@ Figures (2 worker processes on 2 shared cores, 12 min per 1000 fits, median fit 
             quadratic/cubic coefficients 10-13 % off at 26-28 dB
     warned although right 26/696 (3.7 %): 22 uncertain coefficient, 3 frequency, 1 spikes, 1 ambiguous
 
-``python benchmarks/soak.py --n 1000`` (seeds 0-999, on which ``UNCERTAINTY_LIMIT`` was chosen from the
+``python -m benchmarks soak --n 1000`` (seeds 0-999, on which ``UNCERTAINTY_LIMIT`` was chosen from the
 recorded uncertainties; run with 0.03): true structure clean 90.2 %, 40-60 dB 83.5 %, 25-40 dB 67.6 %,
 15-25 dB 37.4 %; wrong without a warning 6/1000 (0.6 %), warned although right 41/688 (6.0 %); the
 recorded uncertainties give 10 / 32 at 0.035. The structure rates are the identification's (the

@@ -2,9 +2,9 @@
 watchdog of the soak test (:mod:`benchmarks.robustness.watchdog`), counting every exception, hang and caught
 failure.
 
-Run:  python benchmarks/soak_modes.py [--n 1000] [--seed 0] [--jobs 2] [--timeout 300] [--json out.json]
+Run:  python -m benchmarks soak_modes [--n 1000] [--seed 0] [--jobs 2] [--timeout 300] [--json out.json]
 
-Each configuration is :func:`mode_families.random_config` (seed = case number): 1-4 modes up to fs / 2.56,
+Each configuration is :func:`families.random_config` (seed = case number): 1-4 modes up to fs / 2.56,
 damping ratios 0.05-8 % (log-uniform), amplitudes within 30 dB, 500-40,000 samples, any sensor; in 30 % of
 multi-mode records another tapped mass and one or several sensor masses; offset 0-10x the peak, pre-trigger
 0-30 %, clipping at 0.3-1 of the peak in 30 %, white or pink noise at 15-60 dB, nonlinear terms (cubic

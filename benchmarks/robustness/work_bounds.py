@@ -1,14 +1,16 @@
 """The work bounds of issue 25: the adaptive integrator's real cost per work unit, and the records that hung
 or ran out of memory, each timed with its peak memory (one fresh process per record).
 
-    OMP_NUM_THREADS=1 python benchmarks/bench_work_bounds.py                  # cost ratio + the slow records
-    OMP_NUM_THREADS=1 python benchmarks/bench_work_bounds.py --mirror /work/.mirror   # + pyFRF measurements_1
-    OMP_NUM_THREADS=1 python benchmarks/bench_work_bounds.py --only cost
-    OMP_NUM_THREADS=1 PYTHONPATH=/work/main python benchmarks/bench_work_bounds.py --records d0,d21  # before
+    OMP_NUM_THREADS=1 python -m benchmarks work_bounds                  # cost ratio + the slow records
+    OMP_NUM_THREADS=1 python -m benchmarks work_bounds --mirror /work/.mirror   # + pyFRF measurements_1
+    OMP_NUM_THREADS=1 python -m benchmarks work_bounds --only cost
+    # another checkout's package: run outside this tree (the working folder comes first on the path)
+    cd /tmp && PYTHONPATH=OLD_CHECKOUT:THIS_TREE python -m benchmarks work_bounds --records d0,d21
 
-The records: family d records 0 and 21 of ``bench_modes.py --family d`` (seed 0; 394 s and 209 s before),
-the exception run's seeds 20 and 25 (``soak_modes.py``, over 300 s there), and pyFRF measurements_1
-(25,600 samples at 25.6 kHz with force; killed at 21.3 GB before; read as ``bench_real_records.py`` does).
+The records: family d records 0 and 21 of ``python -m benchmarks modes --family d`` (seed 0; 394 s and 209 s
+before), the exception run's seeds 20 and 25 (``benchmarks/robustness/soak_modes.py``, over 300 s there), and
+pyFRF measurements_1 (25,600 samples at 25.6 kHz with force; killed at 21.3 GB before; read as
+``benchmarks/real_records/real_records.py`` does).
 """
 
 from __future__ import annotations

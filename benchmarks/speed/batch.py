@@ -5,8 +5,8 @@ ratios 1, 0.5, 0.6 %), 50 kHz, 0.11 s each with 5 ms of pre-trigger, 40 dB, seed
 cold, as a user's first call does: the two joblib workers and the two dask workers start (and import the
 package) inside the timed call. The three results are compared number for number.
 
-Run alone (``python benchmarks/perf_batch.py [--n 50]``) or as the ``batch`` section of
-``benchmarks/run.py``. On a cluster, replace ``LocalCluster(...)`` by the scheduler's address::
+Run alone (``python -m benchmarks batch [--n 50]``) or as the ``batch`` section of
+``benchmarks/speed/speed.py``. On a cluster, replace ``LocalCluster(...)`` by the scheduler's address::
 
     import joblib
     from dask.distributed import Client

@@ -1,7 +1,7 @@
 """CPU time of ``identify_modes`` on one of issue 26's speed records, this tree beside another checkout.
 
     git archive main | tar -x -C /tmp/main_tree
-    python benchmarks/perf_beside.py --other /tmp/main_tree --case nonlinear --rounds 5
+    python -m benchmarks beside --other /tmp/main_tree --case nonlinear --rounds 5
 
 Each round runs one subprocess per tree (``PYTHONPATH`` set to it), alternating, so both see the same load;
 each subprocess surveys the record once to warm up (numba, caches), then ``--repeat`` times, and reports

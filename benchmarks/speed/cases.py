@@ -1,4 +1,4 @@
-"""Data of the speed figures of ``benchmarks/run.py`` and the timing helpers they share."""
+"""Data of the speed figures of ``benchmarks/speed/speed.py`` and the timing helpers they share."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """Cost of the diagnostics that run at the end of every fit (diagnostics_), measured in one run.
 
-Run:  python benchmarks/bench_diagnostics.py [--repeats 10]
+Run:  python -m benchmarks diagnostics_cost [--repeats 10]
 
 Times the paper's oscillator fit (``damped_oscillator``, 40 dB) and ``identify_modes`` on a three-mode
 impact record, alternately with the diagnostics and with ``diagnose_fit`` replaced by a no-op, and prints

@@ -1,4 +1,5 @@
-"""The speed figures of ``benchmarks/run.py``: each returns rows ``(figure, ours, baseline, ratio, goal)``.
+"""The speed figures of ``benchmarks/speed/speed.py``: each returns rows ``(figure, ours, baseline, ratio,
+goal)``.
 
 Every figure is measured beside a baseline in the same run (so a busy machine shifts both): PySINDy's
 ``simulate`` of the same model, a minimal hand-written numba RK4, a plain Python loop, one pass of numpy
@@ -217,7 +218,7 @@ def modal_survey(quick: bool) -> list:
             start = time.perf_counter()
             identify_modes(rec.y, fs=rec.fs)
             times.append(time.perf_counter() - start)
-    onset = rec.free_decay_index + int(0.002 * rec.fs)  # skip the hammer's contact, as bench_modes does
+    onset = rec.free_decay_index + int(0.002 * rec.fs)  # skip the hammer's contact, as the modes study does
     base = best_of(lambda: esprit(rec.y[onset:], fs=rec.fs), 3)
     median = float(np.median(times))
     found = ", ".join(f"{m.frequency_hz:.2f} Hz" for m in survey.modes)
@@ -230,7 +231,7 @@ def modal_survey(quick: bool) -> list:
 
 
 def _esprit_of(rec):
-    """ESPRIT on the record's free decay (after the hammer's contact, as bench_modes does)."""
+    """ESPRIT on the record's free decay (after the hammer's contact, as the modes benchmark does)."""
     onset = rec.free_decay_index + int(0.002 * rec.fs)
     return lambda: esprit(rec.y[onset:], fs=rec.fs)
 

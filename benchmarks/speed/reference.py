@@ -1,4 +1,4 @@
-"""Reference simulations for the speed figures of ``benchmarks/run.py``.
+"""Reference simulations for the speed figures of ``benchmarks/speed/speed.py``.
 
 - :func:`minimal_rk4`: the minimal numba RK4 of a given polynomial model -- its right-hand side written out
   by hand with scalar states (what one would write for this one model), the same sub-steps as ours. It is

@@ -2,9 +2,9 @@
 
 Run from the repository root::
 
-    python benchmarks/run.py                 # every figure (a few minutes on 2 cores)
-    python benchmarks/run.py --quick         # the same figures on smaller inputs, fewer repetitions
-    python benchmarks/run.py --write-readme  # and write the table into README.md (perf markers)
+    python -m benchmarks speed                 # every figure (a few minutes on 2 cores)
+    python -m benchmarks speed --quick         # the same figures on smaller inputs, fewer repetitions
+    python -m benchmarks speed --write-readme  # and write the table into README.md (perf markers)
 
 Each figure is printed with a baseline measured in the same run (PySINDy's ``simulate``, a minimal numba
 RK4 written for the model, a plain Python loop, one numpy pass over the record, one worker instead of
@@ -75,7 +75,7 @@ def _format(value: float) -> str:
 
 def _table(rows: list, loads: list, quick: bool) -> str:
     lines = [
-        f"Measured by `python benchmarks/run.py{' --quick' if quick else ''}` on {os.cpu_count()} cores "
+        f"Measured by `python -m benchmarks speed{' --quick' if quick else ''}` on {os.cpu_count()} cores "
         f"({platform.processor() or platform.machine()}, Python {platform.python_version()}); 1-minute "
         f"load average during the sections {min(loads):.1f}-{max(loads):.1f} (0 = idle machine).",
         "",
