@@ -302,17 +302,16 @@ def _at_hit(f: np.ndarray, a: np.ndarray, amplitude: float) -> float:
     return float(np.sqrt(max(f[top] ** 2 + slope * (amplitude**2 - a[top] ** 2), 0.0)))
 
 
-def _nonlinear_parent(parent, exponent: float, order: int, whole: bool = False) -> bool:
-    """A locked candidate whose exponent lies between whole powers (noise flattens a harmonic's envelope:
-    2.3-2.6 seen for cubic springs' 3 f) is a harmonic only of a parent whose model has nonlinear terms: a
-    linear mode makes none. ``whole``: the exponent must be a whole power (:func:`_whole_power`): for the
-    ratio of the fitted decay rates, which the envelopes' noise and the filters' transients do not bend
-    (family (e) record 71 of ``benchmarks/accuracy/modes.py``: a cubic spring's third harmonic, locked, whose
-    envelopes gave 3.66 +- 0.06 and whose decay rates 2.92)."""
-    from ._nonlinear import has_nonlinear_terms
-
-    fits = _whole_power(exponent, order) if whole else MIN_EXPONENT <= exponent <= order + _EXPONENT_MARGIN
-    return fits and has_nonlinear_terms(parent.model)
+def _nonlinear_parent(exponent: float, order: int, whole: bool = False) -> bool:
+    """Whether a locked candidate's exponent is a harmonic's, for a nonlinear parent (the caller checks
+    that: a linear mode makes no harmonic): between whole powers (noise flattens a harmonic's envelope:
+    2.3-2.6 seen for cubic springs' 3 f), or ``whole``: the exponent must be a whole power
+    (:func:`_whole_power`): for the ratio of the fitted decay rates, which the envelopes' noise and the
+    filters' transients do not bend (a cubic spring's third harmonic, locked, whose envelopes gave 3.66 +-
+    0.06 and whose decay rates 2.92)."""
+    if whole:
+        return _whole_power(exponent, order)
+    return bool(MIN_EXPONENT <= exponent <= order + _EXPONENT_MARGIN)
 
 
 def _decays_as_power(parent, candidate, order: int) -> bool:
@@ -393,7 +392,7 @@ def split_harmonics(pre, modes: list, rejected: list) -> tuple:
 
 
 def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: int, candidate,
-              failed: bool = False) -> dict:
+              failed: bool = False, nonlinear: bool | None = None) -> dict:
     """:func:`harmonic_evidence` of ``band`` as harmonic ``order`` of mode ``i`` (``analysis``: the modes'
     bands and damped frequencies), decided with the parent's model where the data leave it open (a locked
     candidate between whole powers; the backbone when the locking is unresolved). ``candidate``: a mode,
@@ -403,7 +402,10 @@ def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: in
     band-passed phases follow; a parent whose model is linear keeps its frequency, and a harmonic of it
     (from nonlinear terms too weak for its equation) is at ``n`` times it within the standard errors: family
     (a) record 73 of ``benchmarks/accuracy/modes.py``, a linear 987.54 Hz mode 0.026 % off twice a linear
-    493.64 Hz one, read 2.00080 +- 0.00017 (4.7 standard errors off) and was named its harmonic."""
+    493.64 Hz one, read 2.00080 +- 0.00017 (4.7 standard errors off) and was named its harmonic.
+
+    ``nonlinear``: whether the parent is nonlinear, when known without its model (a candidate the linear
+    decay does not explain); None reads its model's terms, and only then may its backbone decide."""
     from ._nonlinear import has_nonlinear_terms
 
     bands, freqs = analysis
@@ -414,7 +416,7 @@ def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: in
     e = harmonic_evidence(ring, pre.fs, parent_band, band, order,
                           (band_noise_rms(pre.peaks.spectrum, parent_band), noise))
     e.update(parent_frequency_hz=parent.frequency_hz, frequency_hz=candidate.frequency_hz)
-    linear = not has_nonlinear_terms(parent.model)
+    linear = not (has_nonlinear_terms(parent.model) if nonlinear is None else nonlinear)
     if e["locked"] and not e["locked_within_errors"] and linear:
         e.update(locked=False, harmonic=False)  # a linear parent's harmonic: exactly n times it (see below)
     if candidate.damping_ratio > 0:  # a fitted mode: its decay rate over its parent's is the exponent too
@@ -422,12 +424,14 @@ def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: in
                                       / (parent.damping_ratio * parent.frequency_hz)))
     if e["harmonic"] and linear and not _decays_as_power(parent, candidate, order):
         e.update(harmonic=False)
-    if e["locked"] and not e["harmonic"] and (
-            _nonlinear_parent(parent, e["exponent"], order)
-            or _nonlinear_parent(parent, e.get("decay_exponent", np.nan), order, whole=True)):
+    if e["locked"] and not e["harmonic"] and not linear and (
+            _nonlinear_parent(e["exponent"], order)
+            or _nonlinear_parent(e.get("decay_exponent", np.nan), order, whole=True)):
         e.update(harmonic=True)
-    if not e["ratio_sigma"] <= RESOLVED * order and _on_backbone(parent, candidate, order):
-        e.update(harmonic=True, by_backbone=True)
+    unresolved = not e["ratio_sigma"] <= RESOLVED * order
+    e.update(undecided=bool(unresolved and not e["harmonic"]))
+    if unresolved and nonlinear is None and _on_backbone(parent, candidate, order):
+        e.update(harmonic=True, by_backbone=True, undecided=False)
     return e
 
 

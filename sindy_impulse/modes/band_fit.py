@@ -14,11 +14,11 @@ from ..poles.modal import modal_parameters
 from ..preprocessing import bandpass
 from ..preprocessing.band import resample_band
 from ..simulation.scoring import AUTO_PERIODS, Auto, Segmented
-from ._states import EDGE, STATE_NAMES, channel_shape, derivative_states, group_states
+from ._states import EDGE, STATE_NAMES, channel_shape, derivative_states
 from .result import Mode, Rejected
 from .uncertainty import mode_uncertainty
 
-__all__ = ["default_estimator", "fit_band", "fit_direct", "fit_group", "MAX_FIT_ERROR"]
+__all__ = ["default_estimator", "fit_band", "fit_error_of", "MAX_FIT_ERROR", "SENSOR_POWER"]
 
 #: Largest fit error (mean absolute deviation relative to the local amplitude) of a model reported as a
 #: mode; a peak whose best model does worse is rejected.
@@ -51,7 +51,8 @@ SEGMENT_PERIODS = Segmented().segment_periods
 #: x^2 x' dampers of 40-105 periods); the modes' backbones went from 40/50 to 45/50. A fit of a whole
 #: free decay is local: on bands of hundreds of periods the segment-wise measure's model stays.
 OUTPUT_ERROR_PERIODS = 150
-_SENSOR_POWER = {"displacement": 0, "velocity": 1, "acceleration": 2}
+#: Power of omega between a displacement and what each sensor measures.
+SENSOR_POWER = {"displacement": 0, "velocity": 1, "acceleration": 2}
 
 
 def isolated(bands_of):
@@ -220,7 +221,7 @@ def fit_band(
     amplitude = float(band.envelope[EDGE] * np.exp(zeta * omega * (t[0] - onset_time)))
     residue = None
     if impulse is not None and sensor is not None and impulse > 0:
-        residue = amplitude * omega_d / (omega ** _SENSOR_POWER[sensor] * impulse)
+        residue = amplitude * omega_d / (omega ** SENSOR_POWER[sensor] * impulse)
     shape = None if record is None or record.shape[1] == 1 else _shape(record, band, states, omega, channel)
     return _mode(
         band,
@@ -235,95 +236,6 @@ def fit_band(
         shape=shape,
         residue=residue,
     )
-
-
-def _without_protection(model):
-    """The model for delay coordinates: its optimizer's ``protected`` terms cleared (they name the terms of
-    ``[y, dy]``, :func:`default_estimator`, which delay coordinates or another library do not have), and
-    without the output-error fit (measured on the own bands' ``[y, dy]`` only)."""
-    params = model.get_params(deep=True)
-    if "optimizer__protected" in params:
-        model.set_params(optimizer__protected=None)
-    if "output_error" in params:
-        model.set_params(output_error=False)
-    return model
-
-
-@isolated(lambda args: args[1])  # the peak's band
-def fit_direct(pre, band_hz, template, *, index: int = 0):
-    """Identify the only mode of a record without band-pass: a strongly damped or short ring-down whose
-    filter transient would swallow it (the paper's single-sensor route: the offset-removed record from
-    the hit, delay-embedded, TVRegDiff inside the estimator).
-
-    Returns a :class:`Mode` (its measured coordinate is the undelayed last column) or a :class:`Rejected`.
-    """
-    from ..embedding import DelayEmbedding
-
-    y = pre.y[pre.impact.ringdown_index :]
-    t = pre.t0 + (pre.impact.ringdown_index + np.arange(y.size)) / pre.fs
-    embedding = DelayEmbedding().fit(y)
-    states, t_states = embedding.transform(y), embedding.transform_time(t)
-    model = _without_protection(fresh_copy(template))
-    names = [str(n) for n in embedding.get_feature_names_out()]
-    fit_deferred(model, states, t=t_states, feature_names=names)
-    found, reason = _linear_mode(model, band_hz)
-    if found is None:
-        return Rejected(tuple(band_hz), reason, index)
-    frequency, zeta = found
-    fit_error = fit_error_of(model)
-    if not fit_error <= MAX_FIT_ERROR:
-        return _poor_fit(band_hz, fit_error, index)
-    period = max(2, int(round(pre.fs / frequency)))
-    amplitude = float(np.max(np.abs(y[:period])))
-    lags = [(embedding.dimension_ - 1 - k) * embedding.tau_ for k in range(states.shape[1])]
-    spread = _uncertainty(model, states, t_states, band_hz, frequency, lags=lags, filtered=False)
-    return Mode(
-        frequency_hz=frequency,
-        damping_ratio=zeta,
-        **spread,
-        band_hz=tuple(float(b) for b in band_hz),
-        amplitude=amplitude,
-        fit_error=fit_error,
-        model=model,
-        states=states,
-        t=t_states,
-        record=index,
-        coordinate_=states.shape[1] - 1,
-    )
-
-
-@isolated(lambda args: list(args[1]))  # every peak band of the group
-def fit_group(band, peak_bands, template, *, onset_time: float, index: int = 0) -> list:
-    """Identify close modes jointly: one band holding ``len(peak_bands)`` peaks whose own bands would be too
-    narrow for their damping (the band-pass transient would swallow a strongly damped mode next to a lightly
-    damped one). The states are the band signal's ``2 n`` delay coordinates, the library linear:
-    the modes are the eigenvalues of the identified linear system, one per peak band.
-
-    Returns one :class:`Mode` (sharing the model) or :class:`Rejected` per peak band.
-    """
-    n_states = 2 * len(peak_bands)
-    tau = max(1, int(round(band.samples_per_period / 4)))  # a quarter period of the band's centre
-    states, states_dot, t = group_states(band.y, band.t, n_states, tau)
-    model = _without_protection(fresh_copy(template))
-    model.set_params(feature_library=ps.PolynomialLibrary(degree=1, include_bias=False), sweep=False)
-    names = [f"y(t-{k}tau)" if k else "y" for k in range(n_states - 1, -1, -1)]
-    x_dot = states_dot if getattr(model, "differentiation_method", None) is None else None
-    fit_deferred(model, states, t=t, x_dot=x_dot, feature_names=names)
-    frequencies, damping = modal_parameters(model)
-    fit_error = fit_error_of(model)
-    out = []
-    for peak_band in peak_bands:
-        found, reason = _closest_mode(frequencies, damping, peak_band)
-        if found is None or not fit_error <= MAX_FIT_ERROR:
-            out.append(
-                Rejected(tuple(peak_band), reason or _poor_fit(peak_band, fit_error, index).reason, index)
-            )
-            continue
-        frequency, zeta = found
-        values = {"frequency_hz": frequency, "damping_ratio": zeta, "fit_error": fit_error}
-        lags = [(n_states - 1 - k) * tau for k in range(n_states)]
-        out.append(_mode(band, model, states, t, index, lags=lags, **values))
-    return out
 
 
 def _uncertainty(model, states, t, band_hz, frequency: float, **kws) -> dict:

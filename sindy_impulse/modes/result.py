@@ -64,7 +64,13 @@ class Mode:
         Standard deviation of each of ``model.coefficients()`` from the fit (NaN for terms the model does
         not have).
     uncertainty_note : str
-        Why the standard deviations are NaN ("" when they are not).
+        Why the standard deviations are NaN, or where the reported values come from when not from the
+        model ("" when there is nothing to say).
+    source : {"poles", "equation", "envelope"}
+        Where the frequency and damping ratio come from: the decay fit of the record's poles (a linear
+        mode, whose equation they define; or a nonlinear mode the paper's fit could not reproduce), the
+        identified equation's linear part, or, for the damping ratio of a nonlinear mode whose equation
+        lacks its amplitude-dependent damping, the decay envelope at zero amplitude.
     frequency_spread_hz, damping_ratio_spread : float
         Interquartile range of the hits' values (0 for one hit), kept apart from the standard deviations
         above.
@@ -94,6 +100,7 @@ class Mode:
     damping_ratio_std: float = math.nan
     coefficients_std: np.ndarray | None = field(default=None, repr=False)
     uncertainty_note: str = ""
+    source: str = "equation"
 
     @property
     def damped_frequency_hz(self) -> float:
@@ -158,6 +165,7 @@ class Mode:
             "amplitude": self.amplitude,
             "fit_error": self.fit_error,
             "snr_db": self.snr_db,
+            "source": self.source,
         }
         if self.hits:
             row.update(
@@ -186,12 +194,15 @@ class Rejected:
         Index of the hit (0 for one record).
     evidence : dict
         What the decision rests on (e.g. the error of a failed fit: ``{"error": ..., "message": ...}``).
+    code : Reason or None
+        Why, as a code (:class:`~sindy_impulse.modes.kinds.Reason`): what programs decide on.
     """
 
     band_hz: tuple | None
     reason: str
     record: int = 0
     evidence: dict = field(default_factory=dict, compare=False)
+    code: object = None
 
 
 @dataclass(eq=False)
@@ -209,14 +220,18 @@ class ModalSurvey:
     notes : list of str
         Remarks a user should read (double hits, no ring-down found, ...).
     poles : list of PoleTable
-        The stabilisation diagram of each record (computed by ``identify_modes``, which completes the
-        spectral peaks with its stable modes; else when first read).
+        The stabilisation diagram of each record (computed by ``identify_modes``, whose candidates start
+        from its stable poles; else when first read).
+    trace : SurveyTrace
+        Per record and stage of the survey's pipeline (:data:`sindy_impulse.modes.survey.SURVEY`), the
+        time it took and what it decided (``print(survey.trace)``).
     """
 
     modes: list
     rejected: list
     preprocessing: list = field(repr=False)
     notes: list = field(default_factory=list)
+    trace: list = field(default_factory=list, repr=False)
 
     def __len__(self) -> int:
         return len(self.modes)
@@ -241,7 +256,9 @@ class ModalSurvey:
         stable or not), computed when first read (:func:`~sindy_impulse.poles.stabilisation`; a record too
         short for it gives an empty table). ``survey.poles[0].modes()`` are the modes the stable poles make.
         """
-        return [pole_table(pre) for pre in self.preprocessing]
+        from .candidates import POLE_SAMPLES
+
+        return [pole_table(pre, POLE_SAMPLES) for pre in self.preprocessing]
 
     def plot(self, axes=None):
         """Spectrum with the modes marked, and each mode's data against its model
@@ -403,13 +420,16 @@ class ModalSurvey:
         return "\n".join(lines)
 
 
-def pole_table(pre):
-    """The stabilisation diagram of a preprocessed record's free decay (offset removed, from the end of the
-    hit); an empty table for a record too short for a Hankel matrix."""
+def pole_table(pre, max_samples: int | None = None, start: int | None = None):
+    """The stabilisation diagram of a preprocessed record's free decay (offset removed, from ``start``,
+    default the end of the hit; its first ``max_samples`` samples); an empty table for a record too short
+    for a Hankel matrix."""
     from ..poles import PoleTable, stabilisation
 
+    start = pre.impact.ringdown_index if start is None else start
+    stop = None if max_samples is None else start + max_samples
     try:
-        return stabilisation(pre.y[pre.impact.ringdown_index :], fs=pre.fs)
+        return stabilisation(pre.y[start:stop], fs=pre.fs)
     except ValueError:  # fewer samples than a Hankel matrix needs
         empty = np.empty(0)
         return PoleTable(empty, empty, empty.astype(int), empty.astype(bool), ())

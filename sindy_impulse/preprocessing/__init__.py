@@ -15,7 +15,6 @@ module                        job
 ``partition``                 one band per peak; joint bands for peaks too close for their damping
 ``filters``                   zero-phase band-pass, its transient, decimation factor
 ``band``                      one band: band-pass, trim, stop at the noise floor, decimate
-``deflation``                 one peak's wide band with the other peaks' sinusoids subtracted
 ``quality``                   offset, clipping, quantisation, SNR, no ring-down
 ``declipping``                a clipped free decay repaired from its unclipped samples
 ``pipeline``                  :func:`preprocess`: all of the above, recording every choice

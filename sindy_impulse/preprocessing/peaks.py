@@ -33,7 +33,7 @@ from .spectrum import (
     search_range,
 )
 
-__all__ = ["SpectralPeaks", "spectral_peaks"]
+__all__ = ["SpectralPeaks", "spectral_peaks", "no_peaks"]
 
 
 @dataclass(frozen=True)
@@ -85,6 +85,19 @@ class SpectralPeaks:
         ]
         head = f"SpectralPeaks({len(self)} peak(s), threshold {self.threshold_db:.1f} dB over the floor)"
         return "\n".join([head, *rows])
+
+
+def no_peaks(fs: float, spectrum: Spectrum | None = None) -> SpectralPeaks:
+    """No peak (yet): a record before its modes are found.
+
+    Examples
+    --------
+    >>> len(no_peaks(1000.0)), no_peaks(1000.0).band_hz
+    (0, [])
+    """
+    if spectrum is None:
+        spectrum = Spectrum(np.array([0.0, fs / 2]), np.zeros(2), np.ones(2), fs / 2, 1)
+    return SpectralPeaks(np.empty(0), np.empty(0), np.empty(0), [], float("nan"), spectrum, np.empty(0))
 
 
 def _check_bands(bands, fs: float) -> list[tuple[float, float]]:

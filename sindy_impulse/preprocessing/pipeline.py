@@ -15,12 +15,12 @@ from .band import band_noise_rms, extract_band
 from .declipping import declip
 from .offset import OffsetEstimate, estimate_offset, remove_offset
 from .onset import Impact, find_impact
-from .peaks import SpectralPeaks, spectral_peaks
+from .peaks import SpectralPeaks, no_peaks, spectral_peaks
 from .quality import QualityReport, check_quality, saturated_mask
 from .saturation import runs as _runs
 from .spectrum import ringdown_spectrum
 
-__all__ = ["Preprocessed", "preprocess"]
+__all__ = ["Preprocessed", "preprocess", "prepare_record", "warn_quality"]
 
 #: Fewest pre-trigger samples whose spectrum gives the noise in each band.
 _MIN_NOISE_SAMPLES = 256
@@ -232,26 +232,51 @@ def preprocess(y, t=None, *, fs: float | None = None, force=None, n_modes: int |
     >>> [(b.decimation, round(b.samples_per_period, 1)) for b in pre.bands]
     [(2, 20.8), (1, 12.2)]
     """
-    arr, rate, t0 = as_record(y, t, fs)
-    check_param("onset", onset, [Options({"auto"}), Interval(Integral, 0, None)], "preprocess")
     check_param("quality_warnings", quality_warnings, ["boolean"], "preprocess")
     check_param("threshold_db", threshold_db, [None, Real], "preprocess")
+    pre, raw = prepare_record(y, t, fs=fs, force=force, onset=onset, offset=offset)
+    clean, rate, t0, impact = pre.y, pre.fs, pre.t0, pre.impact
+    ring = clean[impact.ringdown_index :]
+    peaks = spectral_peaks(ring, rate, n_modes=n_modes, bands=bands, threshold_db=threshold_db)
+    quality = check_quality(raw, rate, onset_index=impact.onset_index, peaks=peaks)
+    if quality_warnings:
+        warn_quality(quality)
+    options = dict(samples_per_period=samples_per_period, min_samples_per_period=min_samples_per_period,
+                   method=method, end_snr_db=end_snr_db)
+    noise = _noise_spectrum(clean, impact, rate, peaks)
+    extracted, skipped, groups = _extract_all(clean, rate, t0, impact, peaks, noise, options)
+    return replace(pre, peaks=peaks, bands=extracted, skipped=skipped, quality=quality, groups=groups)
+
+
+def warn_quality(quality: QualityReport, stacklevel: int = 3) -> None:
+    """One :class:`~sindy_impulse.exceptions.DataWarning` per quality problem but the offset (which the
+    preparation removes)."""
+    for check, problem in quality.problems.items():
+        if check != "offset":
+            warnings.warn(problem, DataWarning, stacklevel=stacklevel)
+
+
+def prepare_record(y, t=None, *, fs: float | None = None, force=None, onset="auto", offset="auto"
+                   ) -> tuple[Preprocessed, np.ndarray]:
+    """The record-level steps of :func:`preprocess`: the impact (onset, end of contact, double hits), a
+    saturated sensor's clipped samples repaired (or the free ring-down started after them), the offset
+    removed. Returns the :class:`Preprocessed` record without peaks and bands (``peaks`` empty,
+    ``quality`` None) and the raw record as an array.
+
+    Examples
+    --------
+    >>> t = np.arange(5000) / 5000
+    >>> y = 0.3 + np.where(t >= 0.1, np.exp(-3 * (t - 0.1)) * np.sin(2 * np.pi * 120 * (t - 0.1)), 0.0)
+    >>> pre, raw = prepare_record(y + 1e-4 * np.random.default_rng(0).standard_normal(t.size), fs=5000.0)
+    >>> pre.impact.onset_index, round(pre.offset.value, 3), len(pre.peaks)
+    (501, 0.3, 0)
+    """
+    arr, rate, t0 = as_record(y, t, fs)
+    check_param("onset", onset, [Options({"auto"}), Interval(Integral, 0, None)], "preprocess")
     impact = _impact(arr, rate, t0, force, onset)
     raw, declipped = arr, None
     if isinstance(onset, str):
         arr, impact, declipped = _unclipped(arr, rate, impact)
     estimate = estimate_offset(arr, rate, onset_index=impact.onset_index, method=offset)
     clean = remove_offset(arr, rate, estimate)
-    ring = clean[impact.ringdown_index :]
-    peaks = spectral_peaks(ring, rate, n_modes=n_modes, bands=bands, threshold_db=threshold_db)
-    quality = check_quality(raw, rate, onset_index=impact.onset_index, peaks=peaks)
-    if quality_warnings:
-        for check, problem in quality.problems.items():
-            if check != "offset":  # removed here
-                warnings.warn(problem, DataWarning, stacklevel=2)
-    options = dict(samples_per_period=samples_per_period, min_samples_per_period=min_samples_per_period,
-                   method=method, end_snr_db=end_snr_db)
-    noise = _noise_spectrum(clean, impact, rate, peaks)
-    extracted, skipped, groups = _extract_all(clean, rate, t0, impact, peaks, noise, options)
-    return Preprocessed(clean, rate, t0, impact, estimate, peaks, extracted, skipped, quality, groups,
-                        declipped)
+    return Preprocessed(clean, rate, t0, impact, estimate, no_peaks(rate), [], [], None, [], declipped), raw

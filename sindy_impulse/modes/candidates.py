@@ -1,0 +1,298 @@
+"""The first stages of the survey: the record prepared, its poles, and the modes of its free decay.
+
+- ``read`` (:func:`read_record`): the reference channel's hit, clipped samples and offset
+  (:func:`~sindy_impulse.preprocessing.pipeline.prepare_record`), the ring-down's spectrum and its
+  significant peaks (no fit), the data's quality and what the clipping did.
+- ``poles`` (:func:`stable_poles`): the stabilisation diagram of the free decay
+  (:func:`~sindy_impulse.poles.stabilisation`), once: its persistent stable poles are the first candidates.
+- ``candidates`` (:func:`fit_candidates`): the stable poles and the spectral peaks no pole explains,
+  refined together by the decay fit (:func:`~sindy_impulse.poles.decay_fit.fit_decay`: each mode's
+  frequency, damping ratio, their standard deviations, its amplitude in every channel, and the lack of fit
+  that says whether the linear decay explains it). What the fit leaves is searched for modes it misses
+  (:func:`~sindy_impulse.poles.decay_fit.missing_peaks`), away from modes it does not explain (there the
+  residual is that mode's own amplitude dependence, not another mode), and a component under the detection
+  threshold is dropped: a mode is a candidate when it stands out of the noise, as a spectral peak must.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from numbers import Integral
+
+import numpy as np
+
+from .._utils.params import Interval, check_param
+from ..poles.decay_fit import MAX_DAMPING, REACH, fit_decay, missing_peaks
+from ..preprocessing.partition import peak_bands
+from ..preprocessing.peaks import SpectralPeaks, spectral_peaks
+from ..preprocessing.pipeline import prepare_record
+from ..preprocessing.quality import check_quality
+from ..preprocessing.spectrum import detection_threshold_db
+from ._clipped import clipping_report
+from .kinds import Kind
+
+__all__ = ["Candidate", "read_record", "stable_poles", "fit_candidates", "PERSISTENCE", "POLE_SAMPLES",
+           "NONLINEAR_P"]
+
+#: A stable mode of the diagram is a candidate when found at this share of its orders or more (noise poles
+#: that pass the stability rule by chance recur at a few orders).
+PERSISTENCE = 0.5
+#: The diagram is computed on at most this many samples of the free decay (the classical baseline's
+#: window): enough periods of the lowest modes, a bounded cost on long records.
+POLE_SAMPLES = 20_000
+#: Rounds of the search for modes the fit misses, and new modes per round at most.
+ROUNDS, NEW_PER_ROUND = 4, 4
+#: A mode whose lack of fit is this improbable from noise alone is not explained by a linear decay.
+NONLINEAR_P = 1e-6
+#: ... and its residual at least this many times the noise (a small, significant misfit of a strong mode
+#: is rounding of the record, not physics).
+NONLINEAR_RATIO = 1.5
+
+
+@dataclass
+class Candidate:
+    """One mode of the free decay as the decay fit sees it, and what the survey makes of it.
+
+    Attributes
+    ----------
+    frequency_hz, damping_ratio, frequency_std_hz, damping_ratio_std : float
+        The decay fit's natural frequency and damping ratio with their standard deviations.
+    decay_rate, decay_rate_std : float
+        ``sigma`` (1/s) and its standard deviation.
+    amplitude : ndarray of complex (n_channels,)
+        Complex amplitude at the free decay's first sample, per channel (reference first).
+    height_db : float
+        Its spectral peak over the noise floor.
+    lack_of_fit, lack_of_fit_p : float
+        Residual power over the noise near the mode, and how probable that is from noise alone.
+    stable : bool
+        A stable pole of the diagram lies within its half-power band.
+    kind : Kind
+        What it is (stage ``classify``).
+    parent : int or None
+        For a harmonic or a merged piece, the index of the mode it belongs to.
+    evidence : dict
+        The numbers the kind rests on.
+    band_hz : (float, float) or None
+        Its band (stage ``identify``).
+    noise_std : float
+        The noise's standard deviation in time at its frequency (the decay fit's floor).
+    """
+
+    frequency_hz: float
+    damping_ratio: float
+    frequency_std_hz: float
+    damping_ratio_std: float
+    decay_rate: float
+    decay_rate_std: float
+    amplitude: np.ndarray = field(repr=False)
+    height_db: float
+    lack_of_fit: float
+    lack_of_fit_p: float
+    stable: bool = False
+    kind: Kind = Kind.LINEAR
+    parent: int | None = None
+    evidence: dict = field(default_factory=dict, repr=False)
+    band_hz: tuple | None = None
+    noise_std: float = 0.0
+
+    @property
+    def damped_frequency_hz(self) -> float:
+        return float(self.frequency_hz * np.sqrt(max(1.0 - self.damping_ratio**2, 0.0)))
+
+    @property
+    def explained(self) -> bool:
+        """Whether the linear decay explains the data near the mode (see :data:`NONLINEAR_P`)."""
+        return not (self.lack_of_fit_p < NONLINEAR_P and self.lack_of_fit > NONLINEAR_RATIO)
+
+
+def _reference_channel(record: np.ndarray, channel) -> int:
+    if channel is not None:
+        check_param("channel", channel, [Interval(Integral, 0, record.shape[1] - 1)], "identify_modes")
+        return int(channel)
+    centred = record - np.median(record, axis=0)
+    return int(np.argmax(np.sqrt(np.mean(centred**2, axis=0))))
+
+
+def read_record(state) -> None:
+    """The record prepared: the hit, clipped samples, the offset."""
+    opts = state.options
+    state.channel = _reference_channel(state.record, opts.channel)
+    pre, raw = prepare_record(state.record[:, state.channel], state.t, fs=state.fs, force=state.force,
+                              onset=opts.onset, offset=opts.offset)
+    ring = pre.y[pre.impact.ringdown_index:]
+    peaks = spectral_peaks(ring, pre.fs, bands=opts.bands, refine=False)
+    quality = check_quality(raw, pre.fs, onset_index=pre.impact.onset_index, peaks=peaks)
+    state.pre, state.raw = replace(pre, peaks=peaks, quality=quality), raw
+    state.start = decay_start(state.pre)
+    for check, problem in quality.problems.items():
+        if check != "offset":  # removed here
+            state.note(problem)
+    clipped, products = clipping_report(state.pre, state.index)
+    state.notes += clipped
+    state.rejected += products
+    if pre.impact.double_hit:
+        state.note(f"double hit at {', '.join(f'{h[0]:.4g} s' for h in pre.impact.hits)}")
+    state.decide(f"channel {state.channel}; the free decay starts at {pre.impact.ringdown_time:.6g} s "
+                 f"({ring.size} samples at {pre.fs:.6g} Hz); offset {pre.offset.value:.4g} removed "
+                 f"({pre.offset.method}); {len(peaks)} spectral peak(s)")
+
+
+#: Share of the free decay in which a record without a pre-trigger has its decay fit start at the envelope's
+#: peak.
+_EARLY = 0.1
+
+
+def decay_start(pre) -> int:
+    """The first sample of the free decay that the decay fit reads: the end of the hit's contact; but when
+    the record shows no pre-trigger to find the hit by, the peak of the response over the first tenth of
+    the ring-down and at least two periods of its strongest spectral peak (before it the response may be
+    quiet or still rising, which a free decay does not do).
+
+    Examples
+    --------
+    >>> from sindy_impulse.preprocessing.pipeline import prepare_record
+    >>> y = np.r_[np.zeros(12), np.exp(-np.arange(400) / 80) * np.sin(np.arange(400) / 3)]
+    >>> pre, _ = prepare_record(y, fs=1000.0)
+    >>> pre.impact.source, decay_start(pre)
+    ('no pre-trigger', 16)
+    """
+    start = pre.impact.ringdown_index
+    if pre.impact.source != "no pre-trigger":
+        return start
+    span = _EARLY * (pre.y.size - start)
+    if len(pre.peaks):
+        span = max(span, 2 * pre.fs / pre.peaks.frequency_hz[int(np.argmax(pre.peaks.height_db))])
+    early = np.abs(pre.y[start: start + max(int(span), 1)])
+    return start + int(np.argmax(early))
+
+
+def stable_poles(state) -> None:
+    """The stabilisation diagram of the free decay: stable poles, computed once."""
+    from .result import pole_table
+
+    state.poles = pole_table(state.pre, max_samples=POLE_SAMPLES, start=state.start)
+    stable = persistent_modes(state.poles)
+    state.decide(f"{len(stable)} stable mode(s) at {PERSISTENCE:.0%} of {len(state.poles.orders)} orders"
+                 + (": " + ", ".join(f"{m.frequency_hz:.5g}" for m in stable) + " Hz" if stable else ""))
+
+
+def persistent_modes(table) -> list:
+    """The stable modes of a diagram found at :data:`PERSISTENCE` of its orders or more, below
+    :data:`~sindy_impulse.poles.decay_fit.MAX_DAMPING`.
+
+    Examples
+    --------
+    >>> from sindy_impulse import impact_record
+    >>> from sindy_impulse.poles import stabilisation
+    >>> rec = impact_record([50.0], [0.1], fs=1000.0, duration=0.3, snr_db=50, pre_trigger=0, random_state=0)
+    >>> [round(m.frequency_hz) for m in persistent_modes(stabilisation(rec.y[5:], fs=rec.fs))]
+    [50]
+    """
+    return [m for m in table.modes()
+            if m.n_orders >= PERSISTENCE * len(table.orders) and m.damping_ratio < MAX_DAMPING]
+
+
+def _seeds(state) -> tuple[np.ndarray, np.ndarray]:
+    """Starting poles: the persistent stable modes, then the spectral peaks no pole explains (farther from
+    every pole than their joint half-power band and two bins); with given bands, the poles inside each
+    band, else its peak."""
+    pre, fs = state.pre, state.pre.fs
+    stable = persistent_modes(state.poles)
+    f = [m.frequency_hz * np.sqrt(1 - m.damping_ratio**2) for m in stable]
+    s = [2 * np.pi * m.frequency_hz * m.damping_ratio for m in stable]
+    resolution = fs / max(pre.y.size - pre.impact.ringdown_index, 1)
+    peaks = pre.peaks
+    if state.options.bands is not None:
+        inside = [[i for i, g in enumerate(f) if lo <= g <= hi] for lo, hi in peaks.band_hz]
+        keep = sorted({i for group in inside for i in group})
+        f, s = [f[i] for i in keep], [s[i] for i in keep]
+        empty = [k for k, group in enumerate(inside) if not group]
+    else:
+        empty = range(len(peaks))
+    for k in empty:
+        g, width = peaks.frequency_hz[k], peaks.half_power_width_hz[k]
+        if not any(abs(g - h) <= (width + t / np.pi) / 2 + 2 * resolution for h, t in zip(f, s)):
+            f.append(float(g))
+            s.append(float(np.pi * max(width - 1.28 * resolution, 0.1 * resolution)))
+    f, s = np.asarray(f, float), np.asarray(s, float)
+    ok = (f > 0) & (f < 0.499 * fs)
+    return f[ok], s[ok]
+
+
+def _ring(state) -> np.ndarray:
+    """The free decay of every channel, the reference first (its offset removed; the other channels'
+    offsets fall on the transform's zero bin, which the fit leaves out)."""
+    pre, start = state.pre, state.start
+    others = [c for c in range(state.record.shape[1]) if c != state.channel]
+    columns = [pre.y[start:]] + [state.record[start:, c] - np.mean(state.record[start:, c]) for c in others]
+    return np.column_stack(columns)
+
+
+def _searched(fit, lo: float, hi: float, threshold_db: float) -> tuple[np.ndarray, np.ndarray]:
+    """Peaks of what the fit leaves, away from the reach of modes it does not explain."""
+    f, s = missing_peaks(fit, threshold_db, lo, hi)
+    misfit = [k for k in range(len(fit)) if fit.lack_of_fit_p[k] < NONLINEAR_P]
+    for k in misfit:
+        reach = max(REACH * fit.decay_rate[k] / (2 * np.pi), 8 * fit.fs / fit.n_samples)
+        away = np.abs(f - fit.damped_frequency_hz[k]) > reach
+        f, s = f[away], s[away]
+    return f[:NEW_PER_ROUND], s[:NEW_PER_ROUND]
+
+
+def fit_candidates(state) -> None:
+    """The modes of the free decay: poles and spectral peaks refined by the decay fit."""
+    pre, fs, given = state.pre, state.pre.fs, state.options.bands is not None
+    ring = _ring(state)
+    f0, s0 = _seeds(state)
+    lo, hi = (0.0, 0.45 * fs)
+    threshold = detection_threshold_db(max(ring.shape[0] // 2, 1))
+    fit, rounds = None, 0
+    while f0.size and rounds < ROUNDS:
+        rounds += 1
+        fit = fit_decay(ring, fs, f0, s0)
+        keep = np.ones(len(fit), bool) if given else fit.height_db >= threshold
+        new_f, new_s = (np.empty(0), np.empty(0)) if given else _searched(fit, lo, hi, threshold)
+        if keep.all() and not new_f.size:
+            break
+        f0 = np.concatenate([fit.damped_frequency_hz[keep], new_f])
+        s0 = np.concatenate([fit.decay_rate[keep], new_s])
+        fit = None
+    state.fit = fit
+    state.candidates = [] if fit is None else _candidates(fit, state.poles)
+    if state.options.n_modes is not None:
+        strongest = sorted(range(len(state.candidates)), key=lambda k: -state.candidates[k].height_db)
+        state.candidates = [state.candidates[k] for k in sorted(strongest[: state.options.n_modes])]
+    state.pre = replace(pre, peaks=_as_peaks(state.candidates, pre.peaks, threshold, fs, given))
+    state.decide(f"{len(state.candidates)} candidate(s) over {threshold:.1f} dB after {rounds} round(s): "
+                 + ", ".join(f"{c.frequency_hz:.5g} Hz ({c.height_db:.0f} dB)" for c in state.candidates))
+
+
+def _candidates(fit, table) -> list:
+    stable = persistent_modes(table)
+    out = []
+    for k in range(len(fit)):
+        f, zeta = float(fit.frequency_hz[k]), float(fit.damping_ratio[k])
+        near = any(abs(m.frequency_hz - f) <= max(zeta * f, m.damping_ratio * m.frequency_hz, 0.005 * f)
+                   for m in stable)
+        out.append(Candidate(f, zeta, float(fit.frequency_std_hz[k]), float(fit.damping_ratio_std[k]),
+                             float(fit.decay_rate[k]), float(fit.decay_rate_std[k]), fit.amplitude[k],
+                             float(fit.height_db[k]), float(fit.lack_of_fit[k]), float(fit.lack_of_fit_p[k]),
+                             near, noise_std=float(fit.noise_std[k])))
+    return out
+
+
+def _as_peaks(candidates: list, spectrum_peaks: SpectralPeaks, threshold: float, fs: float, given: bool):
+    """The candidates as the record's spectral peaks (their bands cut by
+    :func:`~sindy_impulse.preprocessing.partition.peak_bands`; given bands kept)."""
+    f = np.array([c.damped_frequency_hz for c in candidates])
+    width = np.array([c.decay_rate / np.pi for c in candidates])
+    if given:
+        bands = [next((b for b in spectrum_peaks.band_hz if b[0] <= g <= b[1]), None) for g in f]
+    else:
+        bands = peak_bands(f, width, fs) if f.size else []
+    for c, band in zip(candidates, bands):
+        c.band_hz = None if band is None else tuple(float(b) for b in band)
+    return SpectralPeaks(f, np.array([c.height_db for c in candidates]), width,
+                         [c.band_hz for c in candidates], float(threshold), spectrum_peaks.spectrum,
+                         np.array([c.damping_ratio for c in candidates]))

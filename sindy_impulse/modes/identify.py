@@ -1,0 +1,112 @@
+"""One equation per mode: from its poles where the mode is linear, the paper's fit where it is not.
+
+Each candidate's route follows from its kind (:mod:`.classify`):
+
+- :attr:`~.kinds.Kind.LINEAR`: :func:`.linear.linear_mode`, the oscillator of its poles (no sweep);
+- :attr:`~.kinds.Kind.NONLINEAR`: the paper's machinery on its band signal (:func:`.band_fit.fit_band`:
+  derivative states, the threshold sweep scored on the simulation error, the bounded refinement), its band
+  spanning the pieces merged into it, the other components removed (:mod:`.signals`); where the band cut
+  among the nonlinear modes keeps too few periods, its own band regardless of its neighbours (removed).
+  When that gives no mode (its model does not reproduce the band, or its mode is not damped) the decay
+  fit's values stand, with a note: an average over the decay's amplitudes, not the small-amplitude limit;
+- tones, harmonics and merged pieces get no mode of their own (:mod:`.reconcile` names them).
+
+The candidates are independent: with ``n_jobs`` they run in parallel (joblib), each with one BLAS thread,
+and the result equals the serial run's.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from .._utils.threads import one_thread
+from ..preprocessing.partition import peak_bands
+from .band_fit import fit_band
+from .kinds import Kind, Reason
+from .linear import impulse_of, linear_mode, with_values_of
+from .result import Mode, Rejected
+from .signals import band_signal, deflated, mode_bands
+
+__all__ = ["identify_candidates"]
+
+
+def identify_candidates(state) -> None:
+    """One equation per mode: from its poles where linear, the paper's fit where not."""
+    mode_bands(state)
+    todo = [k for k, c in enumerate(state.candidates) if c.kind in (Kind.LINEAR, Kind.NONLINEAR)]
+    if todo:
+        deflated(state, todo[0])  # the components, once, before any worker copies the state
+    results = _map(state, todo, state.options.n_jobs)
+    for k, out in zip(todo, results):
+        if isinstance(out, Mode):
+            state.modes.append(out)
+            state.origin.append(k)
+        else:
+            state.rejected.append(out)
+    routes = [state.candidates[k].kind.value for k in todo]
+    state.decide(f"{routes.count('linear')} from their poles, {routes.count('nonlinear')} by the paper's "
+                 f"fit; {len(state.modes)} mode(s)")
+
+
+def _map(state, todo: list, n_jobs) -> list:
+    if n_jobs in (None, 1) or len(todo) < 2:
+        return [_one(state, k) for k in todo]
+    from joblib import Parallel, delayed
+
+    chunks = [todo[i::abs(n_jobs) if n_jobs > 0 else 2] for i in range(min(len(todo), abs(n_jobs) or 2))]
+    done = Parallel(n_jobs=n_jobs)(delayed(_chunk)(state, chunk) for chunk in chunks)
+    found = {k: out for chunk, outs in zip(chunks, done) for k, out in zip(chunk, outs)}
+    return [found[k] for k in todo]
+
+
+def _chunk(state, chunk: list) -> list:
+    return [_one(state, k) for k in chunk]
+
+
+def _one(state, k: int):
+    """The mode (or rejection) of candidate ``k``; a failure stays the candidate's."""
+    cand = state.candidates[k]
+    try:
+        with one_thread(), warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            if cand.kind is Kind.NONLINEAR:
+                return nonlinear_mode(state, k)
+            return linear_mode(state, k) or nonlinear_mode(state, k)
+    except Exception as err:  # noqa: BLE001 - one candidate's failure must not abort the survey
+        return Rejected(cand.band_hz, f"the identification failed ({type(err).__name__}: {err})",
+                        state.index, {"error": type(err).__name__, "message": str(err)}, Reason.FIT_FAILED)
+
+
+def nonlinear_mode(state, k: int):
+    """The paper's fit on candidate ``k``'s band (see the module)."""
+    try:
+        band = band_signal(state, k, state.options.max_periods)
+    except ValueError:
+        cand = state.candidates[k]
+        own = peak_bands([cand.damped_frequency_hz], [cand.decay_rate / np.pi], state.pre.fs)[0]
+        cand.band_hz = tuple(float(b) for b in own)
+        try:
+            band = band_signal(state, k, state.options.max_periods)
+        except ValueError as err:
+            return _linear_instead(state, k, f"its band cannot be extracted for the paper's fit ({err})")
+    pre = state.pre
+    out = fit_band(band, state.options.template, onset_time=pre.impact.onset_time, record=state.record,
+                   channel=state.channel, impulse=impulse_of(state), sensor=state.options.sensor,
+                   index=state.index)
+    if isinstance(out, Rejected):
+        return _linear_instead(state, k, f"the paper's fit gave no mode ({out.reason})")
+    return out
+
+
+def _linear_instead(state, k: int, why: str):
+    """The decay fit's mode for a nonlinear candidate whose paper's fit failed, saying so."""
+    mode = linear_mode(state, k)
+    cand = state.candidates[k]
+    if mode is None:
+        return Rejected(cand.band_hz, why, state.index, {}, Reason.POOR_FIT)
+    note = (f"{why}: the decay fit's values are reported, a linear average over the decay (lack of fit "
+            f"{cand.lack_of_fit:.3g} x the noise)")
+    return with_values_of(mode, cand, note)
+

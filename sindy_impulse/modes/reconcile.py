@@ -1,0 +1,106 @@
+"""One answer per mode, the candidates that are not modes named, and the notes a user should read.
+
+- Tones and harmonics (:mod:`.classify`) become :class:`~.result.Rejected` rows with their code and the
+  evidence (decay rate, phase locking, amplitude exponent).
+- A harmonic the record could not decide on its own (its phase locking unresolved: a few dB over the noise,
+  or seen only just after the hit) is decided by its parent's equation once fitted: at ``n`` times a
+  frequency the nonlinear parent's backbone passes, it is the parent's harmonic
+  (:func:`~._harmonics._on_backbone`); harmonics of a nonlinear mode too weak to be candidates are named
+  where a spectral peak stands phase-locked at their place (:func:`~._harmonics._unseen_harmonics`).
+- A nonlinear mode whose equation lacks the amplitude-dependent damping its decay envelope shows gets the
+  envelope's damping ratio at zero amplitude (:func:`~._envelope._missing_damping`; ``source`` "envelope").
+- Pieces merged into a nonlinear mode are said so in a note.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from ._envelope import _missing_damping
+from ._harmonics import _on_backbone, _reason, _unseen_harmonics
+from ._nonlinear import has_nonlinear_terms
+from .kinds import Kind, Reason
+from .result import Rejected
+
+__all__ = ["reconcile"]
+
+
+def reconcile(state) -> None:
+    """One answer per mode, named rejections, notes."""
+    _named(state)
+    _decided_by_backbones(state)
+    _envelope_damping(state)
+    pre = state.pre
+    ring = pre.y[pre.impact.ringdown_index:]
+    state.rejected, unseen = _unseen_harmonics(pre, ring, state.modes, state.rejected)
+    state.notes += unseen
+    order = np.argsort([m.frequency_hz for m in state.modes], kind="stable")
+    state.modes = [state.modes[i] for i in order]
+    state.origin = [state.origin[i] for i in order]
+    state.decide(f"{len(state.modes)} mode(s), {len(state.rejected)} rejected row(s)")
+
+
+def _named(state) -> None:
+    """Rows for the tones and the harmonics; notes for merged pieces."""
+    cands = state.candidates
+    for c in cands:
+        if c.kind is Kind.TONE:
+            sigma, std = c.evidence.get("decay_rate", (c.decay_rate, c.decay_rate_std))
+            before = c.evidence.get("pre_trigger_amplitude")
+            before = "" if before is None else f"; amplitude {before:.3g} before the hit"
+            why = (f"a tone at {c.damped_frequency_hz:.5g} Hz that does not decay (decay rate {sigma:.3g} +- "
+                   f"{std:.2g} 1/s{before}), not a mode")
+            state.rejected.append(Rejected(c.band_hz, why, state.index, dict(c.evidence), Reason.TONE))
+            state.note(why)
+        elif c.kind is Kind.HARMONIC:
+            e = c.evidence["harmonic"]
+            why = _reason(cands[c.parent], e)
+            state.rejected.append(Rejected(c.band_hz, why, state.index, e, Reason.HARMONIC))
+            state.note(f"the peak at {c.frequency_hz:.4g} Hz is the {why}")
+    for c in cands:
+        pieces = c.evidence.get("pieces")
+        if pieces and c.kind is Kind.NONLINEAR:
+            state.note(f"the components at {', '.join(f'{f:.5g}' for f in pieces)} Hz, closer than their "
+                       f"half-power bandwidth, are one nonlinear mode (its frequency or damping changes with "
+                       f"amplitude)")
+
+
+def _decided_by_backbones(state) -> None:
+    """Modes left undecided by the harmonic test that lie on a nonlinear parent's backbone times ``n``."""
+    by_candidate = dict(zip(state.origin, state.modes))
+    drop = set()
+    for i, (k, mode) in enumerate(zip(state.origin, state.modes)):
+        for e in state.candidates[k].evidence.get("harmonic_tests", []):
+            if not e.get("undecided"):
+                continue
+            f = e["parent_frequency_hz"]
+            parent_k = next(
+                (j for j, c in enumerate(state.candidates) if abs(c.frequency_hz - f) <= 1e-9 * f), None)
+            parent = by_candidate.get(parent_k)
+            if parent is None or not has_nonlinear_terms(parent.model):
+                continue
+            if _on_backbone(parent, mode, e["order"]):
+                e = dict(e, harmonic=True, by_backbone=True, frequency_hz=mode.frequency_hz)
+                why = _reason(parent, e)
+                state.rejected.append(Rejected(mode.band_hz, why, state.index, e, Reason.HARMONIC))
+                state.note(f"the peak at {mode.frequency_hz:.4g} Hz is the {why}")
+                drop.add(i)
+                break
+    state.modes = [m for i, m in enumerate(state.modes) if i not in drop]
+    state.origin = [k for i, k in enumerate(state.origin) if i not in drop]
+
+
+def _envelope_damping(state) -> None:
+    for i, (k, mode) in enumerate(zip(state.origin, state.modes)):
+        if state.candidates[k].kind is not Kind.NONLINEAR or mode.source != "equation":
+            continue
+        found = _missing_damping(mode)
+        if found is None:
+            continue
+        zeta, zeta_std, change, model_change = found
+        state.note(f"mode at {mode.frequency_hz:.6g} Hz: its decay rate changes by {change:+.0%} over the "
+                   f"decay, its model's terms give {model_change:+.0%}; the damping ratio {zeta:.4g} is the "
+                   f"decay envelope's at zero amplitude (the model's linear part: {mode.damping_ratio:.4g})")
+        state.modes[i] = replace(mode, damping_ratio=zeta, damping_ratio_std=zeta_std, source="envelope")

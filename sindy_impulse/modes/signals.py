@@ -1,0 +1,126 @@
+"""A mode's own signal: the record with every other component of the decay fit removed, in the mode's band.
+
+The decay fit (:mod:`sindy_impulse.poles.decay_fit`) gives every candidate's damped sinusoid from the free
+decay's first sample on. A mode's own signal is the record less all the others (:func:`deflated`): its
+neighbours' skirts and the filter transient they would cause are gone, so its band can be wide and the
+band-pass transient short. Its band (:func:`mode_bands`) is cut among the modes alone (tones, harmonics and
+merged pieces are removed or belong to their mode): a linear mode's among all modes, a nonlinear mode's
+among the nonlinear ones only (its linear neighbours are removed exactly, its nonlinear ones are not).
+Where even that band keeps too few periods (a short, strongly damped record), the mode's free decay is used
+without band-pass (:func:`free_decay`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..preprocessing.band import band_noise_rms, extract_band
+from ..preprocessing.partition import peak_bands
+from .kinds import Kind
+
+__all__ = ["component", "deflated", "band_signal", "free_decay", "mode_bands", "END_SNR_DB", "MIN_PERIODS"]
+
+#: The free decay of a mode without band-pass ends where its envelope falls to this many dB over the noise,
+#: as a band signal ends at the noise floor; at least :data:`MIN_PERIODS` of its periods are kept.
+END_SNR_DB, MIN_PERIODS = 10.0, 2.0
+_MODES = (Kind.LINEAR, Kind.NONLINEAR)
+
+
+def component(cand, n: int, fs: float) -> np.ndarray:
+    """A candidate's damped sinusoid over ``n`` samples of the free decay (reference channel).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> c = SimpleNamespace(decay_rate=1.0, damped_frequency_hz=10.0, amplitude=np.array([2.0 + 0j]))
+    >>> component(c, 3, 100.0).round(3).tolist()
+    [2.0, 1.6, 0.612]
+    """
+    t = np.arange(n) / fs
+    s = -cand.decay_rate + 2j * np.pi * cand.damped_frequency_hz
+    return np.real(cand.amplitude[0] * np.exp(s * t))
+
+
+def _members(state, k: int) -> list:
+    """Candidate ``k`` and the pieces merged into it."""
+    return [j for j, c in enumerate(state.candidates) if j == k or (c.kind is Kind.MERGED and c.parent == k)]
+
+
+def deflated(state, k: int) -> np.ndarray:
+    """The prepared record with every candidate but ``k`` (and its merged pieces) removed from the free
+    decay on."""
+    pre, start = state.pre, state.start
+    n = pre.y.size - start
+    if "_all_components" not in state.cache:
+        state.cache["_all_components"] = [component(c, n, pre.fs) for c in state.candidates]
+    parts = state.cache["_all_components"]
+    mine = set(_members(state, k))
+    out = pre.y.copy()
+    others = [p for j, p in enumerate(parts) if j not in mine]
+    if others:
+        out[start:] -= np.sum(others, axis=0)
+    return out
+
+
+def _noise_spectrum(pre):
+    from ..preprocessing.pipeline import _noise_spectrum as spectrum
+
+    return spectrum(pre.y, pre.impact, pre.fs, pre.peaks)
+
+
+def band_signal(state, k: int, max_periods):
+    """Candidate ``k``'s own signal (:func:`deflated`) in its band, band-passed from the decay's start
+    (:func:`~sindy_impulse.preprocessing.extract_band`; the noise from the pre-trigger's or the spectrum's
+    floor), cut to its first ``max_periods`` periods; a ValueError when the band cannot keep enough."""
+    from .survey import first_periods
+
+    pre, band_hz = state.pre, state.candidates[k].band_hz
+    noise = band_noise_rms(_noise_spectrum(pre), band_hz)
+    band = extract_band(deflated(state, k), pre.fs, band_hz, start=state.start, t0=pre.t0,
+                        samples_per_period=state.options.samples_per_period, noise_rms=noise)
+    return first_periods(band, max_periods)
+
+
+def free_decay(state, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """Candidate ``k``'s free decay without band-pass (:func:`deflated`), up to where its envelope falls to
+    :data:`END_SNR_DB` over the noise (at least :data:`MIN_PERIODS` periods): ``(y, t)``."""
+    pre, start, cand = state.pre, state.start, state.candidates[k]
+    y = deflated(state, k)[start:]
+    stop = y.size
+    amplitude = float(np.abs(cand.amplitude[0]))
+    if cand.noise_std > 0 and amplitude > 0 and cand.decay_rate > 0:
+        floor = cand.noise_std * 10 ** (END_SNR_DB / 20)
+        seconds = np.log(max(amplitude / floor, 1.0)) / cand.decay_rate
+        least = MIN_PERIODS * pre.fs / cand.frequency_hz
+        stop = int(min(y.size, max(least, seconds * pre.fs)))
+    return y[:stop], pre.t0 + (start + np.arange(stop)) / pre.fs
+
+
+def mode_bands(state) -> None:
+    """Each mode's band (``band_hz`` of the linear and nonlinear candidates and their merged pieces): cut
+    among all modes for a linear one, among the nonlinear ones for a nonlinear one (see the module); a
+    mode's half-power width spans its merged pieces."""
+    cands = state.candidates
+    heads = [k for k, c in enumerate(cands) if c.kind in _MODES]
+    if not heads:
+        return
+    f = np.array([cands[k].damped_frequency_hz for k in heads])
+    width = np.array([_width(state, k) for k in heads])
+    every = peak_bands(f, width, state.pre.fs)
+    nonlinear = [i for i, k in enumerate(heads) if cands[k].kind is Kind.NONLINEAR]
+    wide = peak_bands(f[nonlinear], width[nonlinear], state.pre.fs) if nonlinear else []
+    for i, k in enumerate(heads):
+        cands[k].band_hz = tuple(float(b) for b in every[i])
+    for i, band in zip(nonlinear, wide):
+        cands[heads[i]].band_hz = tuple(float(b) for b in band)
+    for c in cands:
+        if c.kind is Kind.MERGED:
+            c.band_hz = cands[c.parent].band_hz
+
+
+def _width(state, k: int) -> float:
+    """Half-power width (Hz) of candidate ``k`` widened to span its merged pieces."""
+    cands = state.candidates
+    own = cands[k].decay_rate / np.pi
+    f = [cands[j].damped_frequency_hz for j in _members(state, k)]
+    return float(max(own, max(f) - min(f) + own))
