@@ -1,32 +1,123 @@
-"""The small-amplitude damping ratio of a nonlinear mode whose model lost its amplitude-dependent damping.
+"""The decay envelope of one mode: how its frequency and decay rate change with its amplitude.
 
-A mode's damping ratio is its model's linear damping: the value at vanishing amplitude. When the data's
-damping grows with amplitude (a joint, an ``x^2 x'`` damper) but the threshold sweep dropped the term that
-says so -- the segment-wise error measure of a long band hardly sees a slow change of the decay rate -- the
-linear damping term absorbs the amplitude-dependent part: the reported damping ratio is an average over the
-decay, not its small-amplitude value (measured on ``python -m benchmarks modes --family g``, seed 0: +11 %
-and +15 % on two lightly damped modes whose damping was 50-70 % higher at the start of the record).
-
-:func:`small_amplitude_damping` checks every mode identified on its ``[y, dy]`` states against their decay
-envelope: the decay rate measured over windows of a few periods, regressed on the squared
-amplitude (first-order averaging: an ``x^2 x'`` or ``x'^3`` damper adds a rate proportional to ``a^2``), and
-the same change predicted by the model's nonlinear terms (their power balance over one period). Where the
-data's change over the decay is significant, the model reproduces less than half of it and the
-mode is nonlinear by the test for nonlinearity (:attr:`~.result.Mode.nonlinear`, run only on the modes
-that pass the first checks: it searches the terms the sweep dropped), the mode's damping ratio becomes the
-regression's intercept (the rate at zero amplitude over the model's natural frequency) and its standard
-deviation the intercept's; a note says so. The model, its frequency and its verdict stay.
+- :func:`amplitude_dependence`, the cheap evidence the survey classifies candidates on: the mode's own
+  analytic signal ``z = A exp(i phi)`` read against the averaged (first-order) equations of a weakly
+  nonlinear oscillator, ``d ln A / dt = -(sigma_0 + sigma_2 A^2)`` and ``d phi / dt = omega_0 + omega_2
+  A^2`` (a cubic spring moves the frequency, an ``x^2 x'`` damper the decay rate, both with the squared
+  amplitude). Integrated, both are straight lines in ``t`` and ``I(t) = int A^2 dt``, fitted by weighted
+  least squares (weights ``A^2``: the noise on ``ln A`` and ``phi`` goes as ``1 / A``); the changes of the
+  frequency and of the decay rate over the amplitudes seen, with their standard errors (one independent
+  sample per reciprocal bandwidth), say whether the mode is nonlinear enough to matter
+  (:data:`FREQUENCY_CHANGE`, :data:`DECAY_CHANGE`).
+- :func:`_missing_damping`: the small-amplitude damping ratio of a nonlinear mode whose equation lacks the
+  amplitude-dependent damping its decay shows (the threshold sweep may drop that term: the segment-wise
+  error measure of a long band hardly sees a slow change of the decay rate, and the linear damping then
+  absorbs an average over the decay). The decay rate measured over windows of a few periods
+  (:func:`envelope_decay`) is regressed on the squared amplitude; where the data's change over the decay is
+  significant and the model reproduces less than half of it, the regression's intercept (the rate at zero
+  amplitude over the model's natural frequency) is the damping ratio.
 """
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..feature_library.terms import term_table
 
-__all__ = ["envelope_decay", "small_amplitude_damping"]
+__all__ = ["AmplitudeDependence", "amplitude_dependence", "envelope_decay", "FREQUENCY_CHANGE",
+           "DECAY_CHANGE"]
+
+#: A mode whose frequency changes by more than this (relative) over the amplitudes of its decay is
+#: nonlinear for the survey: a modal table's frequencies are read to about 0.1 %.
+FREQUENCY_CHANGE = 1e-3
+#: ... or whose decay rate changes by more than this (relative to its small-amplitude value): damping
+#: ratios are read to about 10 %.
+DECAY_CHANGE = 0.1
+#: ... either change standing this many standard errors from zero.
+CHANGE_SIGMAS = 3.0
+
+
+@dataclass(frozen=True)
+class AmplitudeDependence:
+    """How a mode's frequency and decay rate change over the amplitudes of its decay
+    (:func:`amplitude_dependence`): relative changes from its smallest amplitude analysed to its largest,
+    with their standard errors, and the amplitudes."""
+
+    frequency_change: float
+    frequency_change_std: float
+    decay_change: float
+    decay_change_std: float
+    amplitude: tuple
+
+    @property
+    def nonlinear(self) -> bool:
+        """Whether either change exceeds its threshold (:data:`FREQUENCY_CHANGE`, :data:`DECAY_CHANGE`)
+        and :data:`CHANGE_SIGMAS` standard errors."""
+        return any(abs(c) > max(limit, CHANGE_SIGMAS * std) for c, std, limit in (
+            (self.frequency_change, self.frequency_change_std, FREQUENCY_CHANGE),
+            (self.decay_change, self.decay_change_std, DECAY_CHANGE)))
+
+
+def amplitude_dependence(z: np.ndarray, fs: float, bandwidth_hz: float, noise_rms: float,
+                         min_snr_db: float = 10.0) -> AmplitudeDependence | None:
+    """The changes of a mode's frequency and decay rate with its amplitude (see the module), from its
+    analytic signal ``z`` (transients trimmed) of band ``bandwidth_hz`` wide, used down to ``min_snr_db``
+    over the band's noise ``noise_rms``. None when fewer than 8 independent samples remain.
+
+    Examples
+    --------
+    A cubic spring (frequency up 1 % at the largest amplitude) and a linear mode:
+
+    >>> fs, t = 1000.0, np.arange(6000) / 1000.0
+    >>> a = np.exp(-0.8 * t)
+    >>> hard = a * np.exp(1j * 2 * np.pi * 50 * (t + 0.01 * (1 - a**2) / 1.6))
+    >>> e = amplitude_dependence(hard, fs, 10.0, 1e-6)
+    >>> round(e.frequency_change, 4), e.nonlinear
+    (0.01, True)
+    >>> amplitude_dependence(a * np.exp(1j * 2 * np.pi * 50 * t), fs, 10.0, 1e-6).nonlinear
+    False
+    """
+    amplitude = np.abs(z)
+    keep = np.flatnonzero(amplitude >= 10 ** (min_snr_db / 20) * noise_rms)
+    if keep.size == 0:
+        return None
+    keep = np.arange(keep[0], keep[-1] + 1)
+    n_eff = keep.size / fs * bandwidth_hz
+    if n_eff < 8:
+        return None
+    a = amplitude[keep]
+    t = keep / fs
+    integral = np.concatenate([[0.0], np.cumsum(0.5 * (a[1:] ** 2 + a[:-1] ** 2) / fs)])
+    design = np.column_stack([np.ones_like(t), t - t[0], integral])
+    weights = a**2 / np.max(a**2)
+    phase = np.unwrap(np.angle(z[keep]))
+    coef, cov = [], []
+    for target in (np.log(a), phase):
+        c, v = _weighted_line(design, target, weights, keep.size / n_eff)
+        coef.append(c)
+        cov.append(v)
+    span = a.max() ** 2 - a.min() ** 2
+    sigma0, sigma2 = -coef[0][1], -coef[0][2]
+    omega0, omega2 = coef[1][1], coef[1][2]
+    frequency_change = omega2 * span / omega0
+    frequency_std = np.sqrt(cov[1][2, 2]) * span / abs(omega0)
+    decay_change = sigma2 * span / sigma0 if sigma0 > 0 else np.inf
+    decay_std = np.sqrt(cov[0][2, 2]) * span / abs(sigma0) if sigma0 > 0 else np.inf
+    return AmplitudeDependence(float(frequency_change), float(frequency_std), float(decay_change),
+                               float(decay_std), (float(a.max()), float(a.min())))
+
+
+def _weighted_line(design: np.ndarray, target: np.ndarray, weights: np.ndarray, correlation: float):
+    """Weighted least squares and the coefficients' covariance, the residual variance scaled by
+    ``correlation`` (samples per independent one)."""
+    w = np.sqrt(weights)
+    coef, *_ = np.linalg.lstsq(design * w[:, None], target * w, rcond=None)
+    residual = (target - design @ coef) * w
+    dof = max(target.size - design.shape[1], 1)
+    cov = np.linalg.pinv((design * w[:, None]).T @ (design * w[:, None])) * float(residual @ residual) / dof
+    return coef, cov * correlation
 
 #: Periods per window of the decay-rate measurement (half-overlapping windows).
 WINDOW_PERIODS = 4.0
@@ -96,29 +187,6 @@ def _model_rate_change(model, omega: float, amplitude: float) -> float | None:
     x, v = amplitude * np.cos(theta), -amplitude * omega * np.sin(theta)
     force = sum(c * x**p * v**q for c, (p, q), lin in zip(coef[1], terms.powers, terms.linear) if not lin)
     return float(-np.mean(force * v) / (2 * np.mean(v**2))) if np.ndim(force) else 0.0
-
-
-def small_amplitude_damping(modes: list) -> tuple[list, list]:
-    """Each mode whose decay shows an amplitude-dependent damping that its model lacks, and that the test
-    for nonlinearity calls nonlinear (:attr:`~.result.Mode.nonlinear`, run only on those), gets the
-    damping ratio of its envelope at zero amplitude (module docstring): ``(modes, notes)``."""
-    out, notes = [], []
-    for mode in modes:
-        found = _missing_damping(mode)
-        if found is None or not mode.nonlinear:
-            out.append(mode)
-            continue
-        zeta, zeta_std, change, model_change = found
-        notes.append(
-            f"record {mode.record}: mode at {mode.frequency_hz:.6g} Hz: its decay rate changes by "
-            f"{change:+.0%} over the decay, its model's terms give {model_change:+.0%}; the damping ratio "
-            f"{zeta:.4g} is the decay envelope's at zero amplitude (the model's linear part: "
-            f"{mode.damping_ratio:.4g})"
-        )
-        new = replace(mode, damping_ratio=zeta, damping_ratio_std=zeta_std)
-        new.__dict__["nonlinearity"] = mode.nonlinearity  # computed once
-        out.append(new)
-    return out, notes
 
 
 def _missing_damping(mode):

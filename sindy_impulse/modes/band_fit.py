@@ -18,7 +18,8 @@ from ._states import EDGE, STATE_NAMES, channel_shape, derivative_states
 from .result import Mode, Rejected
 from .uncertainty import mode_uncertainty
 
-__all__ = ["default_estimator", "fit_band", "fit_error_of", "MAX_FIT_ERROR", "SENSOR_POWER"]
+__all__ = ["default_estimator", "fit_band", "fit_states", "mode_of_states", "fit_error_of", "MAX_FIT_ERROR",
+           "SENSOR_POWER"]
 
 #: Largest fit error (mean absolute deviation relative to the local amplitude) of a model reported as a
 #: mode; a peak whose best model does worse is rejected.
@@ -202,17 +203,10 @@ def fit_band(
     band.
     """
     states, states_dot, t = derivative_states(band.y, band.t)
-    model = fresh_copy(template)
-    # the band-pass filtered the signal: band-limited derivatives, unless the template asks for its own method
-    x_dot = states_dot if getattr(model, "differentiation_method", None) is None else None
-    fit_deferred(model, states, t=t, x_dot=x_dot, feature_names=list(STATE_NAMES))
-    found, reason = _linear_mode(model, band.band_hz)
-    if found is None:
-        return Rejected(tuple(band.band_hz), reason, index)
-    frequency, zeta = found
-    fit_error = fit_error_of(model)
-    if not fit_error <= MAX_FIT_ERROR:
-        return _poor_fit(band.band_hz, fit_error, index)
+    found = fit_states(states, states_dot, t, band.band_hz, template, index=index)
+    if isinstance(found, Rejected):
+        return found
+    model, frequency, zeta, fit_error = found
     narrow = _too_narrow(band, frequency, zeta)
     if narrow:
         return Rejected(tuple(band.band_hz), narrow, index)
@@ -236,6 +230,32 @@ def fit_band(
         shape=shape,
         residue=residue,
     )
+
+
+def fit_states(states, states_dot, t, band_hz, template, *, index: int = 0):
+    """The survey's estimator fitted on a mode's states ``[y, dy]`` (the paper's sweep and refinement):
+    ``(model, frequency_hz, damping_ratio, fit_error)`` of its linear mode inside ``band_hz``, or a
+    :class:`Rejected` when it has none there, it is not damped, or the model does not reproduce the states
+    (:data:`MAX_FIT_ERROR`)."""
+    model = fresh_copy(template)
+    # states from a filtered signal: their derivatives given, unless the template asks for its own method
+    x_dot = states_dot if getattr(model, "differentiation_method", None) is None else None
+    fit_deferred(model, states, t=t, x_dot=x_dot, feature_names=list(STATE_NAMES))
+    found, reason = _linear_mode(model, band_hz)
+    if found is None:
+        return Rejected(tuple(band_hz), reason, index)
+    fit_error = fit_error_of(model)
+    if not fit_error <= MAX_FIT_ERROR:
+        return _poor_fit(band_hz, fit_error, index)
+    return model, found[0], found[1], fit_error
+
+
+def mode_of_states(model, states, t, band_hz, index: int, **values) -> Mode:
+    """The :class:`Mode` of a ``model`` fitted on ``[y, dy]`` states, its standard deviations from the fit
+    (:mod:`.uncertainty`); ``values``: frequency, damping ratio, fit error, amplitude, shape, residue."""
+    values.update(_uncertainty(model, states, t, band_hz, values["frequency_hz"]))
+    band_hz = tuple(float(b) for b in band_hz)
+    return Mode(band_hz=band_hz, model=model, states=states, t=t, record=index, **values)
 
 
 def _uncertainty(model, states, t, band_hz, frequency: float, **kws) -> dict:

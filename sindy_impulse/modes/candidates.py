@@ -27,7 +27,7 @@ from ..preprocessing.partition import peak_bands
 from ..preprocessing.peaks import SpectralPeaks, spectral_peaks
 from ..preprocessing.pipeline import prepare_record
 from ..preprocessing.quality import check_quality
-from ..preprocessing.spectrum import detection_threshold_db
+from ..preprocessing.spectrum import detection_threshold_db, search_range
 from ._clipped import clipping_report
 from .kinds import Kind
 
@@ -40,6 +40,9 @@ PERSISTENCE = 0.5
 #: The diagram is computed on at most this many samples of the free decay (the classical baseline's
 #: window): enough periods of the lowest modes, a bounded cost on long records.
 POLE_SAMPLES = 20_000
+#: A component whose damping ratio reaches this share of the decay fit's largest is a transient (the hit's
+#: tail, a trend the offset left), not a mode.
+TRANSIENT = 0.95
 #: Rounds of the search for modes the fit misses, and new modes per round at most.
 ROUNDS, NEW_PER_ROUND = 4, 4
 #: A mode whose lack of fit is this improbable from noise alone is not explained by a linear decay.
@@ -244,15 +247,22 @@ def fit_candidates(state) -> None:
     """The modes of the free decay: poles and spectral peaks refined by the decay fit."""
     pre, fs, given = state.pre, state.pre.fs, state.options.bands is not None
     ring = _ring(state)
+    lo, hi = search_range(pre.peaks.spectrum) if len(pre.peaks.spectrum.psd) > 2 else (0.0, 0.45 * fs)
     f0, s0 = _seeds(state)
-    lo, hi = (0.0, 0.45 * fs)
+    inside = (f0 >= lo) & (f0 <= hi)
+    f0, s0 = f0[inside], s0[inside]
     threshold = detection_threshold_db(max(ring.shape[0] // 2, 1))
-    fit, rounds = None, 0
-    while f0.size and rounds < ROUNDS:
+    fit, rounds, noise = None, 0, None
+    while f0.size:
         rounds += 1
-        fit = fit_decay(ring, fs, f0, s0)
-        keep = np.ones(len(fit), bool) if given else fit.height_db >= threshold
-        new_f, new_s = (np.empty(0), np.empty(0)) if given else _searched(fit, lo, hi, threshold)
+        fit = fit_decay(ring, fs, f0, s0, noise=noise)
+        noise = fit.noise_power
+        f = fit.damped_frequency_hz
+        keep = np.ones(len(fit), bool) if given else (fit.height_db >= threshold) & (
+            fit.damping_ratio < TRANSIENT * MAX_DAMPING)
+        keep &= (f >= lo) & (f <= hi)
+        last = rounds >= ROUNDS
+        new_f, new_s = (np.empty(0), np.empty(0)) if given or last else _searched(fit, lo, hi, threshold)
         if keep.all() and not new_f.size:
             break
         f0 = np.concatenate([fit.damped_frequency_hz[keep], new_f])
@@ -270,11 +280,11 @@ def fit_candidates(state) -> None:
 
 def _candidates(fit, table) -> list:
     stable = persistent_modes(table)
+    resolution = fit.fs / fit.n_samples
     out = []
     for k in range(len(fit)):
         f, zeta = float(fit.frequency_hz[k]), float(fit.damping_ratio[k])
-        near = any(abs(m.frequency_hz - f) <= max(zeta * f, m.damping_ratio * m.frequency_hz, 0.005 * f)
-                   for m in stable)
+        near = any(abs(m.frequency_hz - f) <= max(zeta * f, 1.5 * resolution) for m in stable)
         out.append(Candidate(f, zeta, float(fit.frequency_std_hz[k]), float(fit.damping_ratio_std[k]),
                              float(fit.decay_rate[k]), float(fit.decay_rate_std[k]), fit.amplitude[k],
                              float(fit.height_db[k]), float(fit.lack_of_fit[k]), float(fit.lack_of_fit_p[k]),

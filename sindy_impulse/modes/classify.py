@@ -2,18 +2,22 @@
 
 The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence; the record holds the rest:
 
-- **tone** (:attr:`Kind.TONE`): a component that does not decay (no evidence of a decay: its decay rate
-  within three standard deviations of zero; and evidence of little: less than one e-fold over the record
-  at three standard deviations above its rate), or that stands as strong before the hit as after it: hum,
-  a rotating machine. It is named, not reported as a mode.
+- **tone** (:attr:`Kind.TONE`): a component that does not decay measurably (its decay rate within three
+  standard deviations of zero), or that stands as strong before the hit as after it: hum, a rotating
+  machine (or a mode too lightly damped for the record to measure its decay: the row says which it may
+  be). It is named, not reported as a mode with a damping ratio it does not have.
 - **harmonic** (:attr:`Kind.HARMONIC`): a component near 2 or 3 times a lower one that is phase-locked to it
   and whose amplitude goes as a whole power of the lower one's (:func:`~._harmonics.harmonic_evidence`): a
   product of the lower mode's nonlinearity, which is then nonlinear too.
 - **nonlinear** (:attr:`Kind.NONLINEAR`): a component the linear decay does not explain (its residual stands
-  out of the noise: :attr:`~.candidates.Candidate.explained`), or that makes a harmonic. The paper's
-  sweep and refinement identify its equation. Components closer than the wider one's half-power half-width
-  (:func:`~sindy_impulse.preprocessing.partition.resolved`) are pieces of one such mode: the strongest
-  stands for them, the others are :attr:`Kind.MERGED` into it.
+  out of the noise: :attr:`~.candidates.Candidate.explained`) whose frequency or decay rate changes with
+  its amplitude by more than a modal table reads (:func:`~._envelope.amplitude_dependence` on its own
+  signal, :func:`~.signals.analytic`), or that makes a harmonic. The paper's sweep and refinement identify
+  its equation. (A significant misfit alone is common on real records at 60-70 dB: a structure is never
+  exactly a sum of damped sinusoids.) Components closer than the wider one's half-power half-width
+  (:func:`~sindy_impulse.preprocessing.partition.resolved`) are pieces of one such mode (no record tells
+  such modes apart; a sum of close damped sinusoids is how a linear fit follows a chirp or a decay rate
+  that changes): the strongest stands for them, the others are :attr:`Kind.MERGED` into it.
 - **linear** (:attr:`Kind.LINEAR`): everything else; its equation comes from its poles.
 """
 
@@ -22,9 +26,11 @@ from __future__ import annotations
 import numpy as np
 
 from ..preprocessing.band import band_noise_rms
-from ..preprocessing.partition import resolved
+from ..preprocessing.partition import peak_bands, resolved
+from ._envelope import amplitude_dependence
 from ._harmonics import NEAR, ORDERS, _analysis_bands, _evidence
 from .kinds import Kind
+from .signals import analytic
 
 __all__ = ["classify_candidates", "TONE_SIGMAS", "TONE_SHARE"]
 
@@ -43,11 +49,9 @@ def classify_candidates(state) -> None:
         c.kind, c.parent, c.evidence = Kind.LINEAR, None, {}
     _tones(state)
     _harmonics(state)
-    for c in cands:
-        if c.kind is Kind.LINEAR and not c.explained:
-            c.kind = Kind.NONLINEAR
-            c.evidence["lack_of_fit"] = (c.lack_of_fit, c.lack_of_fit_p)
+    _amplitude_dependent(state)
     _pieces(cands)
+    _unconfirmed(cands)
     counts = {k: sum(c.kind is k for c in cands) for k in Kind}
     state.decide(", ".join(f"{n} {k.value}" for k, n in counts.items() if n) or "no candidate")
 
@@ -64,10 +68,8 @@ def _pre_trigger_amplitude(state, frequency_hz: float) -> float | None:
 
 
 def _tones(state) -> None:
-    duration = (state.pre.y.size - state.start) / state.pre.fs
     for c in state.candidates:
-        upper = c.decay_rate + TONE_SIGMAS * c.decay_rate_std
-        still = not c.decay_rate > TONE_SIGMAS * c.decay_rate_std and upper * duration < 1.0
+        still = not c.decay_rate > TONE_SIGMAS * c.decay_rate_std
         before = _pre_trigger_amplitude(state, c.damped_frequency_hz)
         at_start = float(np.abs(c.amplitude[0]))
         there = before is not None and before >= TONE_SHARE * at_start
@@ -109,25 +111,74 @@ def _harmonics(state) -> None:
                 break
 
 
-def _pieces(cands: list) -> None:
-    """Runs of unresolved components around a nonlinear one: the strongest stands for them all."""
-    live = sorted((k for k, c in enumerate(cands) if c.kind in (Kind.LINEAR, Kind.NONLINEAR)),
-                  key=lambda k: cands[k].frequency_hz)
+def _amplitude_dependent(state) -> None:
+    """Candidates the linear decay does not explain whose frequency or decay rate changes with amplitude
+    beyond what a modal table reads (:func:`~._envelope.amplitude_dependence`): nonlinear."""
+    cands, fs = state.candidates, state.pre.fs
+    misfit = [k for k, c in enumerate(cands) if c.kind is Kind.LINEAR and not c.explained]
+    for k in misfit:
+        c = cands[k]
+        c.evidence["lack_of_fit"] = (c.lack_of_fit, c.lack_of_fit_p)
+        others = [j for j in misfit if j != k]
+        f = np.array([cands[j].damped_frequency_hz for j in [k, *others]])
+        band = peak_bands(f, np.array([cands[j].decay_rate / np.pi for j in [k, *others]]), fs)[0]
+        try:
+            z, _ = analytic(state, k, band)
+        except ValueError:
+            continue
+        noise = c.noise_std * np.sqrt(2 * (band[1] - band[0]) / fs)
+        e = amplitude_dependence(z, fs, band[1] - band[0], noise) if z.size else None
+        c.evidence["amplitude_dependence"] = e
+        if e is not None and e.nonlinear:
+            c.kind = Kind.NONLINEAR
+
+
+#: Neighbours closer than this many times the sum of their half-power half-widths overlap in the spectrum.
+CLOSE = 3.0
+
+
+def _runs(cands: list, kinds: tuple, joined) -> list:
+    """Runs (by frequency) of candidates of ``kinds`` each ``joined(previous, next)`` to the next, of two or
+    more."""
+    live = sorted((k for k, c in enumerate(cands) if c.kind in kinds), key=lambda k: cands[k].frequency_hz)
     runs, run = [], live[:1]
     for a, b in zip(live, live[1:]):
-        pair = (cands[a], cands[b])
-        if not resolved(tuple(c.frequency_hz for c in pair), tuple(c.damping_ratio for c in pair)):
+        if joined(cands[a], cands[b]):
             run.append(b)
         else:
             runs.append(run)
             run = [b]
     runs.append(run)
-    for run in (r for r in runs if len(r) > 1):
-        if all(cands[k].explained for k in run):
-            continue  # a resolved fit of unresolved poles explains the data: leave them (rare)
-        head = max(run, key=lambda k: abs(cands[k].amplitude[0]))
-        cands[head].kind = Kind.NONLINEAR
-        cands[head].evidence["pieces"] = [cands[k].frequency_hz for k in run]
-        for k in run:
-            if k != head:
-                cands[k].kind, cands[k].parent = Kind.MERGED, head
+    return [r for r in runs if len(r) > 1]
+
+
+def _merge(cands: list, run: list, evidence: str) -> None:
+    """The strongest of ``run`` stands for it as a nonlinear mode; the others are merged into it."""
+    head = max(run, key=lambda k: abs(cands[k].amplitude[0]))
+    cands[head].kind = Kind.NONLINEAR
+    cands[head].evidence[evidence] = [k for k in run if k != head]
+    for k in run:
+        if k != head:
+            cands[k].kind, cands[k].parent = Kind.MERGED, head
+
+
+def _unconfirmed(cands: list) -> None:
+    """Runs of overlapping linear neighbours none of which the stabilisation diagram confirms (its poles
+    wander with the model order: a frequency that moves along the decay): one nonlinear mode to be tested
+    as such (``evidence["unconfirmed"]``: :mod:`.identify` keeps them apart when one oscillator does not
+    need nonlinear terms to reproduce them)."""
+    def joined(a, b) -> bool:
+        width = a.damping_ratio * a.frequency_hz + b.damping_ratio * b.frequency_hz
+        return b.frequency_hz - a.frequency_hz < CLOSE * width and not (a.stable or b.stable)
+
+    for run in _runs(cands, (Kind.LINEAR,), joined):
+        _merge(cands, run, "unconfirmed")
+
+
+def _pieces(cands: list) -> None:
+    """Runs of unresolved components: one mode, which a linear decay does not describe."""
+    def joined(a, b) -> bool:
+        return not resolved((a.frequency_hz, b.frequency_hz), (a.damping_ratio, b.damping_ratio))
+
+    for run in _runs(cands, (Kind.LINEAR, Kind.NONLINEAR), joined):
+        _merge(cands, run, "pieces")

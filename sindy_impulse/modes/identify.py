@@ -23,11 +23,12 @@ import numpy as np
 
 from .._utils.threads import one_thread
 from ..preprocessing.partition import peak_bands
-from .band_fit import fit_band
+from ._states import free_decay_states
+from .band_fit import fit_band, fit_states, mode_of_states
 from .kinds import Kind, Reason
-from .linear import impulse_of, linear_mode, with_values_of
+from .linear import impulse_of, linear_amplitude, linear_mode, residue_of, shape_of, with_values_of
 from .result import Mode, Rejected
-from .signals import band_signal, deflated, mode_bands
+from .signals import band_signal, deflated, free_decay, mode_bands
 
 __all__ = ["identify_candidates"]
 
@@ -39,12 +40,13 @@ def identify_candidates(state) -> None:
     if todo:
         deflated(state, todo[0])  # the components, once, before any worker copies the state
     results = _map(state, todo, state.options.n_jobs)
-    for k, out in zip(todo, results):
-        if isinstance(out, Mode):
-            state.modes.append(out)
-            state.origin.append(k)
-        else:
-            state.rejected.append(out)
+    for outs in results:
+        for j, out in outs:
+            if isinstance(out, Mode):
+                state.modes.append(out)
+                state.origin.append(j)
+            else:
+                state.rejected.append(out)
     routes = [state.candidates[k].kind.value for k in todo]
     state.decide(f"{routes.count('linear')} from their poles, {routes.count('nonlinear')} by the paper's "
                  f"fit; {len(state.modes)} mode(s)")
@@ -65,18 +67,38 @@ def _chunk(state, chunk: list) -> list:
     return [_one(state, k) for k in chunk]
 
 
-def _one(state, k: int):
-    """The mode (or rejection) of candidate ``k``; a failure stays the candidate's."""
+def _one(state, k: int) -> list:
+    """``[(candidate, mode or rejection)]`` of candidate ``k`` (and of the neighbours it was tested with);
+    a failure stays the candidate's."""
     cand = state.candidates[k]
     try:
         with one_thread(), warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            if cand.kind is Kind.NONLINEAR:
-                return nonlinear_mode(state, k)
-            return linear_mode(state, k) or nonlinear_mode(state, k)
+            if cand.kind is Kind.LINEAR:
+                return [(k, linear_mode(state, k) or nonlinear_mode(state, k))]
+            out = nonlinear_mode(state, k)
+            if "unconfirmed" in cand.evidence and not _nonlinear_equation(out):
+                return _apart(state, k)
+            return [(k, out)]
     except Exception as err:  # noqa: BLE001 - one candidate's failure must not abort the survey
-        return Rejected(cand.band_hz, f"the identification failed ({type(err).__name__}: {err})",
-                        state.index, {"error": type(err).__name__, "message": str(err)}, Reason.FIT_FAILED)
+        return [(k, Rejected(cand.band_hz, f"the identification failed ({type(err).__name__}: {err})",
+                             state.index, {"error": type(err).__name__, "message": str(err)},
+                             Reason.FIT_FAILED))]
+
+
+def _nonlinear_equation(out) -> bool:
+    from ._nonlinear import has_nonlinear_terms
+
+    return isinstance(out, Mode) and out.source == "equation" and has_nonlinear_terms(out.model)
+
+
+def _apart(state, k: int) -> list:
+    """Unconfirmed neighbours that one nonlinear oscillator does not reproduce: linear modes each."""
+    members = [k, *state.candidates[k].evidence["unconfirmed"]]
+    for j in members:
+        state.candidates[j].kind, state.candidates[j].parent = Kind.LINEAR, None
+    mode_bands(state)
+    return [(j, linear_mode(state, j) or nonlinear_mode(state, j)) for j in members]
 
 
 def nonlinear_mode(state, k: int):
@@ -89,8 +111,8 @@ def nonlinear_mode(state, k: int):
         cand.band_hz = tuple(float(b) for b in own)
         try:
             band = band_signal(state, k, state.options.max_periods)
-        except ValueError as err:
-            return _linear_instead(state, k, f"its band cannot be extracted for the paper's fit ({err})")
+        except ValueError:
+            return _free_decay_fit(state, k)
     pre = state.pre
     out = fit_band(band, state.options.template, onset_time=pre.impact.onset_time, record=state.record,
                    channel=state.channel, impulse=impulse_of(state), sensor=state.options.sensor,
@@ -98,6 +120,23 @@ def nonlinear_mode(state, k: int):
     if isinstance(out, Rejected):
         return _linear_instead(state, k, f"the paper's fit gave no mode ({out.reason})")
     return out
+
+
+def _free_decay_fit(state, k: int):
+    """The paper's fit on candidate ``k``'s free decay without band-pass (its band keeps too few periods:
+    a short or strongly damped decay), the other components removed (:func:`~.signals.free_decay`)."""
+    cand = state.candidates[k]
+    y, t = free_decay(state, k)
+    states, states_dot, t = free_decay_states(y, t, cand.frequency_hz)
+    found = fit_states(states, states_dot, t, cand.band_hz, state.options.template, index=state.index)
+    if isinstance(found, Rejected):
+        return _linear_instead(state, k, f"the paper's fit on its free decay gave no mode ({found.reason})")
+    model, frequency, zeta, fit_error = found
+    amplitude = linear_amplitude(state, cand)
+    return mode_of_states(model, states, t, cand.band_hz, state.index, frequency_hz=frequency,
+                          damping_ratio=zeta, fit_error=fit_error, amplitude=amplitude,
+                          shape=shape_of(state, cand), residue=residue_of(state, cand, amplitude),
+                          snr_db=float(cand.height_db))
 
 
 def _linear_instead(state, k: int, why: str):

@@ -27,7 +27,8 @@ from .band_fit import SENSOR_POWER, fit_error_of
 from .result import Mode
 from .signals import band_signal, free_decay
 
-__all__ = ["linear_mode", "pole_model", "shape_of", "residue_of", "impulse_of", "with_values_of"]
+__all__ = ["linear_mode", "linear_amplitude", "pole_model", "shape_of", "residue_of", "impulse_of",
+           "with_values_of"]
 
 def _states(state, k: int):
     """``(states, states_dot, t, band or None)`` of candidate ``k``: its band signal's, else its free
@@ -99,15 +100,21 @@ def linear_mode(state, k: int) -> Mode | None:
     model, coefficients_std = pole_model(state.options.template, states, states_dot, t, cand)
     if model is None:
         return None
-    pre = state.pre
-    since_hit = (state.start - pre.impact.onset_index) / pre.fs
-    amplitude = float(np.abs(cand.amplitude[0]) * math.exp(cand.decay_rate * since_hit))
+    amplitude = linear_amplitude(state, cand)
     return Mode(frequency_hz=cand.frequency_hz, damping_ratio=cand.damping_ratio, band_hz=cand.band_hz,
                 amplitude=amplitude, fit_error=fit_error_of(model), model=model, states=states, t=t,
                 snr_db=float(band.snr_db) if band is not None else float(cand.height_db),
                 shape=shape_of(state, cand), residue=residue_of(state, cand, amplitude), record=state.index,
                 frequency_std_hz=cand.frequency_std_hz, damping_ratio_std=cand.damping_ratio_std,
                 coefficients_std=coefficients_std, source="poles")
+
+
+def linear_amplitude(state, cand) -> float:
+    """A candidate's amplitude at the hit: its decay fit's at the decay's start, extrapolated back with its
+    decay rate."""
+    pre = state.pre
+    since_hit = (state.start - pre.impact.onset_index) / pre.fs
+    return float(np.abs(cand.amplitude[0]) * math.exp(cand.decay_rate * since_hit))
 
 
 def shape_of(state, cand) -> np.ndarray | None:

@@ -50,8 +50,9 @@ def _named(state) -> None:
             sigma, std = c.evidence.get("decay_rate", (c.decay_rate, c.decay_rate_std))
             before = c.evidence.get("pre_trigger_amplitude")
             before = "" if before is None else f"; amplitude {before:.3g} before the hit"
-            why = (f"a tone at {c.damped_frequency_hz:.5g} Hz that does not decay (decay rate {sigma:.3g} +- "
-                   f"{std:.2g} 1/s{before}), not a mode")
+            why = (f"a tone at {c.damped_frequency_hz:.5g} Hz that does not decay measurably (decay rate "
+                   f"{sigma:.3g} +- {std:.2g} 1/s{before}): hum, a machine, or a mode too lightly damped for "
+                   "this record; not reported as a mode")
             state.rejected.append(Rejected(c.band_hz, why, state.index, dict(c.evidence), Reason.TONE))
             state.note(why)
         elif c.kind is Kind.HARMONIC:
@@ -60,9 +61,10 @@ def _named(state) -> None:
             state.rejected.append(Rejected(c.band_hz, why, state.index, e, Reason.HARMONIC))
             state.note(f"the peak at {c.frequency_hz:.4g} Hz is the {why}")
     for c in cands:
-        pieces = c.evidence.get("pieces")
-        if pieces and c.kind is Kind.NONLINEAR:
-            state.note(f"the components at {', '.join(f'{f:.5g}' for f in pieces)} Hz, closer than their "
+        pieces = [c.frequency_hz] + [cands[j].frequency_hz for j in c.evidence.get("pieces", [])]
+        if len(pieces) > 1 and c.kind is Kind.NONLINEAR:
+            listed = ", ".join(f"{f:.5g}" for f in sorted(pieces))
+            state.note(f"the components at {listed} Hz, closer than their "
                        f"half-power bandwidth, are one nonlinear mode (its frequency or damping changes with "
                        f"amplitude)")
 

@@ -15,10 +15,12 @@ from __future__ import annotations
 import numpy as np
 
 from ..preprocessing.band import band_noise_rms, extract_band
+from ..preprocessing.filters import bandpass, transient_samples
 from ..preprocessing.partition import peak_bands
 from .kinds import Kind
 
-__all__ = ["component", "deflated", "band_signal", "free_decay", "mode_bands", "END_SNR_DB", "MIN_PERIODS"]
+__all__ = ["component", "deflated", "analytic", "band_signal", "free_decay", "mode_bands", "END_SNR_DB",
+           "MIN_PERIODS"]
 
 #: The free decay of a mode without band-pass ends where its envelope falls to this many dB over the noise,
 #: as a band signal ends at the noise floor; at least :data:`MIN_PERIODS` of its periods are kept.
@@ -79,6 +81,18 @@ def band_signal(state, k: int, max_periods):
     band = extract_band(deflated(state, k), pre.fs, band_hz, start=state.start, t0=pre.t0,
                         samples_per_period=state.options.samples_per_period, noise_rms=noise)
     return first_periods(band, max_periods)
+
+
+def analytic(state, k: int, band_hz) -> tuple[np.ndarray, int]:
+    """Candidate ``k``'s own signal (:func:`deflated`) from the decay's start as an analytic signal in
+    ``band_hz`` (zero-phase FFT band-pass), the filter's transient trimmed at both ends: ``(z, first)``,
+    ``first`` the sample of the free decay ``z`` starts at."""
+    pre, start = state.pre, state.start
+    y = deflated(state, k)[start:]
+    trim = transient_samples(pre.fs, band_hz)
+    if y.size <= 2 * trim + 16:
+        return np.empty(0, complex), trim
+    return bandpass(y, pre.fs, band_hz, analytic=True)[trim: y.size - trim], trim
 
 
 def free_decay(state, k: int) -> tuple[np.ndarray, np.ndarray]:
