@@ -112,8 +112,9 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
 
     Parameters
     ----------
-    y : ndarray (n,)
-        The free decay (offset removed).
+    y : ndarray (n,) or (ndarray, ndarray)
+        The free decay (offset removed); or the parent's and the candidate's own signals (each with the
+        other components removed), on the same samples.
     fs : float
         Sampling rate (Hz).
     parent_band, candidate_band : (float, float)
@@ -148,8 +149,9 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
     >>> e["locked"], round(e["frequency_ratio"], 3), round(e["exponent"], 2), e["harmonic"]
     (False, 2.0, 2.0, False)
     """
-    z1 = bandpass(y, fs, parent_band, analytic=True)
-    z2 = bandpass(y, fs, candidate_band, analytic=True)
+    y1, y2 = y if isinstance(y, tuple) else (y, y)
+    z1 = bandpass(y1, fs, parent_band, analytic=True)
+    z2 = bandpass(y2, fs, candidate_band, analytic=True)
     trim = max(transient_samples(fs, b, tol=_TRANSIENT_TOL) for b in (parent_band, candidate_band))
     floor = 10 ** (MIN_SNR_DB / 20) * np.sqrt(2) * np.asarray(noise_rms, float)
     a1, a2 = np.abs(z1), np.abs(z2)
@@ -392,7 +394,7 @@ def split_harmonics(pre, modes: list, rejected: list) -> tuple:
 
 
 def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: int, candidate,
-              failed: bool = False, nonlinear: bool | None = None) -> dict:
+              failed: bool = False, nonlinear: bool | None = None, own=None) -> dict:
     """:func:`harmonic_evidence` of ``band`` as harmonic ``order`` of mode ``i`` (``analysis``: the modes'
     bands and damped frequencies), decided with the parent's model where the data leave it open (a locked
     candidate between whole powers; the backbone when the locking is unresolved). ``candidate``: a mode,
@@ -405,16 +407,21 @@ def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: in
     493.64 Hz one, read 2.00080 +- 0.00017 (4.7 standard errors off) and was named its harmonic.
 
     ``nonlinear``: whether the parent is nonlinear, when known without its model (a candidate the linear
-    decay does not explain); None reads its model's terms, and only then may its backbone decide."""
+    decay does not explain); None reads its model's terms, and only then may its backbone decide.
+    ``own``: ``(parent's signal, candidate's signal, parent's band, parent's noise)``, each signal with the
+    other components removed (then ``ring`` and ``analysis`` are not read)."""
     from ._nonlinear import has_nonlinear_terms
 
-    bands, freqs = analysis
-    parent_band = _parent_band(bands, freqs, i, band)
-    if failed:  # not among the modes, so keep the parent's band clear of it
-        f = freqs[i]
-        parent_band = (max(parent_band[0], 0.5 * f), min(parent_band[1], 0.5 * (f + band[0])))
-    e = harmonic_evidence(ring, pre.fs, parent_band, band, order,
-                          (band_noise_rms(pre.peaks.spectrum, parent_band), noise))
+    if own is not None:
+        ring, parent_band, parent_noise = (own[0], own[1]), own[2], own[3]
+    else:
+        bands, freqs = analysis
+        parent_band = _parent_band(bands, freqs, i, band)
+        if failed:  # not among the modes, so keep the parent's band clear of it
+            f = freqs[i]
+            parent_band = (max(parent_band[0], 0.5 * f), min(parent_band[1], 0.5 * (f + band[0])))
+        parent_noise = band_noise_rms(pre.peaks.spectrum, parent_band)
+    e = harmonic_evidence(ring, pre.fs, parent_band, band, order, (parent_noise, noise))
     e.update(parent_frequency_hz=parent.frequency_hz, frequency_hz=candidate.frequency_hz)
     linear = not (has_nonlinear_terms(parent.model) if nonlinear is None else nonlinear)
     if e["locked"] and not e["locked_within_errors"] and linear:

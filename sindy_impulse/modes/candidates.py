@@ -273,7 +273,9 @@ def fit_candidates(state) -> None:
     if state.options.n_modes is not None:
         strongest = sorted(range(len(state.candidates)), key=lambda k: -state.candidates[k].height_db)
         state.candidates = [state.candidates[k] for k in sorted(strongest[: state.options.n_modes])]
-    state.pre = replace(pre, peaks=_as_peaks(state.candidates, pre.peaks, threshold, fs, given))
+    spectrum = pre.peaks.spectrum if fit is None else _floored(pre.peaks.spectrum, fit)
+    peaks = replace(pre.peaks, spectrum=spectrum)
+    state.pre = replace(pre, peaks=_as_peaks(state.candidates, peaks, threshold, fs, given))
     state.decide(f"{len(state.candidates)} candidate(s) over {threshold:.1f} dB after {rounds} round(s): "
                  + ", ".join(f"{c.frequency_hz:.5g} Hz ({c.height_db:.0f} dB)" for c in state.candidates))
 
@@ -290,6 +292,14 @@ def _candidates(fit, table) -> list:
                              float(fit.height_db[k]), float(fit.lack_of_fit[k]), float(fit.lack_of_fit_p[k]),
                              near, noise_std=float(fit.noise_std[k])))
     return out
+
+
+def _floored(spectrum, fit):
+    """The ring-down's spectrum with the noise floor of what the decay fit leaves (a one-sided density: the
+    spectrum's own floor is raised under the skirts of lightly damped modes)."""
+    f = np.arange(fit.noise_power.size) * fit.fs / fit.n_samples
+    density = 2.0 * fit.noise_power / (fit.n_samples * fit.fs)
+    return replace(spectrum, floor=np.interp(spectrum.frequency_hz, f, density))
 
 
 def _as_peaks(candidates: list, spectrum_peaks: SpectralPeaks, threshold: float, fs: float, given: bool):

@@ -3,9 +3,10 @@
 The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence; the record holds the rest:
 
 - **tone** (:attr:`Kind.TONE`): a component that does not decay measurably (its decay rate within three
-  standard deviations of zero), or that stands as strong before the hit as after it: hum, a rotating
-  machine (or a mode too lightly damped for the record to measure its decay: the row says which it may
-  be). It is named, not reported as a mode with a damping ratio it does not have.
+  standard deviations of zero, and at most three e-folds over the record at its upper bound), or that
+  stands as strong before the hit as after it: hum, a rotating machine (or a mode too lightly damped for
+  the record to measure its decay: the row says which it may be). It is named, not reported as a mode
+  with a damping ratio it does not have.
 - **harmonic** (:attr:`Kind.HARMONIC`): a component near 2 or 3 times a lower one that is phase-locked to it
   and whose amplitude goes as a whole power of the lower one's (:func:`~._harmonics.harmonic_evidence`): a
   product of the lower mode's nonlinearity, which is then nonlinear too.
@@ -25,17 +26,19 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..preprocessing.band import band_noise_rms
 from ..preprocessing.partition import peak_bands, resolved
 from ._envelope import amplitude_dependence
-from ._harmonics import NEAR, ORDERS, _analysis_bands, _evidence
+from ._harmonics import NEAR, ORDERS, _evidence
 from .kinds import Kind
-from .signals import analytic
+from .signals import analytic, deflated
 
 __all__ = ["classify_candidates", "TONE_SIGMAS", "TONE_SHARE"]
 
 #: A component whose decay rate is within this many standard deviations of zero does not decay.
 TONE_SIGMAS = 3.0
+#: ... and which at most decays this many e-folds over the record at that many standard deviations above its
+#: rate (a broad component whose decay the record cannot pin down is no tone).
+TONE_DECAY = 3.0
 #: ... or whose amplitude before the hit is at least this share of its amplitude after it.
 TONE_SHARE = 0.5
 #: Fewest periods of a component in the pre-trigger for its amplitude there to be read.
@@ -48,9 +51,9 @@ def classify_candidates(state) -> None:
     for c in cands:
         c.kind, c.parent, c.evidence = Kind.LINEAR, None, {}
     _tones(state)
+    _pieces(cands)
     _harmonics(state)
     _amplitude_dependent(state)
-    _pieces(cands)
     _unconfirmed(cands)
     counts = {k: sum(c.kind is k for c in cands) for k in Kind}
     state.decide(", ".join(f"{n} {k.value}" for k, n in counts.items() if n) or "no candidate")
@@ -68,8 +71,10 @@ def _pre_trigger_amplitude(state, frequency_hz: float) -> float | None:
 
 
 def _tones(state) -> None:
+    duration = (state.pre.y.size - state.start) / state.pre.fs
     for c in state.candidates:
-        still = not c.decay_rate > TONE_SIGMAS * c.decay_rate_std
+        upper = (c.decay_rate + TONE_SIGMAS * c.decay_rate_std) * duration
+        still = not c.decay_rate > TONE_SIGMAS * c.decay_rate_std and upper < TONE_DECAY
         before = _pre_trigger_amplitude(state, c.damped_frequency_hz)
         at_start = float(np.abs(c.amplitude[0]))
         there = before is not None and before >= TONE_SHARE * at_start
@@ -79,31 +84,41 @@ def _tones(state) -> None:
                               amplitude=at_start)
 
 
+def _own(state, k: int) -> tuple:
+    """Candidate ``k``'s own signal from the decay's start (the other components removed), its own band
+    (regardless of its neighbours, which are removed) and the noise there."""
+    cand, fs = state.candidates[k], state.pre.fs
+    band = peak_bands([cand.damped_frequency_hz], [cand.decay_rate / np.pi], fs)[0]
+    noise = cand.noise_std * np.sqrt(2 * (band[1] - band[0]) / fs)
+    return deflated(state, k)[state.start:], band, noise
+
+
 def _harmonics(state) -> None:
     """Candidates phase-locked at 2 or 3 times a lower one, its amplitude a whole power of the lower one's."""
-    cands = [c for c in state.candidates if c.kind is not Kind.TONE]
-    if len(cands) < 2:
+    live = sorted((k for k, c in enumerate(state.candidates) if c.kind in (Kind.LINEAR, Kind.NONLINEAR)),
+                  key=lambda k: state.candidates[k].frequency_hz)
+    if len(live) < 2:
         return
-    pre = state.pre
-    ring = pre.y[pre.impact.ringdown_index:]
-    bands = _analysis_bands(pre, cands)
-    freqs = np.array([c.damped_frequency_hz for c in cands])
-    for j, cand in enumerate(cands):
-        for i, parent in enumerate(cands[:j]):
+    cands = state.candidates
+    for b, j in enumerate(live):
+        cand = cands[j]
+        for i in live[:b]:
+            parent = cands[i]
             if parent.kind is Kind.HARMONIC:
                 continue
-            order = next((n for n in ORDERS if abs(freqs[j] / (n * freqs[i]) - 1) <= NEAR), None)
+            ratio = cand.damped_frequency_hz / parent.damped_frequency_hz
+            order = next((n for n in ORDERS if abs(ratio / n - 1) <= NEAR), None)
             if order is None or abs(cand.amplitude[0]) > order**2 * abs(parent.amplitude[0]):
                 continue
+            (y1, band1, noise1), (y2, band2, noise2) = _own(state, i), _own(state, j)
             try:
-                e = _evidence(pre, ring, (bands, freqs), i, parent, bands[j],
-                              band_noise_rms(pre.peaks.spectrum, bands[j]), order, cand,
-                              nonlinear=not parent.explained)
+                e = _evidence(state.pre, None, None, i, parent, band2, noise2, order, cand,
+                              nonlinear=not parent.explained, own=(y1, y2, band1, noise1))
             except (ValueError, ArithmeticError, np.linalg.LinAlgError):
                 continue
             cand.evidence.setdefault("harmonic_tests", []).append(e)
             if e["harmonic"]:
-                cand.kind, cand.parent = Kind.HARMONIC, state.candidates.index(parent)
+                cand.kind, cand.parent = Kind.HARMONIC, i  # (its merged pieces stay merged into it)
                 cand.evidence["harmonic"] = e
                 parent.evidence["makes_harmonic"] = order
                 if parent.kind is Kind.LINEAR:
@@ -176,9 +191,12 @@ def _unconfirmed(cands: list) -> None:
 
 
 def _pieces(cands: list) -> None:
-    """Runs of unresolved components: one mode, which a linear decay does not describe."""
+    """Runs of unresolved components, or of components whose half-power bands overlap and which the linear
+    decay does not explain: one mode, which a linear decay does not describe."""
     def joined(a, b) -> bool:
-        return not resolved((a.frequency_hz, b.frequency_hz), (a.damping_ratio, b.damping_ratio))
+        f, z = (a.frequency_hz, b.frequency_hz), (a.damping_ratio, b.damping_ratio)
+        overlap = abs(f[1] - f[0]) < z[0] * f[0] + z[1] * f[1]
+        return not resolved(f, z) or (overlap and not (a.explained and b.explained))
 
     for run in _runs(cands, (Kind.LINEAR, Kind.NONLINEAR), joined):
         _merge(cands, run, "pieces")

@@ -57,7 +57,8 @@ def _named(state) -> None:
             state.note(why)
         elif c.kind is Kind.HARMONIC:
             e = c.evidence["harmonic"]
-            why = _reason(cands[c.parent], e)
+            parent = next((m for k, m in zip(state.origin, state.modes) if k == c.parent), cands[c.parent])
+            why = _reason(parent, e)
             state.rejected.append(Rejected(c.band_hz, why, state.index, e, Reason.HARMONIC))
             state.note(f"the peak at {c.frequency_hz:.4g} Hz is the {why}")
     for c in cands:
