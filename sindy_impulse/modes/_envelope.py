@@ -43,13 +43,17 @@ CHANGE_SIGMAS = 3.0
 class AmplitudeDependence:
     """How a mode's frequency and decay rate change over the amplitudes of its decay
     (:func:`amplitude_dependence`): relative changes from its smallest amplitude analysed to its largest,
-    with their standard errors, and the amplitudes."""
+    with their standard errors, the amplitudes, and the averaged equations' ``(omega_0, omega_2, sigma_0,
+    sigma_2)`` (damped angular frequency and decay rate at zero amplitude and their slopes in ``A^2``)
+    with their standard errors."""
 
     frequency_change: float
     frequency_change_std: float
     decay_change: float
     decay_change_std: float
     amplitude: tuple
+    coefficients: tuple = ()
+    coefficients_std: tuple = ()
 
     @property
     def nonlinear(self) -> bool:
@@ -87,12 +91,14 @@ def amplitude_dependence(z: np.ndarray, fs: float, bandwidth_hz: float, noise_rm
     n_eff = keep.size / fs * bandwidth_hz
     if n_eff < 8:
         return None
+    unwrapped = np.unwrap(np.angle(z[keep]))
+    step = max(1, int(fs / (4.0 * bandwidth_hz)))  # four samples per independent one suffice
+    keep, phase = keep[::step], unwrapped[::step]
     a = amplitude[keep]
     t = keep / fs
-    integral = np.concatenate([[0.0], np.cumsum(0.5 * (a[1:] ** 2 + a[:-1] ** 2) / fs)])
+    integral = np.concatenate([[0.0], np.cumsum(0.5 * (a[1:] ** 2 + a[:-1] ** 2) * np.diff(t))])
     design = np.column_stack([np.ones_like(t), t - t[0], integral])
     weights = a**2 / np.max(a**2)
-    phase = np.unwrap(np.angle(z[keep]))
     coef, cov = [], []
     for target in (np.log(a), phase):
         c, v = _weighted_line(design, target, weights, keep.size / n_eff)
@@ -105,8 +111,11 @@ def amplitude_dependence(z: np.ndarray, fs: float, bandwidth_hz: float, noise_rm
     frequency_std = np.sqrt(cov[1][2, 2]) * span / abs(omega0)
     decay_change = sigma2 * span / sigma0 if sigma0 > 0 else np.inf
     decay_std = np.sqrt(cov[0][2, 2]) * span / abs(sigma0) if sigma0 > 0 else np.inf
+    std = lambda c: float(np.sqrt(max(c, 0.0)))  # noqa: E731
     return AmplitudeDependence(float(frequency_change), float(frequency_std), float(decay_change),
-                               float(decay_std), (float(a.max()), float(a.min())))
+                               float(decay_std), (float(a.max()), float(a.min())),
+                               (float(omega0), float(omega2), float(sigma0), float(sigma2)),
+                               (std(cov[1][1, 1]), std(cov[1][2, 2]), std(cov[0][1, 1]), std(cov[0][2, 2])))
 
 
 def _weighted_line(design: np.ndarray, target: np.ndarray, weights: np.ndarray, correlation: float):

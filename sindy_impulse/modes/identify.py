@@ -28,7 +28,7 @@ from .band_fit import fit_band, fit_states, mode_of_states
 from .kinds import Kind, Reason
 from .linear import impulse_of, linear_amplitude, linear_mode, residue_of, shape_of, with_values_of
 from .result import Mode, Rejected
-from .signals import band_signal, deflated, free_decay, mode_bands
+from .signals import _noise_spectrum, band_signal, deflated, free_decay, mode_bands
 
 __all__ = ["identify_candidates"]
 
@@ -37,8 +37,9 @@ def identify_candidates(state) -> None:
     """One equation per mode: from its poles where linear, the paper's fit where not."""
     mode_bands(state)
     todo = [k for k, c in enumerate(state.candidates) if c.kind in (Kind.LINEAR, Kind.NONLINEAR)]
-    if todo:
-        deflated(state, todo[0])  # the components, once, before any worker copies the state
+    if todo:  # what every candidate reads, once, before any worker copies the state
+        deflated(state, todo[0])
+        _noise_spectrum(state)
     results = _map(state, todo, state.options.n_jobs)
     for outs in results:
         for j, out in outs:

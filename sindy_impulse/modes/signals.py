@@ -64,10 +64,15 @@ def deflated(state, k: int) -> np.ndarray:
     return out
 
 
-def _noise_spectrum(pre):
+def _noise_spectrum(state):
+    """The spectrum whose floor gives the noise in a band (the pre-trigger's when long enough, else the
+    decay fit's floor), once per record."""
     from ..preprocessing.pipeline import _noise_spectrum as spectrum
 
-    return spectrum(pre.y, pre.impact, pre.fs, pre.peaks)
+    if "_noise_spectrum" not in state.cache:
+        pre = state.pre
+        state.cache["_noise_spectrum"] = spectrum(pre.y, pre.impact, pre.fs, pre.peaks)
+    return state.cache["_noise_spectrum"]
 
 
 def band_signal(state, k: int, max_periods):
@@ -77,7 +82,7 @@ def band_signal(state, k: int, max_periods):
     from .survey import first_periods
 
     pre, band_hz = state.pre, state.candidates[k].band_hz
-    noise = band_noise_rms(_noise_spectrum(pre), band_hz)
+    noise = band_noise_rms(_noise_spectrum(state), band_hz)
     band = extract_band(deflated(state, k), pre.fs, band_hz, start=state.start, t0=pre.t0,
                         samples_per_period=state.options.samples_per_period, noise_rms=noise)
     return first_periods(band, max_periods)

@@ -447,7 +447,7 @@ def missing_peaks(fit: DecayFit, threshold_db: float, lo_hz: float = 0.0, hi_hz:
     if len(fit):
         away = np.min(np.abs(f[idx][:, None] - fit.damped_frequency_hz[None, :]), axis=1) > away_bins * df
         idx = idx[away]
-    idx = _apart(idx[np.argsort(-level[idx])], level)
+    idx = _apart(idx[np.argsort(-level[idx])][:_MOST_PEAKS], level)
     # start between bins (a parabola through the log power) and from the measured half-power width
     a, b, cc = (np.log(np.maximum(ratio[np.clip(idx + d, 0, ratio.size - 1)], 1e-300)) for d in (-1, 0, 1))
     curv = a - 2 * b + cc
@@ -456,6 +456,8 @@ def missing_peaks(fit: DecayFit, threshold_db: float, lo_hz: float = 0.0, hi_hz:
     return f[idx] + np.clip(shift, -0.5, 0.5) * df, 2 * np.pi * df * np.maximum(width - 0.5, 0.1)
 
 
+#: Highest local maxima of the residual examined (the search adds a few modes a round).
+_MOST_PEAKS = 64
 #: A weaker peak counts only where it stands this much (dB) over the skirt of a stronger one.
 _SKIRT_MARGIN_DB = 6.0
 

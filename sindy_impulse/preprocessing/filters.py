@@ -30,6 +30,7 @@ two modes 10 % apart, damping 1 %    5e-7 / 9e-5 / 39 / 4e-4            4e-6 / 9
 
 from __future__ import annotations
 
+import functools
 from numbers import Integral, Real
 
 import numpy as np
@@ -162,6 +163,12 @@ def transient_samples(fs: float, band_hz, *, method: str = "fft", order: int = 4
     check_param("method", method, _METHODS, "transient_samples")
     check_param("order", order, _ORDER, "transient_samples")
     check_param("tol", tol, [Interval(Real, 1e-9, 1, "neither")], "transient_samples")
+    return _transient(rate, band, method, order, tol)
+
+
+@functools.lru_cache(maxsize=4096)
+def _transient(rate: float, band: tuple, method: str, order: int, tol: float) -> int:
+    """:func:`transient_samples` once per filter (a survey asks for the same band several times)."""
     n = 2 * int(8.0 * rate / (band[1] - band[0])) + 1
     while True:
         h = np.abs(_impulse_response(rate, band, method, order, n))
