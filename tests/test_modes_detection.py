@@ -1,6 +1,5 @@
 """Detection on stable poles beside the spectral peaks, and harmonics decided from the data (issue 25)."""
 
-import types
 import warnings
 
 import numpy as np
@@ -8,72 +7,44 @@ import pytest
 
 from sindy_impulse import identify_modes, impact_record
 from sindy_impulse.modes._harmonics import MIN_EXPONENT, _near_order, harmonic_evidence
-from sindy_impulse.poles import stabilisation
-from sindy_impulse.preprocessing import preprocess
-from sindy_impulse.preprocessing.stable_poles import _splittable, with_stable_poles
 
 SEEDS = (0, 1, 2)
 
 
-def _completed(rec):
+def _survey(rec, **kws):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        pre = preprocess(rec.y, fs=rec.fs, quality_warnings=False)
-        table = stabilisation(pre.y[pre.impact.ringdown_index :], fs=pre.fs)
-        return pre, with_stable_poles(pre, table.modes(), len(table.orders))
+        return identify_modes(rec.y, fs=rec.fs, **kws)
 
 
 @pytest.mark.parametrize("seed", SEEDS)
-def test_a_close_pair_one_bandwidth_apart_is_two_peaks(seed):
+def test_a_close_pair_one_bandwidth_apart_is_two_modes(seed):
     """100 and 100.8 Hz at 0.4 and 0.3 % damping: 0.8 Hz apart, one half-power bandwidth of the first. The
-    spectrum shows one peak between them; the stable poles split it."""
+    spectrum shows one peak between them; the stable poles seed both and the decay fit resolves them."""
     rec = impact_record([100.0, 100.8], [0.004, 0.003], [1.0, 0.7], fs=1000.0, duration=4.0, snr_db=50,
                         pre_trigger=0.05, random_state=seed)
-    pre, (out, notes) = _completed(rec)
-    assert len(pre.peaks) == 1  # the case: one merged peak
-    assert len(out.peaks) == 2 and len(notes) == 2
-    assert np.allclose(out.peaks.frequency_hz, [100.0 * np.sqrt(1 - 0.004**2), 100.8 * np.sqrt(1 - 0.003**2)],
-                       rtol=5e-4)
-    assert np.allclose(out.peaks.damping_ratio, [0.004, 0.003], rtol=0.1)
-    assert [g for g, _ in out.groups] == [(0, 1)]  # fitted together in their joint band
+    survey = _survey(rec)
+    assert len(survey.preprocessing[0].peaks) == 2
+    assert np.allclose([m.frequency_hz for m in survey], rec.modes.frequency_hz, rtol=5e-4)
+    assert np.allclose([m.damping_ratio for m in survey], rec.modes.damping_ratio, rtol=0.1)
 
 
 @pytest.mark.parametrize("seed", SEEDS)
 def test_a_weak_mode_on_a_strong_ones_skirt_is_kept_and_nothing_is_added(seed):
     rec = impact_record([100.0, 102.5, 180.0], [0.004, 0.004, 0.002], [1.0, 0.05, 0.3], fs=1000.0,
                         duration=4.0, snr_db=60, pre_trigger=0.05, random_state=seed)
-    _, (out, _) = _completed(rec)
-    assert np.allclose(out.peaks.frequency_hz, rec.modes.frequency_hz, rtol=1e-3)
+    survey = _survey(rec)
+    assert np.allclose([m.frequency_hz for m in survey], rec.modes.frequency_hz, rtol=1e-3)
 
 
-def test_noise_alone_gains_no_peak_from_the_poles():
+def test_noise_alone_gives_no_mode():
     rng = np.random.default_rng(0)
     for seed in SEEDS:
         y = np.concatenate([np.zeros(200), np.random.default_rng(seed).standard_normal(3800)]) + 2.0
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            pre = preprocess(y + 1e-3 * rng.standard_normal(y.size), fs=1000.0, quality_warnings=False)
-            table = stabilisation(pre.y[pre.impact.ringdown_index :], fs=pre.fs)
-            out, notes = with_stable_poles(pre, table.modes(), len(table.orders))
-        assert len(out.peaks) == len(pre.peaks) and not notes
-
-
-def test_only_a_lone_peak_with_exactly_two_poles_is_split():
-    """Three or more poles trace a drifting frequency; a peak at 2 or 3 f of a lower one is left to the
-    harmonic test; a peak in a group of close peaks is left to the nonlinear merge."""
-    peaks = types.SimpleNamespace(frequency_hz=np.array([60.0, 100.0, 119.8, 300.0, 303.0]), groups=[(3, 4)])
-    assert _splittable(peaks, 1, [(99.8, 1.0), (100.2, 1.0)])
-    assert not _splittable(peaks, 1, [(99.6, 1.0), (100.0, 2.0), (100.4, 4.0)])
-    assert not _splittable(peaks, 2, [(119.6, 1.0), (120.0, 1.0)])
-    assert not _splittable(peaks, 3, [(299.8, 1.0), (300.2, 1.0)])
-
-
-def test_two_poles_at_one_frequency_a_slow_and_a_fast_decay_are_not_split():
-    """An amplitude-dependent damping gives a slow and a fast decay at one frequency: poles closer than the
-    wider one's half-power half-width are one mode (``partition.resolved``)."""
-    peaks = types.SimpleNamespace(frequency_hz=np.array([60.0, 100.0]), groups=[])
-    assert not _splittable(peaks, 1, [(99.9, 1.0), (100.1, 60.0)])
-    assert _splittable(peaks, 1, [(95.0, 1.0), (105.0, 60.0)])
+            survey = identify_modes(y + 1e-3 * rng.standard_normal(y.size), fs=1000.0)
+        assert len(survey) == 0
 
 
 @pytest.mark.parametrize("seed", [41, 43, 45])

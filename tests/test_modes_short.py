@@ -1,6 +1,6 @@
-"""Short, strongly damped records whose bands the band-pass transient would swallow (issue 25, family d):
-such a band is identified without band-pass from its stable pole, the other stable modes removed; its
-equation is fitted on the free decay (sindy_impulse/modes/_short.py)."""
+"""Short, strongly damped records whose bands the band-pass transient would swallow (family d): the decay
+fit of the free decay's spectrum has no transient, and a mode's states come from its free decay with the
+other components removed where no band keeps enough of it (sindy_impulse/modes/signals.py)."""
 
 import warnings
 
@@ -8,11 +8,7 @@ import numpy as np
 import pytest
 
 from sindy_impulse import identify_modes, impact_record
-from sindy_impulse.modes import _short
 from sindy_impulse.modes._states import free_decay_states
-from sindy_impulse.modes.band_fit import default_estimator
-from sindy_impulse.modes.result import Mode, pole_table
-from sindy_impulse.preprocessing import preprocess
 
 SEEDS = (0, 1, 2)
 
@@ -32,7 +28,7 @@ def _assert_modes(survey, rec, f_tol=0.005, z_tol=0.1):
 
 
 @pytest.mark.parametrize("seed", SEEDS)
-def test_two_short_bands_are_identified_from_their_stable_poles(seed):
+def test_two_short_modes_are_identified_without_a_band(seed):
     """Five periods of a 10.9 %-damped 24 Hz mode beside a 3.3 %-damped 48 Hz one (0.22 s): every band, and
     the pair's joint band, has too few periods left after the filter transient."""
     rec = impact_record([24.3466, 47.8707], [0.1092, 0.0331], [0.1143, 0.4314], fs=1000, duration=0.224,
@@ -40,8 +36,8 @@ def test_two_short_bands_are_identified_from_their_stable_poles(seed):
                         random_state=seed)
     survey = _survey(rec)
     _assert_modes(survey, rec)
-    assert sum("too short for the band-pass" in n for n in survey.notes) == 2
     assert not survey.rejected
+    assert all(np.isfinite(m.frequency_std_hz) and np.isfinite(m.damping_ratio_std) for m in survey)
 
 
 @pytest.mark.parametrize("seed", SEEDS)
@@ -53,7 +49,6 @@ def test_three_short_modes_of_family_d(seed):
                         pre_trigger=0.02939, offset=4.669, snr_db=50.5, random_state=seed)
     survey = _survey(rec)
     _assert_modes(survey, rec)
-    assert any("too short for the band-pass" in n for n in survey.notes)
 
 
 @pytest.mark.parametrize("seed", SEEDS)
@@ -132,19 +127,13 @@ def test_more_short_strongly_damped_records(config):
     _assert_every_mode_right(*_survey_config(config))
 
 
-def test_a_short_mode_reports_its_stable_pole_and_keeps_its_fitted_equation():
+def test_a_short_mode_keeps_an_equation_on_its_free_decay():
     rec = impact_record(**RECORD_4)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        pre = preprocess(rec.y, fs=rec.fs)
-        table = pole_table(pre)
-        stable = _short.stable_modes(table)
-        out = _short.fit_free_decay(pre, stable, stable[0], default_estimator())
-    assert isinstance(out, Mode)
-    assert (out.frequency_hz, out.damping_ratio) == (stable[0].frequency_hz, stable[0].damping_ratio)
-    assert "stable pole" in out.uncertainty_note
-    assert out.model.coefficients().shape[0] == 2 and out.states.shape[1] == 2  # the equation on [y, dy]
-    assert out.fit_error < 0.25
+    survey = _survey(rec)
+    for mode in survey.modes:
+        assert mode.model.coefficients().shape[0] == 2 and mode.states.shape[1] == 2  # on [y, dy]
+        assert mode.fit_error < 0.25
+        assert np.isfinite(mode.frequency_std_hz) and np.isfinite(mode.damping_ratio_std)
 
 
 def test_free_decay_states_keep_the_pole():
@@ -164,16 +153,3 @@ def test_free_decay_states_keep_the_pole():
     (k, c), *_ = np.linalg.lstsq(-x[inner], x_dot[inner, 1], rcond=None)
     assert np.sqrt(k) == pytest.approx(w, rel=5e-3)
     assert c / (2 * np.sqrt(k)) == pytest.approx(zeta, rel=1e-2)
-
-
-def test_a_stable_pole_the_fitted_equation_disagrees_with_is_refused():
-    # two stable poles, but the target removed from the record: what is left cannot be its oscillator
-    rec = impact_record(**RECORD_11)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        pre = preprocess(rec.y, fs=rec.fs)
-        stable = _short.stable_modes(pole_table(pre))
-        lone = _short.only(pre, stable, stable[0])  # only the 110 Hz mode left
-        out = _short.fit_free_decay(lone, [stable[1]], stable[1], default_estimator())
-    assert not isinstance(out, Mode)
-    assert "free decay" in out.reason

@@ -35,8 +35,10 @@ FREQUENCY_CHANGE = 1e-3
 #: ... or whose decay rate changes by more than this (relative to its small-amplitude value): damping
 #: ratios are read to about 10 %.
 DECAY_CHANGE = 0.1
-#: ... either change standing this many standard errors from zero.
+#: ... either change standing this many standard errors from zero, ...
 CHANGE_SIGMAS = 3.0
+#: ... over at least this many periods of the mode.
+MIN_PERIODS = 10.0
 
 
 @dataclass(frozen=True)
@@ -65,10 +67,13 @@ class AmplitudeDependence:
 
 
 def amplitude_dependence(z: np.ndarray, fs: float, bandwidth_hz: float, noise_rms: float,
-                         min_snr_db: float = 10.0) -> AmplitudeDependence | None:
+                         min_snr_db: float = 10.0, frequency_hz: float | None = None
+                         ) -> AmplitudeDependence | None:
     """The changes of a mode's frequency and decay rate with its amplitude (see the module), from its
     analytic signal ``z`` (transients trimmed) of band ``bandwidth_hz`` wide, used down to ``min_snr_db``
-    over the band's noise ``noise_rms``. None when fewer than 8 independent samples remain.
+    over the band's noise ``noise_rms``. None when fewer than 8 independent samples, or (given the mode's
+    ``frequency_hz``) fewer than :data:`MIN_PERIODS` of its periods remain: too short a decay to tell an
+    amplitude dependence from a start that is not yet free.
 
     Examples
     --------
@@ -89,7 +94,7 @@ def amplitude_dependence(z: np.ndarray, fs: float, bandwidth_hz: float, noise_rm
         return None
     keep = np.arange(keep[0], keep[-1] + 1)
     n_eff = keep.size / fs * bandwidth_hz
-    if n_eff < 8:
+    if n_eff < 8 or (frequency_hz is not None and keep.size / fs * frequency_hz < MIN_PERIODS):
         return None
     unwrapped = np.unwrap(np.angle(z[keep]))
     step = max(1, int(fs / (4.0 * bandwidth_hz)))  # four samples per independent one suffice

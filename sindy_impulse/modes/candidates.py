@@ -37,6 +37,9 @@ __all__ = ["Candidate", "read_record", "stable_poles", "fit_candidates", "PERSIS
 #: A stable mode of the diagram is a candidate when found at this share of its orders or more (noise poles
 #: that pass the stability rule by chance recur at a few orders).
 PERSISTENCE = 0.5
+#: ... and a stable mode found at this share of its orders or more seeds the decay fit (which keeps it only
+#: if it stands out of the noise): a strongly damped mode beside a lightly damped one stabilises late.
+SEED_PERSISTENCE = 0.25
 #: The diagram is computed on at most this many samples of the free decay (the classical baseline's
 #: window): enough periods of the lowest modes, a bounded cost on long records.
 POLE_SAMPLES = 20_000
@@ -196,14 +199,27 @@ def persistent_modes(table) -> list:
             if m.n_orders >= PERSISTENCE * len(table.orders) and m.damping_ratio < MAX_DAMPING]
 
 
+def _pole_seeds(table) -> tuple[list, list]:
+    """The stable modes found at :data:`SEED_PERSISTENCE` of the orders or more, strongest first, one per
+    half-power band (a mode's poles may make two clusters): damped frequencies and decay rates."""
+    found = [m for m in table.modes() if m.n_orders >= SEED_PERSISTENCE * len(table.orders)
+             and m.damping_ratio < MAX_DAMPING]
+    f, s = [], []
+    for m in sorted(found, key=lambda m: -m.n_orders):
+        fd = m.frequency_hz * np.sqrt(1 - m.damping_ratio**2)
+        sigma = 2 * np.pi * m.frequency_hz * m.damping_ratio
+        if all(abs(fd - g) > (sigma + t) / (2 * np.pi) for g, t in zip(f, s)):
+            f.append(fd)
+            s.append(sigma)
+    return f, s
+
+
 def _seeds(state) -> tuple[np.ndarray, np.ndarray]:
-    """Starting poles: the persistent stable modes, then the spectral peaks no pole explains (farther from
-    every pole than their joint half-power band and two bins); with given bands, the poles inside each
-    band, else its peak."""
+    """Starting poles: the stable modes (:func:`_pole_seeds`), then the spectral peaks no pole explains
+    (farther from every pole than their joint half-power band and two bins); with given bands, the poles
+    inside each band, else its peak."""
     pre, fs = state.pre, state.pre.fs
-    stable = persistent_modes(state.poles)
-    f = [m.frequency_hz * np.sqrt(1 - m.damping_ratio**2) for m in stable]
-    s = [2 * np.pi * m.frequency_hz * m.damping_ratio for m in stable]
+    f, s = _pole_seeds(state.poles)
     resolution = fs / max(pre.y.size - pre.impact.ringdown_index, 1)
     peaks = pre.peaks
     if state.options.bands is not None:

@@ -142,7 +142,8 @@ def _amplitude_dependent(state) -> None:
         except ValueError:
             continue
         noise = c.noise_std * np.sqrt(2 * (band[1] - band[0]) / fs)
-        e = amplitude_dependence(z, fs, band[1] - band[0], noise) if z.size else None
+        width = band[1] - band[0]
+        e = amplitude_dependence(z, fs, width, noise, frequency_hz=c.frequency_hz) if z.size else None
         c.evidence["amplitude_dependence"] = e
         if e is not None and e.nonlinear:
             c.kind = Kind.NONLINEAR

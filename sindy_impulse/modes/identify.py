@@ -136,8 +136,7 @@ def _free_decay_fit(state, k: int):
     amplitude = linear_amplitude(state, cand)
     return mode_of_states(model, states, t, cand.band_hz, state.index, frequency_hz=frequency,
                           damping_ratio=zeta, fit_error=fit_error, amplitude=amplitude,
-                          shape=shape_of(state, cand), residue=residue_of(state, cand, amplitude),
-                          snr_db=float(cand.height_db))
+                          shape=shape_of(state, cand), residue=residue_of(state, cand, amplitude))
 
 
 def _linear_instead(state, k: int, why: str):
