@@ -36,7 +36,8 @@ def test_a_weak_mode_is_within_the_marks_with_its_standard_deviations(seed):
     assert weak.damping_ratio == pytest.approx(rec.modes.damping_ratio[0], rel=0.1)
     strong = _found(survey, 1092.4)
     assert strong.damping_ratio == pytest.approx(rec.modes.damping_ratio[1], rel=0.1)
-    assert weak.source == "poles" and np.isfinite(weak.frequency_std_hz) and np.isfinite(weak.damping_ratio_std)
+    assert weak.source == "poles"
+    assert np.isfinite(weak.frequency_std_hz) and np.isfinite(weak.damping_ratio_std)
     frequencies, damping = modal_parameters(weak.model)
     assert frequencies[0] == pytest.approx(weak.frequency_hz, rel=1e-9)
     assert damping[0] == pytest.approx(weak.damping_ratio, rel=1e-9)
