@@ -169,26 +169,34 @@ def _runs(cands: list, kinds: tuple, joined) -> list:
 
 
 def _merge(cands: list, run: list, evidence: str) -> None:
-    """The strongest of ``run`` stands for it as a nonlinear mode; the others are merged into it."""
+    """The strongest of ``run`` stands for it as a nonlinear mode; the others (and what was merged into
+    them) are merged into it."""
     head = max(run, key=lambda k: abs(cands[k].amplitude[0]))
     cands[head].kind = Kind.NONLINEAR
-    cands[head].evidence[evidence] = [k for k in run if k != head]
-    for k in run:
-        if k != head:
-            cands[k].kind, cands[k].parent = Kind.MERGED, head
+    members = [k for k in run if k != head]
+    members += [j for j, c in enumerate(cands) if c.kind is Kind.MERGED and c.parent in members]
+    cands[head].evidence[evidence] = sorted(set(cands[head].evidence.get(evidence, [])) | set(members))
+    for k in members:
+        cands[k].kind, cands[k].parent = Kind.MERGED, head
 
 
 def _unconfirmed(cands: list) -> None:
-    """Runs of overlapping linear neighbours none of which the stabilisation diagram confirms (its poles
-    wander with the model order: a frequency that moves along the decay): one nonlinear mode to be tested
-    as such (``evidence["unconfirmed"]``: :mod:`.identify` keeps them apart when one oscillator does not
-    need nonlinear terms to reproduce them)."""
+    """Runs of close neighbours (within :data:`CLOSE` times their half-power half-widths) that the
+    stabilisation diagram does not confirm as modes of their own (its poles wander with the model order: a
+    frequency that moves along the decay): two unconfirmed ones, or one beside a nonlinear mode. Beside a
+    nonlinear mode they are pieces of it; a run of linear ones is one nonlinear mode to be tested as such
+    (``evidence["unconfirmed"]``: :mod:`.identify` keeps them apart when one oscillator does not need
+    nonlinear terms to reproduce them)."""
     def joined(a, b) -> bool:
         width = a.damping_ratio * a.frequency_hz + b.damping_ratio * b.frequency_hz
-        return b.frequency_hz - a.frequency_hz < CLOSE * width and not (a.stable or b.stable)
+        if not b.frequency_hz - a.frequency_hz < CLOSE * width:
+            return False
+        beside = (a.kind is Kind.NONLINEAR and not b.stable) or (b.kind is Kind.NONLINEAR and not a.stable)
+        return beside or not (a.stable or b.stable)
 
-    for run in _runs(cands, (Kind.LINEAR,), joined):
-        _merge(cands, run, "unconfirmed")
+    for run in _runs(cands, (Kind.LINEAR, Kind.NONLINEAR), joined):
+        nonlinear = any(cands[k].kind is Kind.NONLINEAR for k in run)
+        _merge(cands, run, "pieces" if nonlinear else "unconfirmed")
 
 
 def _pieces(cands: list) -> None:

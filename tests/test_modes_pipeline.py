@@ -1,0 +1,117 @@
+"""The survey as a declared pipeline (sindy_impulse/modes/pipeline.py, survey.py): its stages, the trace,
+the kinds and codes of the candidates, every mode's standard deviations, parallel bands."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+from sindy_impulse import identify_modes, impact_record
+from sindy_impulse.modes.kinds import Kind, Reason
+from sindy_impulse.modes.pipeline import Pipeline, Stage, StageTrace, SurveyTrace
+from sindy_impulse.modes.survey import SURVEY
+from sindy_impulse.optimizers.fixed import FixedCoefficients
+from sindy_impulse.poles import modal_parameters
+
+
+def _survey(y, fs, **kws):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return identify_modes(y, fs=fs, **kws)
+
+
+@pytest.fixture(scope="module")
+def three_modes():
+    rec = impact_record([118.0, 243.0, 402.0], [0.002, 0.004, 0.008], amplitudes=[1.0, 0.5, 0.3], fs=5000.0,
+                        duration=2.0, offset=2.0, snr_db=45, random_state=7)
+    return rec, _survey(rec.y, rec.fs)
+
+
+def test_the_survey_is_a_declared_list_of_stages():
+    assert [s.name for s in SURVEY] == ["read", "poles", "candidates", "classify", "identify", "reconcile"]
+    text = repr(SURVEY)
+    assert text.startswith("Pipeline of 6 stages") and all(s.summary in text for s in SURVEY)
+    with pytest.raises(ValueError, match="unique"):
+        Pipeline([Stage("a", print), Stage("a", print)])
+
+
+def test_the_trace_holds_every_stage_with_its_time_and_decisions(three_modes):
+    _, survey = three_modes
+    assert [t.stage for t in survey.trace] == [s.name for s in SURVEY]
+    assert all(t.seconds >= 0 and t.decisions for t in survey.trace)
+    assert set(survey.trace.seconds()) == {s.name for s in SURVEY}
+    assert "candidates" in str(survey.trace)
+    assert str(SurveyTrace([StageTrace("x", 1, 0.5, [])])) == "record 1  x              500.0 ms  -"
+
+
+def test_linear_modes_come_from_their_poles_with_standard_deviations(three_modes):
+    rec, survey = three_modes
+    assert np.allclose([m.frequency_hz for m in survey], rec.modes.frequency_hz, rtol=1e-3)
+    for mode in survey:
+        assert mode.source == "poles"
+        assert np.isfinite(mode.frequency_std_hz) and mode.frequency_std_hz > 0
+        assert np.isfinite(mode.damping_ratio_std) and mode.damping_ratio_std > 0
+        f, zeta = modal_parameters(mode.model)  # the equation carries the reported values
+        assert f[0] == pytest.approx(mode.frequency_hz, rel=1e-9)
+        assert zeta[0] == pytest.approx(mode.damping_ratio, rel=1e-9)
+        std = mode.coefficients_std
+        assert std.shape == mode.model.coefficients().shape and np.isfinite(std[1, :2]).all()
+
+
+def test_bands_in_parallel_give_the_serial_result(three_modes):
+    rec, serial = three_modes
+    parallel = _survey(rec.y, rec.fs, n_jobs=2)
+    assert [m.frequency_hz for m in parallel] == [m.frequency_hz for m in serial]
+    assert [m.damping_ratio_std for m in parallel] == [m.damping_ratio_std for m in serial]
+    with pytest.raises(ValueError, match="n_jobs"):
+        identify_modes(rec.y, fs=rec.fs, n_jobs=0)
+
+
+def test_hum_is_named_a_tone_not_reported_as_a_mode():
+    """50 Hz hum at 5 % of the peak over a lightly damped two-mode record: a tone, with its code."""
+    rec = impact_record([31.0, 87.0], [0.004, 0.003], fs=2000.0, duration=3.0, snr_db=50, pre_trigger=0.05,
+                        random_state=3)
+    t = np.arange(rec.y.size) / rec.fs
+    hum = 0.05 * np.max(np.abs(rec.y - np.median(rec.y))) * np.sin(2 * np.pi * 50.0 * t + 0.4)
+    survey = _survey(rec.y + hum, rec.fs)
+    assert np.allclose(sorted(m.frequency_hz for m in survey), rec.modes.frequency_hz, rtol=1e-3)
+    tones = [r for r in survey.rejected if r.code is Reason.TONE]
+    assert len(tones) == 1 and tones[0].band_hz[0] < 50.0 < tones[0].band_hz[1]
+    assert "tone" in tones[0].reason
+
+
+@pytest.mark.parametrize("shift", [0.06, -0.06])
+def test_a_cubic_spring_is_one_mode_fitted_by_the_papers_model(shift):
+    """A hardening or softening spring moving the frequency squared by 6 % at the hit: its chirp's pieces
+    are one mode, whose equation carries the cubic term with the right sign and size."""
+    k3 = 4 / 3 * shift * (2 * np.pi * 60.0) ** 2  # displacement amplitude 1 at the hit
+    rec = impact_record(60.0, 0.01, fs=2000.0, duration=3.0, snr_db=50, sensor="displacement",
+                        cubic_stiffness=k3, random_state=0)
+    survey = _survey(rec.y, rec.fs)
+    assert len(survey) == 1
+    mode = survey.modes[0]
+    assert mode.source == "equation"
+    assert mode.frequency_hz == pytest.approx(60.0, rel=0.003)
+    assert mode.damping_ratio == pytest.approx(0.01, rel=0.1)
+    cubic = dict(zip(mode.model.get_feature_names(), mode.model.coefficients()[1]))["y^3"]
+    assert -cubic == pytest.approx(k3, rel=0.2)
+    assert all(r.code in (Reason.HARMONIC, None) for r in survey.rejected)
+
+
+def test_kinds_and_reasons_have_words():
+    assert all(k.words for k in Kind) and all(r.words for r in Reason)
+    assert Reason("tone") is Reason.TONE
+
+
+def test_fixed_coefficients_must_fit_the_library():
+    import pysindy as ps
+
+    from sindy_impulse import ImpulseSINDy
+
+    t = np.arange(100) * 0.01
+    x = np.column_stack([np.cos(t), -np.sin(t)])
+    model = ImpulseSINDy(optimizer=FixedCoefficients([[1.0, 0.0, 0.0]]),
+                         feature_library=ps.PolynomialLibrary(degree=1, include_bias=False), sweep=False,
+                         refine=False)
+    with pytest.raises(ValueError, match="do not match"):
+        model.fit(x, t=t)
