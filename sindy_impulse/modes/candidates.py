@@ -22,7 +22,7 @@ from numbers import Integral
 import numpy as np
 
 from .._utils.params import Interval, check_param
-from ..poles.decay_fit import MAX_DAMPING, REACH, fit_decay, missing_peaks
+from ..poles.decay_fit import MAX_DAMPING, fit_decay, missing_peaks
 from ..preprocessing.partition import peak_bands
 from ..preprocessing.peaks import SpectralPeaks, spectral_peaks
 from ..preprocessing.pipeline import prepare_record
@@ -47,7 +47,7 @@ POLE_SAMPLES = 20_000
 #: tail, a trend the offset left), not a mode.
 TRANSIENT = 0.95
 #: Rounds of the search for modes the fit misses, and new modes per round at most.
-ROUNDS, NEW_PER_ROUND = 4, 4
+ROUNDS, NEW_PER_ROUND = 4, 8
 #: A mode whose lack of fit is this improbable from noise alone is not explained by a linear decay.
 NONLINEAR_P = 1e-6
 #: ... and its residual at least this many times the noise (a small, significant misfit of a strong mode
@@ -248,13 +248,20 @@ def _ring(state) -> np.ndarray:
     return np.column_stack(columns)
 
 
+#: What the fit leaves is not searched within this many half-power half-widths (and this share of the
+#: frequency) of a mode it does not explain: a chirp or a changing decay rate spreads there.
+MISFIT_REACH, MISFIT_SHARE = 20.0, 0.04
+
+
 def _searched(fit, lo: float, hi: float, threshold_db: float) -> tuple[np.ndarray, np.ndarray]:
-    """Peaks of what the fit leaves, away from the reach of modes it does not explain."""
+    """Peaks of what the fit leaves, away from the modes it does not explain (:data:`MISFIT_REACH`)."""
     f, s = missing_peaks(fit, threshold_db, lo, hi)
     misfit = [k for k in range(len(fit)) if fit.lack_of_fit_p[k] < NONLINEAR_P]
     for k in misfit:
-        reach = max(REACH * fit.decay_rate[k] / (2 * np.pi), 8 * fit.fs / fit.n_samples)
-        away = np.abs(f - fit.damped_frequency_hz[k]) > reach
+        fk = fit.damped_frequency_hz[k]
+        width = fit.decay_rate[k] / (2 * np.pi)
+        reach = max(MISFIT_REACH * width, MISFIT_SHARE * fk, 8 * fit.fs / fit.n_samples)
+        away = np.abs(f - fk) > reach
         f, s = f[away], s[away]
     return f[:NEW_PER_ROUND], s[:NEW_PER_ROUND]
 

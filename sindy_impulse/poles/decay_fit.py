@@ -37,10 +37,10 @@ from ..preprocessing.noise_floor import noise_floor
 __all__ = ["DecayFit", "fit_decay", "missing_peaks", "REACH"]
 
 #: Bins within this many half-power half-widths (``sigma / 2 pi`` Hz) of a mode are fitted ...
-REACH = 12.0
+REACH = 8.0
 #: ... and at least this many bins on each side of it (a resolution-limited mode's leakage), at most
 #: :data:`MAX_BINS` (a strongly damped mode on a long record: the far bins add little).
-MIN_BINS, MAX_BINS = 8, 512
+MIN_BINS, MAX_BINS = 8, 256
 #: Largest damping ratio of a fitted mode: a faster decay is a transient, not a vibration.
 MAX_DAMPING = 0.3
 #: Bins within this many half-power half-widths of a mode (at least :data:`CORE_BINS`) hold its lack of fit.
@@ -179,14 +179,17 @@ class _Problem:
         return np.concatenate([jac.real, jac.imag])
 
 
-#: Relative decrease of the cost below which the iterations stop.
-_RTOL = 1e-10
+#: Decrease of the cost (a chi-square: the residual's real and imaginary parts have unit variance), in units
+#: of its reduced value where that exceeds 1 (a misfit widens the standard deviations alike), below which the
+#: iterations stop: a step that lowers it by less moves the parameters by a few hundredths of their
+#: standard deviations.
+_ATOL = 1e-3
 
 
 def _levenberg_marquardt(problem, x, lower, upper, k: int, max_nfev: int) -> np.ndarray:
     """Levenberg-Marquardt steps on the normal equations (scaled by their diagonal), each step clipped to
-    the bounds; stops when the cost no longer falls by :data:`_RTOL` of itself or after ``max_nfev``
-    evaluations of the residual."""
+    the bounds; stops when the cost no longer falls by :data:`_ATOL` (times the reduced chi-square where it
+    exceeds 1) or after ``max_nfev`` evaluations of the residual."""
     r = problem.residual(x, k)
     cost, damping, evaluations = float(r @ r), 1e-3, 1
     while evaluations < max_nfev:
@@ -211,7 +214,7 @@ def _levenberg_marquardt(problem, x, lower, upper, k: int, max_nfev: int) -> np.
                 damping = max(damping / 10.0, 1e-12)
                 break
             damping *= 10.0
-        if not improved or drop <= _RTOL * cost:
+        if not improved or drop <= _ATOL * max(1.0, cost / max(r.size - x.size, 1)):
             break
     return x
 
@@ -307,42 +310,104 @@ def fit_decay(y, fs: float, damped_frequency_hz, decay_rate, *, noise=None, reac
         return _fit(spectrum, P, power, fs, n, f0, s0, reach, max_nfev, passes, estimate)
 
 
+def _clusters(ranges: list) -> list:
+    """Groups of modes whose bins overlap (transitively), by index."""
+    order = sorted(range(len(ranges)), key=lambda k: ranges[k][0])
+    groups, top = [], -1
+    for k in order:
+        if ranges[k][0] > top:
+            groups.append([])
+        groups[-1].append(k)
+        top = max(top, ranges[k][-1])
+    return groups
+
+
+#: Sweeps over the clusters of overlapping modes, each fitted with the others held (their leak into its
+#: bins falls as the distance: a second sweep settles what the first moved).
+SWEEPS = 2
+
+
 def _fit(spectrum, P, noise, fs, n, f0, s0, reach, max_nfev, passes, estimate) -> DecayFit:
     """``passes`` fits, each from the last with the noise floor of what the last one left (``estimate``:
     else the noise stays as given); the first with ``noise`` (the floor of the record's spectrum, which
-    the modes' skirts may raise, or a known level)."""
+    the modes' skirts may raise, or a known level). Modes whose bins overlap are fitted together, each
+    cluster with the other clusters' modes held fixed (:data:`SWEEPS`): the cost of a fit grows with the
+    modes' bins, not with the square of their number."""
     k = f0.size
-    bins = _bins(f0, s0, n, fs, reach, MIN_BINS)
-    scale = float(np.sqrt(np.mean(P[bins]))) + np.finfo(float).tiny  # the parameters near 1
-    q = np.exp(-2j * np.pi * bins / n)
+    ranges = [_bins([f], [s], n, fs, reach, MIN_BINS) for f, s in zip(f0, s0)]
+    clusters = _clusters(ranges)
+    scale = float(np.sqrt(np.mean(P[np.concatenate(ranges)]))) + np.finfo(float).tiny  # parameters near 1
     omega0 = 2 * np.pi * f0
     lo, hi = _bounds(omega0, s0, fs, n)
-    lower = np.concatenate([np.zeros(k), lo, np.full(2 * k, -np.inf)])
-    upper = np.concatenate([MAX_DAMPING / np.sqrt(1 - MAX_DAMPING**2) * hi, hi, np.full(2 * k, np.inf)])
-    x, Y = None, spectrum[bins, 0] / scale
+    fastest = MAX_DAMPING / np.sqrt(1 - MAX_DAMPING**2) * hi
+    bounds = (np.concatenate([np.zeros(k), lo]), np.concatenate([fastest, hi]))
+    sigma, omega, g = np.maximum(s0, 1e-9 * omega0), omega0.copy(), np.zeros(k, complex)
+    first = True
     for _ in range(passes):
-        w = np.sqrt(2.0 / noise[bins]) * scale  # unit variance per real and imaginary part
-        problem = _Problem(Y, bins, n, fs, w)
-        if x is None:
-            g0 = _amplitudes(Y, *_design((-s0 + 1j * omega0) / fs, q), w)
-            start = np.concatenate([np.maximum(s0, 1e-9 * omega0), omega0, g0.real, g0.imag])
-            x = np.clip(start, lower, upper)
-        x = _levenberg_marquardt(problem, x, lower, upper, k, max_nfev)
-        sigma, omega, g = _unpack(x, k)
+        for _sweep in range(SWEEPS if len(clusters) > 1 else 1):
+            for c in clusters:
+                sigma[c], omega[c], g[c] = _fit_cluster(spectrum[:, 0] / scale, noise / scale**2, ranges, c,
+                                                        (sigma, omega, g), bounds, fs, n, max_nfev, first)
+            first = False
         full = _all_bins_residual(spectrum[:, 0], sigma, omega, g * scale, fs, n)
         if estimate:
             fitted_noise = _noise_power(np.abs(full) ** 2, fs, n, omega / (2 * np.pi), sigma)
             if passes > 1:
                 noise = fitted_noise
-    w = np.sqrt(2.0 / noise[bins]) * scale
-    jac = _Problem(Y, bins, n, fs, w).jacobian(x, k)
-    a, b = _design((-sigma + 1j * omega) / fs, q)
+    cov = np.zeros((2 * k, 2 * k))
+    for c in clusters:
+        cov[np.ix_(c + [k + i for i in c], c + [k + i for i in c])] = _cluster_covariance(
+            spectrum[:, 0] / scale, noise / scale**2, ranges, c, (sigma, omega, g), fs, n)
     g_all = g[:, None] * scale
     if spectrum.shape[1] > 1:  # the other channels: their own amplitudes at the reference's poles
+        bins = np.unique(np.concatenate(ranges))
+        a, b = _design((-sigma + 1j * omega) / fs, np.exp(-2j * np.pi * bins / n))
         g_all = np.column_stack([g_all[:, 0], _amplitudes(spectrum[bins, 1:], a, b, np.ones(bins.size))])
-    residual = spectrum[bins, 0] - (a @ g + b @ np.conj(g)) * scale
-    return _result(sigma, omega, g_all, jac, bins, residual, noise, full, fs, n,
-                   fitted_noise if estimate else noise)
+    return _result(sigma, omega, g_all, cov, noise, full, fs, n, fitted_noise if estimate else noise)
+
+
+def _cluster_problem(Y, noise, ranges, c, params, fs, n):
+    """The weighted problem of cluster ``c``: its modes' bins, the other modes' spectrum subtracted."""
+    sigma, omega, g = params
+    bins = np.unique(np.concatenate([ranges[i] for i in c]))
+    q = np.exp(-2j * np.pi * bins / n)
+    rest = [i for i in range(sigma.size) if i not in c]
+    target = Y[bins]
+    if rest:
+        a, b = _design((-sigma[rest] + 1j * omega[rest]) / fs, q)
+        target = target - a @ g[rest] - b @ np.conj(g[rest])
+    return _Problem(target, bins, n, fs, np.sqrt(2.0 / noise[bins])), q
+
+
+def _fit_cluster(Y, noise, ranges, c, params, bounds, fs, n, max_nfev, first):
+    """Levenberg-Marquardt on cluster ``c``'s modes (amplitudes from least squares the first time)."""
+    sigma, omega, g = params
+    k, m = len(c), sigma.size
+    problem, q = _cluster_problem(Y, noise, ranges, c, params, fs, n)
+    if first:
+        g0 = _amplitudes(problem.Y, *_design((-sigma[c] + 1j * omega[c]) / fs, q), problem.w)
+    else:
+        g0 = g[c]
+    idx = np.array(c)
+    lower = np.concatenate([bounds[0][idx], bounds[0][m + idx], np.full(2 * k, -np.inf)])
+    upper = np.concatenate([bounds[1][idx], bounds[1][m + idx], np.full(2 * k, np.inf)])
+    x = np.clip(np.concatenate([sigma[idx], omega[idx], g0.real, g0.imag]), lower, upper)
+    x = _levenberg_marquardt(problem, x, lower, upper, k, max_nfev)
+    return _unpack(x, k)
+
+
+def _cluster_covariance(Y, noise, ranges, c, params, fs, n) -> np.ndarray:
+    """Covariance of cluster ``c``'s decay rates and damped angular frequencies (unit-variance weights:
+    the inverse of the Fisher information), in the order (sigma of ``c``, omega of ``c``)."""
+    sigma, omega, g = params
+    problem, _ = _cluster_problem(Y, noise, ranges, c, params, fs, n)
+    idx = np.array(c)
+    x = np.concatenate([sigma[idx], omega[idx], g[idx].real, g[idx].imag])
+    jac = problem.jacobian(x, len(c))
+    try:
+        return np.linalg.pinv(jac.T @ jac)[: 2 * len(c), : 2 * len(c)]
+    except np.linalg.LinAlgError:
+        return np.full((2 * len(c), 2 * len(c)), np.nan)
 
 
 def _all_bins_residual(spectrum, sigma, omega, g, fs, n) -> np.ndarray:
@@ -391,12 +456,9 @@ def _natural(sigma, omega, cov, chi) -> tuple[np.ndarray, ...]:
     return wn, sigma / wn, root(np.maximum(var_wn, 0)), root(np.maximum(var_z, 0)), root(np.maximum(var_s, 0))
 
 
-def _result(sigma, omega, g, jac, bins, residual, noise, full, fs, n, noise_out) -> DecayFit:
-    try:
-        cov = np.linalg.pinv(jac.T @ jac)[: 2 * sigma.size, : 2 * sigma.size]
-    except np.linalg.LinAlgError:
-        cov = np.full((2 * sigma.size,) * 2, np.nan)
-    lof, lof_p, chi = _core_statistics(np.abs(residual) ** 2 / noise[bins], bins, sigma, omega, fs, n)
+def _result(sigma, omega, g, cov, noise, full, fs, n, noise_out) -> DecayFit:
+    bins = np.unique(_bins(omega / (2 * np.pi), sigma, n, fs, REACH, MIN_BINS))
+    lof, lof_p, chi = _core_statistics(np.abs(full[bins]) ** 2 / noise[bins], bins, sigma, omega, fs, n)
     wn, zeta, wn_std, zeta_std, sigma_std = _natural(sigma, omega, cov, chi)
     c = g / (1.0 - np.exp((-sigma + 1j * omega) / fs) ** n)[:, None]
     height = _heights(c[:, 0], sigma, omega, fs, n, noise)
