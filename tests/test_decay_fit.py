@@ -51,7 +51,8 @@ def test_a_chirp_is_not_explained_by_a_linear_decay():
     a = np.exp(-1.0 * T)
     chirp = a * np.cos(2 * np.pi * (50.0 * T + 0.5 * (1 - a**2) / 2.0))  # 1 % higher at the start
     rng = np.random.default_rng(0)
-    linear = fit_decay(a * np.cos(2 * np.pi * 50.0 * T) + 1e-3 * rng.standard_normal(T.size), FS, [50.0], [1.0])
+    clean = a * np.cos(2 * np.pi * 50.0 * T)
+    linear = fit_decay(clean + 1e-3 * rng.standard_normal(T.size), FS, [50.0], [1.0])
     nonlinear = fit_decay(chirp + 1e-3 * rng.standard_normal(T.size), FS, [50.0], [1.0])
     assert linear.lack_of_fit_p[0] > 1e-3
     assert nonlinear.lack_of_fit_p[0] < 1e-6 and nonlinear.lack_of_fit[0] > 10
@@ -59,7 +60,8 @@ def test_a_chirp_is_not_explained_by_a_linear_decay():
 
 def test_a_missed_mode_is_found_in_what_the_fit_leaves():
     rng = np.random.default_rng(1)
-    y = np.exp(-1.0 * T) * np.cos(2 * np.pi * 50.0 * T) + 0.01 * np.exp(-2.0 * T) * np.cos(2 * np.pi * 80.0 * T)
+    y = np.exp(-1.0 * T) * np.cos(2 * np.pi * 50.0 * T)
+    y += 0.01 * np.exp(-2.0 * T) * np.cos(2 * np.pi * 80.0 * T)
     fit = fit_decay(y + 1e-4 * rng.standard_normal(T.size), FS, [50.0], [1.0])
     found, decay = missing_peaks(fit, 15.0)
     assert found.size == 1 and found[0] == pytest.approx(80.0, abs=0.3) and decay[0] > 0

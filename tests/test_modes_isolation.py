@@ -10,7 +10,8 @@ import pytest
 
 from sindy_impulse import identify_modes, impact_record
 from sindy_impulse.exceptions import NoDynamicsWarning
-from sindy_impulse.modes import Rejected, band_fit, survey
+from sindy_impulse.modes import Rejected, band_fit, linear, survey
+from sindy_impulse.modes.pipeline import Pipeline, Stage
 
 FS = 2048.0
 
@@ -43,8 +44,28 @@ def _failing_above(hz, error=None):
     return states
 
 
+def _break_states(monkeypatch, states):
+    """Every route's band states fail alike (a linear mode's and the paper's fit's)."""
+    for module in (band_fit, linear):
+        monkeypatch.setattr(module, "derivative_states", states)
+
+
+def _break_record(monkeypatch, failing):
+    """The survey's ``candidates`` stage raises ``failing(state)`` when it gives an exception."""
+    original = next(s.run for s in survey.SURVEY if s.name == "candidates")
+
+    def run(state):
+        error = failing(state)
+        if error is not None:
+            raise error
+        original(state)
+
+    stages = [Stage(s.name, run) if s.name == "candidates" else s for s in survey.SURVEY]
+    monkeypatch.setattr(survey, "SURVEY", Pipeline(stages))
+
+
 def test_a_failing_band_becomes_a_rejected_row_and_the_other_mode_stands(monkeypatch):
-    monkeypatch.setattr(band_fit, "derivative_states", _failing_above(130.0))
+    _break_states(monkeypatch, _failing_above(130.0))
     result = _survey(_record().y)
     assert [round(m.frequency_hz) for m in result.modes] == [80]
     failed = [r for r in result.rejected if r.evidence]
@@ -55,7 +76,7 @@ def test_a_failing_band_becomes_a_rejected_row_and_the_other_mode_stands(monkeyp
 
 
 def test_every_band_failing_gives_an_empty_table_and_a_warning_not_an_exception(monkeypatch):
-    monkeypatch.setattr(band_fit, "derivative_states", _failing_above(0.0, FloatingPointError("overflow")))
+    _break_states(monkeypatch, _failing_above(0.0, FloatingPointError("overflow")))
     with pytest.warns(NoDynamicsWarning, match="no mode found"):
         result = identify_modes(_record().y, fs=FS)
     assert result.modes == [] and result.rejected
@@ -77,14 +98,7 @@ def test_a_failing_group_fit_rejects_each_of_its_peaks():
 
 
 def test_a_failing_record_is_one_row_without_band_and_the_other_hits_stand(monkeypatch):
-    original = survey._fit_record
-
-    def fit_record(index, *args):
-        if index == 1:
-            raise RuntimeError(DIVERGED)
-        return original(index, *args)
-
-    monkeypatch.setattr(survey, "_fit_record", fit_record)
+    _break_record(monkeypatch, lambda state: RuntimeError(DIVERGED) if state.index == 1 else None)
     result = _survey([_record(0).y, _record(1).y, _record(2).y])
     assert [round(m.frequency_hz) for m in result.modes] == [80, 190]
     assert all(len(m.hits) == 2 for m in result.modes)  # hits 0 and 2
@@ -99,7 +113,7 @@ def test_record_rows_go_through_the_table_the_json_and_the_plot(monkeypatch, tmp
     matplotlib.use("Agg")
     from sindy_impulse.cli import main
 
-    monkeypatch.setattr(survey, "_fit_record", lambda *args: (_ for _ in ()).throw(ValueError("broken")))
+    _break_record(monkeypatch, lambda state: ValueError("broken"))
     rec = _record()
     path = tmp_path / "hit.csv"
     np.savetxt(path, np.column_stack([rec.t, rec.y]), delimiter=",", header="t,y", comments="")
@@ -116,7 +130,7 @@ def test_record_rows_go_through_the_table_the_json_and_the_plot(monkeypatch, tmp
 
 
 def test_an_interrupt_is_not_swallowed(monkeypatch):
-    monkeypatch.setattr(band_fit, "derivative_states", _failing_above(0.0, KeyboardInterrupt()))
+    _break_states(monkeypatch, _failing_above(0.0, KeyboardInterrupt()))
     with pytest.raises(KeyboardInterrupt):
         _survey(_record().y)
 

@@ -9,21 +9,22 @@ rig, a beam's second mode 0.56 % below twice the first) keeps its own frequency:
 drifts at ``2 pi (f_2 - n f_1)``. (With equal damping ratios such a mode's envelope also decays about ``n``
 times as fast as its parent's: only the phase tells them apart.)
 
-:func:`harmonic_evidence` measures both on the record: each mode's analytic signal in its own band (zero-phase
-FFT band-pass, :func:`~sindy_impulse.preprocessing.filters.bandpass`), over the stretch after both filters'
+:func:`harmonic_evidence` measures both: each mode's analytic signal in its own band (zero-phase FFT
+band-pass, :func:`~sindy_impulse.preprocessing.filters.bandpass`), over the stretch after both filters'
 transients where both envelopes stand :data:`MIN_SNR_DB` over their band's noise; the frequency ratio ``n +
 (d/dt (phi_2 - n phi_1)) / (2 pi f_1)`` from a weighted straight-line fit of the phase difference, its
 standard error from the residual with one independent sample per ``1 / bandwidth``; the exponent ``p`` from a
-straight-line fit of ``log a_2`` against ``log a_1``. :func:`split_harmonics` moves a mode that is locked
-(over the whole stretch and over each of its :data:`_SEGMENTS` pieces the ratio within :data:`SIGMAS` standard
-errors of ``n`` -- a Student-t quantile for pieces of few independent samples -- or within :data:`RATIO_TOL`;
-resolved: the whole stretch's relative standard error at most :data:`RESOLVED`) and whose exponent is at least
-:data:`MIN_EXPONENT` and at most ``n + 0.5`` (a term of power at most ``n`` makes harmonic ``n``) to the
-rejected rows, with the numbers as evidence. The parent's band is widened to the candidate's width where its
-neighbours leave room, so both phases see the same time resolution (:func:`_parent_band`). When the record
-cannot resolve the locking (a harmonic a few dB over the noise, or seen only just after the hit) and the
-parent is a nonlinear mode, the candidate is its harmonic when it lies at ``n`` times a frequency of the
-parent's backbone (:func:`_on_backbone`, the rule used before; ``by_backbone`` in the evidence).
+straight-line fit of ``log a_2`` against ``log a_1``. A candidate is a harmonic (:func:`_evidence`, which the
+survey's classification calls on each candidate's own signal) when it is locked (over the whole stretch and
+over each of its :data:`_SEGMENTS` pieces the ratio within :data:`SIGMAS` standard errors of ``n`` -- a
+Student-t quantile for pieces of few independent samples -- or within :data:`RATIO_TOL`; resolved: the whole
+stretch's relative standard error at most :data:`RESOLVED`) and whose exponent is at least
+:data:`MIN_EXPONENT` and at most ``n + 0.5`` (a term of power at most ``n`` makes harmonic ``n``), the numbers
+kept as evidence. When the record cannot resolve the locking (a harmonic a few dB over the noise, or seen only
+just after the hit) and the parent is a nonlinear mode, the candidate is its harmonic when it lies at ``n``
+times a frequency of the parent's fitted backbone (:func:`_on_backbone`; ``by_backbone`` in the evidence);
+harmonics of a nonlinear mode too weak to be candidates are named where a spectral peak stands phase-locked at
+their place (:func:`_unseen_harmonics`).
 """
 
 from __future__ import annotations
@@ -40,7 +41,7 @@ from ..preprocessing.filters import bandpass, transient_samples
 from ..preprocessing.partition import HARMONIC_NEAR, peak_bands
 from .result import Rejected
 
-__all__ = ["harmonic_evidence", "split_harmonics", "SIGMAS", "RATIO_TOL", "RESOLVED", "MIN_EXPONENT",
+__all__ = ["harmonic_evidence", "SIGMAS", "RATIO_TOL", "RESOLVED", "MIN_EXPONENT",
            "MIN_SNR_DB"]
 
 #: Harmonic orders tested.
@@ -357,42 +358,6 @@ def _reason(parent, e: dict) -> str:
             f"amplitude goes as the mode's to the power {e['exponent']:.2f}")
 
 
-def split_harmonics(pre, modes: list, rejected: list) -> tuple:
-    """Modes of one record that are harmonics of another (the module's test) moved to ``rejected``, the
-    evidence in :attr:`Rejected.evidence`: ``(modes, rejected, notes)``. Modes are tested from the lowest
-    frequency up against every lower mode near ``1 / n`` of theirs (within :data:`NEAR`)."""
-    ordered = sorted(modes, key=lambda m: m.frequency_hz)
-    ring = pre.y[pre.impact.ringdown_index :]
-    if len(ordered) < 2:
-        rejected, named = _name_failed_bands(pre, ring, ordered, rejected)
-        rejected, unseen = _unseen_harmonics(pre, ring, ordered, rejected)
-        return modes, rejected, named + unseen
-    bands = _analysis_bands(pre, ordered)
-    freqs = np.array([m.damped_frequency_hz for m in ordered])
-    noise = [band_noise_rms(pre.peaks.spectrum, b) for b in bands]
-    harmonics, notes = set(), []
-    for j, candidate in enumerate(ordered):
-        for i, parent in enumerate(ordered[:j]):
-            if i in harmonics:
-                continue
-            order = next((n for n in ORDERS if abs(candidate.damped_frequency_hz
-                                                   / (n * parent.damped_frequency_hz) - 1) <= NEAR), None)
-            if order is None:
-                continue
-            e = _evidence(pre, ring, (bands, freqs), i, parent, bands[j], noise[j], order, candidate)
-            if e["harmonic"]:
-                harmonics.add(j)
-                why = _reason(parent, e)
-                rejected.append(Rejected(tuple(candidate.band_hz), why, candidate.record, e))
-                notes.append(f"record {candidate.record}: the peak at {candidate.frequency_hz:.4g} Hz is the "
-                             f"{why}")
-                break
-    kept = [m for k, m in enumerate(ordered) if k not in harmonics]
-    rejected, named = _name_failed_bands(pre, ring, kept, rejected)
-    rejected, unseen = _unseen_harmonics(pre, ring, kept, rejected)
-    return kept, rejected, notes + named + unseen
-
-
 def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: int, candidate,
               failed: bool = False, nonlinear: bool | None = None, own=None) -> dict:
     """:func:`harmonic_evidence` of ``band`` as harmonic ``order`` of mode ``i`` (``analysis``: the modes'
@@ -442,44 +407,9 @@ def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: in
     return e
 
 
-#: Relative half-width of the band a failed peak is analysed in, around the peak (a peak's own band can be
-#: wide enough to pass its parent's skirt, whose envelope then reads as the parent's: exponent 1).
+#: Relative half-width of the band a peak is analysed in as a harmonic (a peak's own band can be wide enough
+#: to pass its parent's skirt, whose envelope then reads as the parent's: exponent 1).
 _FAILED_BAND = 0.04
-
-
-def _name_failed_bands(pre, ring, modes: list, rejected: list) -> tuple:
-    """A peak whose band gave no mode (its fit failed) near ``n`` times a mode's frequency is tested the same
-    way: a harmonic gets its row's reason and evidence replaced by the harmonic's (the fit's failure is what
-    a harmonic's band gives: the model's mode is its parent's). ``(rejected, notes)``."""
-    if not modes:
-        return rejected, []
-    bands = _analysis_bands(pre, modes)
-    freqs = np.array([m.damped_frequency_hz for m in modes])
-    peaks = {tuple(b): (float(f), float(z)) for b, f, z in
-             zip(pre.peaks.band_hz, pre.peaks.frequency_hz, pre.peaks.damping_ratio)}
-    out, notes = [], []
-    for row in rejected:
-        f, zeta = peaks.get(tuple(row.band_hz), (None, None)) if row.band_hz is not None else (None, None)
-        e = None
-        for i, parent in enumerate(modes if f is not None and "order" not in row.evidence else []):
-            order = next((n for n in ORDERS if abs(f / (n * freqs[i]) - 1) <= NEAR), None)
-            if order is not None:
-                low, high = f * (1 - _FAILED_BAND), f * (1 + _FAILED_BAND)
-                band = (max(row.band_hz[0], low), min(row.band_hz[1], high))
-                try:
-                    peak = SimpleNamespace(frequency_hz=f, damping_ratio=zeta if np.isfinite(zeta) else 0.0)
-                    e = _evidence(pre, ring, (bands, freqs), i, parent, band,
-                                  band_noise_rms(pre.peaks.spectrum, band), order, peak, failed=True)
-                except (ValueError, ArithmeticError, np.linalg.LinAlgError):
-                    break  # the band cannot be analysed: its row stays as it was
-                e.update(fit_failure=row.reason)
-                break
-        if e is not None and e["harmonic"]:
-            why = _reason(modes[i], e)
-            row = Rejected(tuple(row.band_hz), why, row.record, e)
-            notes.append(f"record {row.record}: the peak at {f:.4g} Hz is the {why}")
-        out.append(row)
-    return out, notes
 
 
 def _unseen_peak(spectrum, target: float) -> float | None:

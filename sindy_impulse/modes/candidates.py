@@ -30,8 +30,9 @@ from ..preprocessing.quality import check_quality
 from ..preprocessing.spectrum import detection_threshold_db, search_range
 from ._clipped import clipping_report
 from .kinds import Kind
+from .result import pole_table
 
-__all__ = ["Candidate", "read_record", "stable_poles", "fit_candidates", "PERSISTENCE", "POLE_SAMPLES",
+__all__ = ["Candidate", "read_record", "stable_poles", "fit_candidates", "PERSISTENCE",
            "NONLINEAR_P"]
 
 #: A stable mode of the diagram is a candidate when found at this share of its orders or more (noise poles
@@ -40,12 +41,12 @@ PERSISTENCE = 0.5
 #: ... and a stable mode found at this share of its orders or more seeds the decay fit (which keeps it only
 #: if it stands out of the noise): a strongly damped mode beside a lightly damped one stabilises late.
 SEED_PERSISTENCE = 0.25
-#: The diagram is computed on at most this many samples of the free decay (the classical baseline's
-#: window): enough periods of the lowest modes, a bounded cost on long records.
-POLE_SAMPLES = 20_000
 #: A component whose damping ratio reaches this share of the decay fit's largest is a transient (the hit's
 #: tail, a trend the offset left), not a mode.
 TRANSIENT = 0.95
+#: A component damped more than this is a mode only where a stable pole confirms it (a broad component
+#: that the diagram does not see follows the hit's tail or a misfit, not a vibration).
+MODE_DAMPING = 0.2
 #: Rounds of the search for modes the fit misses, and new modes per round at most.
 ROUNDS, NEW_PER_ROUND = 4, 8
 #: A mode whose lack of fit is this improbable from noise alone is not explained by a linear decay.
@@ -72,7 +73,8 @@ class Candidate:
     lack_of_fit, lack_of_fit_p : float
         Residual power over the noise near the mode, and how probable that is from noise alone.
     stable : bool
-        A stable pole of the diagram lies within its half-power band.
+        A stable mode of the diagram (found at :data:`SEED_PERSISTENCE` of its orders) lies within its
+        half-power band.
     kind : Kind
         What it is (stage ``classify``).
     parent : int or None
@@ -175,9 +177,7 @@ def decay_start(pre) -> int:
 
 def stable_poles(state) -> None:
     """The stabilisation diagram of the free decay: stable poles, computed once."""
-    from .result import pole_table
-
-    state.poles = pole_table(state.pre, max_samples=POLE_SAMPLES, start=state.start)
+    state.poles = pole_table(state.pre, start=state.start)
     stable = persistent_modes(state.poles)
     state.decide(f"{len(stable)} stable mode(s) at {PERSISTENCE:.0%} of {len(state.poles.orders)} orders"
                  + (": " + ", ".join(f"{m.frequency_hz:.5g}" for m in stable) + " Hz" if stable else ""))
@@ -293,6 +293,7 @@ def fit_candidates(state) -> None:
         fit = None
     state.fit = fit
     state.candidates = [] if fit is None else _candidates(fit, state.poles)
+    state.candidates = [c for c in state.candidates if c.stable or c.damping_ratio <= MODE_DAMPING or given]
     if state.options.n_modes is not None:
         strongest = sorted(range(len(state.candidates)), key=lambda k: -state.candidates[k].height_db)
         state.candidates = [state.candidates[k] for k in sorted(strongest[: state.options.n_modes])]
@@ -304,7 +305,7 @@ def fit_candidates(state) -> None:
 
 
 def _candidates(fit, table) -> list:
-    stable = persistent_modes(table)
+    stable = [m for m in table.modes() if m.n_orders >= SEED_PERSISTENCE * len(table.orders)]
     resolution = fit.fs / fit.n_samples
     out = []
     for k in range(len(fit)):

@@ -2,8 +2,9 @@
 
 The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence; the record holds the rest:
 
-- **tone** (:attr:`Kind.TONE`): a component that does not decay measurably (its decay rate within three
-  standard deviations of zero, and at most three e-folds over the record at its upper bound), or that
+- **tone** (:attr:`Kind.TONE`): a sinusoid the decay fit explains that does not decay measurably (its decay
+  rate within three standard deviations of zero, and at most three e-folds over the record at its upper
+  bound; a slow component of a chirp leaves a misfit a tone does not), or that
   stands as strong before the hit as after it: hum, a rotating machine (or a mode too lightly damped for
   the record to measure its decay: the row says which it may be). It is named, not reported as a mode
   with a damping ratio it does not have.
@@ -29,6 +30,7 @@ import numpy as np
 from ..preprocessing.partition import peak_bands, resolved
 from ._envelope import amplitude_dependence
 from ._harmonics import NEAR, ORDERS, _evidence
+from .candidates import MISFIT_REACH, MISFIT_SHARE
 from .kinds import Kind
 from .signals import analytic, deflated
 
@@ -74,7 +76,7 @@ def _tones(state) -> None:
     duration = (state.pre.y.size - state.start) / state.pre.fs
     for c in state.candidates:
         upper = (c.decay_rate + TONE_SIGMAS * c.decay_rate_std) * duration
-        still = not c.decay_rate > TONE_SIGMAS * c.decay_rate_std and upper < TONE_DECAY
+        still = not c.decay_rate > TONE_SIGMAS * c.decay_rate_std and upper < TONE_DECAY and c.explained
         before = _pre_trigger_amplitude(state, c.damped_frequency_hz)
         at_start = float(np.abs(c.amplitude[0]))
         there = before is not None and before >= TONE_SHARE * at_start
@@ -107,8 +109,9 @@ def _harmonics(state) -> None:
             if parent.kind is Kind.HARMONIC:
                 continue
             ratio = cand.damped_frequency_hz / parent.damped_frequency_hz
-            order = next((n for n in ORDERS if abs(ratio / n - 1) <= NEAR), None)
-            if order is None or abs(cand.amplitude[0]) > order**2 * abs(parent.amplitude[0]):
+            near = NEAR + cand.damping_ratio  # a broad component's frequency is known to its half-width
+            order = next((n for n in ORDERS if abs(ratio / n - 1) <= near), None)
+            if order is None or _energy(cand) > order**4 * _energy(parent):  # stronger than a harmonic can be
                 continue
             (y1, band1, noise1), (y2, band2, noise2) = _own(state, i), _own(state, j)
             try:
@@ -171,7 +174,7 @@ def _runs(cands: list, kinds: tuple, joined) -> list:
 def _merge(cands: list, run: list, evidence: str) -> None:
     """The strongest of ``run`` stands for it as a nonlinear mode; the others (and what was merged into
     them) are merged into it."""
-    head = max(run, key=lambda k: abs(cands[k].amplitude[0]))
+    head = max(run, key=lambda k: _energy(cands[k]))
     cands[head].kind = Kind.NONLINEAR
     members = [k for k in run if k != head]
     members += [j for j, c in enumerate(cands) if c.kind is Kind.MERGED and c.parent in members]
@@ -180,19 +183,39 @@ def _merge(cands: list, run: list, evidence: str) -> None:
         cands[k].kind, cands[k].parent = Kind.MERGED, head
 
 
+def _energy(c) -> float:
+    """A component's energy over its decay, ``|A|^2 / (4 sigma)`` (a broad transient's large start is
+    short-lived)."""
+    return float(np.abs(c.amplitude[0]) ** 2 / (4 * max(c.decay_rate, 1e-12)))
+
+
+#: Close neighbours are also within this share of each other's frequency (a chirp's pieces are).
+CLOSE_SHARE = 0.05
+
+
+def _beside(mode, other, gap: float) -> bool:
+    """Whether ``other``, unconfirmed by the diagram, lies where nonlinear ``mode``'s misfit spreads (the
+    decay fit's residual is not searched there either: :data:`~.candidates.MISFIT_REACH`)."""
+    reach = max(MISFIT_REACH * mode.damping_ratio * mode.frequency_hz, MISFIT_SHARE * mode.frequency_hz)
+    return mode.kind is Kind.NONLINEAR and not other.stable and gap < reach
+
+
 def _unconfirmed(cands: list) -> None:
-    """Runs of close neighbours (within :data:`CLOSE` times their half-power half-widths) that the
-    stabilisation diagram does not confirm as modes of their own (its poles wander with the model order: a
-    frequency that moves along the decay): two unconfirmed ones, or one beside a nonlinear mode. Beside a
-    nonlinear mode they are pieces of it; a run of linear ones is one nonlinear mode to be tested as such
-    (``evidence["unconfirmed"]``: :mod:`.identify` keeps them apart when one oscillator does not need
-    nonlinear terms to reproduce them)."""
+    """Runs of close neighbours (within :data:`CLOSE` times their half-power half-widths and
+    :data:`CLOSE_SHARE` of their frequency) that are not
+    sure to be modes of their own: two the stabilisation diagram does not confirm (its poles wander with the
+    model order: a frequency that moves along the decay), one unconfirmed beside a nonlinear mode, or two
+    the linear decay does not explain (a chirp's start and end, each fitted with the other's misfit).
+    Beside a nonlinear mode they are pieces of it; a run of linear ones is one nonlinear mode to be tested
+    as such (``evidence["unconfirmed"]``: :mod:`.identify` keeps them apart when one oscillator does not
+    need nonlinear terms to reproduce them)."""
     def joined(a, b) -> bool:
         width = a.damping_ratio * a.frequency_hz + b.damping_ratio * b.frequency_hz
-        if not b.frequency_hz - a.frequency_hz < CLOSE * width:
-            return False
-        beside = (a.kind is Kind.NONLINEAR and not b.stable) or (b.kind is Kind.NONLINEAR and not a.stable)
-        return beside or not (a.stable or b.stable)
+        gap = b.frequency_hz - a.frequency_hz
+        close = gap < CLOSE * width and gap < CLOSE_SHARE * a.frequency_hz
+        if close and (not (a.stable or b.stable) or not (a.explained or b.explained)):
+            return True
+        return _beside(a, b, gap) or _beside(b, a, gap)
 
     for run in _runs(cands, (Kind.LINEAR, Kind.NONLINEAR), joined):
         nonlinear = any(cands[k].kind is Kind.NONLINEAR for k in run)

@@ -30,6 +30,7 @@ FRAME_COLUMNS = (
     "amplitude",
     "fit_error",
     "snr_db",
+    "source",
 )
 
 

@@ -251,14 +251,13 @@ class ModalSurvey:
 
     @cached_property
     def poles(self) -> list:
-        """The stabilisation diagram of each record's free decay (offset removed, from the end of the hit):
+        """The stabilisation diagram of each record's free decay (offset removed, from the end of the hit,
+        at most :data:`POLE_SAMPLES` samples):
         one :class:`~sindy_impulse.poles.PoleTable` per record (frequency, damping ratio, model order,
         stable or not), computed when first read (:func:`~sindy_impulse.poles.stabilisation`; a record too
         short for it gives an empty table). ``survey.poles[0].modes()`` are the modes the stable poles make.
         """
-        from .candidates import POLE_SAMPLES
-
-        return [pole_table(pre, POLE_SAMPLES) for pre in self.preprocessing]
+        return [pole_table(pre) for pre in self.preprocessing]
 
     def plot(self, axes=None):
         """Spectrum with the modes marked, and each mode's data against its model
@@ -420,7 +419,12 @@ class ModalSurvey:
         return "\n".join(lines)
 
 
-def pole_table(pre, max_samples: int | None = None, start: int | None = None):
+#: The stabilisation diagram is computed on at most this many samples of the free decay (the classical
+#: baseline's window): enough periods of the lowest modes, a bounded cost on long records.
+POLE_SAMPLES = 20_000
+
+
+def pole_table(pre, max_samples: int | None = POLE_SAMPLES, start: int | None = None):
     """The stabilisation diagram of a preprocessed record's free decay (offset removed, from ``start``,
     default the end of the hit; its first ``max_samples`` samples); an empty table for a record too short
     for a Hankel matrix."""

@@ -23,7 +23,6 @@ structure are matched by frequency and combined by the paper's consensus (sectio
 from __future__ import annotations
 
 import warnings
-from dataclasses import replace
 from numbers import Integral, Real
 
 import numpy as np
@@ -41,7 +40,7 @@ from .pipeline import Pipeline, Stage, SurveyOptions, SurveyState, SurveyTrace
 from .reconcile import reconcile
 from .result import ModalSurvey, Rejected
 
-__all__ = ["check_options", "identify_modes", "SURVEY", "first_periods"]
+__all__ = ["check_options", "identify_modes", "SURVEY"]
 
 _SENSORS = Options({"displacement", "velocity", "acceleration"})
 
@@ -79,23 +78,6 @@ def _times(t, n_records: int):
     if isinstance(t, (list, tuple)) and len(t) == n_records and n_records > 1 and np.ndim(t[0]) == 1:
         return list(t)
     return [t] * n_records
-
-
-def first_periods(band, max_periods):
-    """The band signal's first ``max_periods`` periods of its centre frequency (all of it for None)."""
-    keep = None if max_periods is None else int(np.ceil(max_periods * band.samples_per_period))
-    if keep is None or keep >= band.y.size:
-        return band
-    stop = band.start_index + int(np.ceil(keep * band.decimation / band.upsampling))
-    return replace(
-        band,
-        y=band.y[:keep],
-        t=band.t[:keep],
-        envelope=band.envelope[:keep],
-        stop_index=stop,
-        trimmed_end=band.trimmed_end + (band.stop_index - stop),
-        end_reason="max_periods",
-    )
 
 
 def _survey_record(state: SurveyState) -> SurveyState:
