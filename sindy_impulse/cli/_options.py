@@ -1,7 +1,7 @@
 """Options shared by the commands, their strict parsing, and the objects they stand for.
 
 Groups a command adds with one call each: :func:`add_input_options` (which columns of a CSV file, and
-its time: ``--time NAME | --dt S | --fs HZ``), :func:`add_model_options` (``--embed``, ``--tau``,
+its time: ``--time NAME``, ``--dt S | --fs HZ``), :func:`add_model_options` (``--embed``, ``--tau``,
 ``--dimension``, ``--degree``) and :func:`add_report_options` (``--json``, ``--plot``). The parsed
 options become reading arguments with :func:`data_options` and models with :func:`make_estimator`.
 """
@@ -83,14 +83,19 @@ def auto_int(text: str):
 # option groups
 # ----------------------------------------------------------------------------------------------------
 def add_input_options(p: argparse.ArgumentParser) -> None:
-    """``--columns`` and the time of the samples: ``--time NAME``, ``--dt S`` or ``--fs HZ``."""
+    """``--columns`` and the time of the samples: ``--time NAME`` and/or ``--dt S`` or ``--fs HZ`` (a time
+    column and a rate given together must agree)."""
     p.add_argument("--columns", help="comma-separated state columns (default: all numeric columns but time)")
-    when = p.add_mutually_exclusive_group()
-    when.add_argument("--time", metavar="NAME", help="the time column (default: a column named t or time)")
-    when.add_argument(
-        "--dt", type=real, help="sampling step (time units per sample), instead of a time column"
+    p.add_argument(
+        "--time", metavar="NAME", help="the time column (default: a column named t or time, if there is one)"
     )
-    when.add_argument("--fs", type=real, metavar="HZ", help="sampling frequency, instead of a time column")
+    step = p.add_mutually_exclusive_group()
+    step.add_argument(
+        "--dt", type=real, help="sampling step (time units per sample); with a time column, it must agree"
+    )
+    step.add_argument(
+        "--fs", type=real, metavar="HZ", help="sampling frequency; with a time column, it must agree"
+    )
 
 
 def add_model_options(p: argparse.ArgumentParser) -> None:
