@@ -5,10 +5,11 @@ ring-down stored as a CSV file and reports Gamma, the nonlinearity test and the 
 finds the modes of raw hammer-test records (a modal table per record, one equation per mode). ``features``
 turns many CSV files into one table of SINDy coefficient features (paper section 3.4).
 
-One module per command (:mod:`.demo`, :mod:`.fit`, :mod:`.features`: each ``add_parser(sub)`` and
+One module per command (:mod:`.demo_command`, :mod:`.fit_command`, :mod:`.modes_command`,
+:mod:`.features_command`: each ``add_parser(sub)`` and
 ``run(args)``; a new command is one more module in :data:`COMMANDS`). The options they share are in
 :mod:`._options`, numbers are parsed strictly by :mod:`._numbers`, and every file they read or write goes
-through :mod:`._io` (regular files only, atomic outputs that never overwrite an input).
+through :mod:`.files` (regular files only, atomic outputs that never overwrite an input).
 
 CSV files are read with the standard library (no pandas): a header row of column names, then one row of
 numbers per sample. Every mistake a user can make with the files or the options ends in a one-line
@@ -20,6 +21,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from .._version import __version__
 from . import demo_command as demo
 from . import features_command as features
 from . import fit_command as fit
@@ -40,6 +42,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Recover differential equations from impulse-response (ring-down) measurements.",
         epilog="CSV files: a header row of column names, then one row of numbers per sample.",
     )
+    parser.add_argument("--version", action="version", version=f"sindy-impulse {__version__}")
     parser.add_argument("--traceback", action="store_true", help="show the full traceback on errors")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
     for command in COMMANDS:
