@@ -94,7 +94,7 @@ def test_fit_two_states_json_and_plot(rings, tmp_path, capsys):
     assert nl["terms"][0]["coefficient"] == pytest.approx(-30, rel=0.1)
     (mode,) = report["modes"]
     assert mode["frequency_hz"] == pytest.approx(8 / (2 * np.pi), rel=0.01)
-    assert mode["damping_ratio"] == pytest.approx(0.2, rel=0.05)
+    assert mode["damping_ratio_percent"] == pytest.approx(20.0, rel=0.05) and "damping_ratio" not in mode
     coef = np.array(report["coefficients"])
     assert coef.shape == (2, len(report["library"]))
     assert out_png.read_bytes()[:4] == b"\x89PNG"

@@ -2,8 +2,9 @@
 
 Groups a command adds with one call each: :func:`add_input_options` (which columns of a CSV file, and
 its time: ``--time NAME``, ``--dt S | --fs HZ``), :func:`add_model_options` (``--embed``, ``--tau``,
-``--dimension``, ``--degree``) and :func:`add_report_options` (``--json``, ``--plot``). The parsed
-options become reading arguments with :func:`data_options` and models with :func:`make_estimator`.
+``--dimension``, ``--degree``), :func:`add_report_options` (``--json``, ``--plot``) and
+:func:`add_damping_option` (``--damping-unit``). The parsed options become reading arguments with
+:func:`data_options` and models with :func:`make_estimator`.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from .files import CLIError
 
 __all__ = [
     "Parser",
+    "add_damping_option",
     "add_input_options",
     "add_model_options",
     "add_report_options",
@@ -106,6 +108,19 @@ def add_model_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tau", type=auto_int, default="auto", help="embedding delay in samples (default: auto)")
     p.add_argument("--dimension", type=auto_int, default="auto", help="embedding dimension (default: auto)")
     p.add_argument("--degree", type=positive_int, default=3, help="PolynomialLibrary degree (default: 3)")
+
+
+def add_damping_option(p: argparse.ArgumentParser) -> None:
+    """``--damping-unit {percent,fraction}``: the unit of every damping ratio the command shows or writes."""
+    from .._utils.units import DAMPING_UNITS, DEFAULT_DAMPING_UNIT
+
+    p.add_argument(
+        "--damping-unit",
+        choices=tuple(DAMPING_UNITS),
+        default=DEFAULT_DAMPING_UNIT,
+        help="unit of the damping ratios on the terminal and in the JSON, whose names say it "
+        "(damping_ratio_percent; fraction: damping_ratio) (default: percent)",
+    )
 
 
 def add_report_options(p: argparse.ArgumentParser) -> None:

@@ -50,7 +50,7 @@ def run(args) -> int:
     print(f"\nStiffness k = {k:.4f} (true 64), damping c = {c:.4f} (true 3.2)")
     frequencies, ratios = modal_parameters(model)
     for f, zeta in zip(frequencies, ratios):
-        print(f"Natural frequency {f:.4f} Hz (true 1.2732), damping ratio {zeta:.4f} (true 0.2)")
+        print(f"Natural frequency {f:.4f} Hz (true 1.2732), damping ratio {100 * zeta:.2f} % (true 20 %)")
     if not len(frequencies):
         print("No oscillatory mode in the linear part of the model")
     if args.plot:

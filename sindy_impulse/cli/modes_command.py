@@ -18,7 +18,15 @@ import re
 import sys
 
 from .._utils.units import DAMPING_UNITS, DEFAULT_DAMPING_UNIT, damping_text
-from ._options import add_input_options, add_report_options, data_options, integer, positive_int, real
+from ._options import (
+    add_damping_option,
+    add_input_options,
+    add_report_options,
+    data_options,
+    integer,
+    positive_int,
+    real,
+)
 from .files import (
     CLIError,
     atomic_write,
@@ -67,13 +75,7 @@ def _add_selection_options(p) -> None:
         help="at most N modes: the N strongest spectral peaks (with --fmin/--fmax, the N strongest modes in "
         "that range)",
     )
-    p.add_argument(
-        "--damping-unit",
-        choices=tuple(DAMPING_UNITS),
-        default=DEFAULT_DAMPING_UNIT,
-        help="unit of the damping ratios on the terminal, in the JSON (its names say it: "
-        "damping_ratio_percent) and in the report (default: percent)",
-    )
+    add_damping_option(p)
     p.add_argument(
         "--allow-empty",
         action="store_true",
