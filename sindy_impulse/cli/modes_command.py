@@ -72,8 +72,8 @@ def _add_selection_options(p) -> None:
         "--max-modes",
         type=positive_int,
         metavar="N",
-        help="at most N modes: the N strongest spectral peaks (with --fmin/--fmax, the N strongest modes in "
-        "that range)",
+        help="at most N modes, the strongest (largest amplitude; with --fmin/--fmax, in that range); the "
+        "survey looks at the N strongest spectral peaks",
     )
     add_damping_option(p)
     p.add_argument(
@@ -351,28 +351,28 @@ def _band_text(low: float, high: float) -> str:
 
 
 def select_modes(survey, band, max_modes):
-    """The survey with only the modes in ``band`` (``(low, high)`` Hz, or None) and, with a band, at most
-    ``max_modes`` of them, the strongest; returns ``(survey, notes)``, the notes saying what was left out.
-    (Without a band, ``max_modes`` went to ``identify_modes`` as ``n_modes``.)"""
+    """The survey with only the modes in ``band`` (``(low, high)`` Hz, or None: all) and at most
+    ``max_modes`` of them, the strongest (largest amplitude); returns ``(survey, notes)``, the notes
+    saying what was left out. ``identify_modes`` fits every band it finds (``n_modes`` limits the spectral
+    peaks, not the modes its stabilisation diagram adds), so both are applied to its result."""
     import dataclasses
 
-    if band is None:
+    if band is None and max_modes is None:
         return survey, []
-    low, high = band
+    low, high = (0.0, math.inf) if band is None else band
     inside = [m for m in survey.modes if low <= m.frequency_hz <= high]
-    outside = [m for m in survey.modes if m not in inside]
     notes = []
-    if outside:
-        found = ", ".join(f"{m.frequency_hz:.5g}" for m in outside)
+    if len(inside) < len(survey.modes):
+        found = ", ".join(f"{m.frequency_hz:.5g}" for m in survey.modes if m not in inside)
         notes.append(
-            f"{len(outside)} mode(s) outside {_band_text(low, high)} left out (--fmin/--fmax): {found} Hz"
+            f"{len(survey.modes) - len(inside)} mode(s) outside {_band_text(low, high)} left out "
+            f"(--fmin/--fmax): {found} Hz"
         )
     if max_modes is not None and len(inside) > max_modes:
         strongest = sorted(inside, key=lambda m: -m.amplitude)[:max_modes]
-        dropped = [m for m in inside if m not in strongest]
+        dropped = ", ".join(f"{m.frequency_hz:.5g}" for m in inside if m not in strongest)
         notes.append(
-            f"{len(dropped)} weaker mode(s) left out (--max-modes {max_modes}): "
-            + ", ".join(f"{m.frequency_hz:.5g}" for m in dropped) + " Hz"
+            f"{len(inside) - max_modes} weaker mode(s) left out (--max-modes {max_modes}): {dropped} Hz"
         )
         inside = [m for m in inside if m in strongest]
     rejected = [

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._common import INPUT_STYLE, MODEL_STYLE, many_axes, positive
+from ._common import INPUT_STYLE, MODEL_STYLE, log_ticks, many_axes, positive
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -124,6 +124,7 @@ def _decay_panel(ax: Axes, k, mode, sim: np.ndarray, record=None, damping_unit: 
     )
     ax.set_xlabel("t [s]")
     ax.set_ylabel("envelope")
+    log_ticks(ax, "y")
     ax.legend(loc="upper right", frameon=False, fontsize="x-small")
 
 

@@ -167,15 +167,14 @@ def _model_curve(mode, nonlinearity: bool):
 def _data_curve(mode, nonlinearity: bool):
     from ..analysis import hilbert_backbone
 
-    if nonlinearity:
-        return mode.nonlinearity.backbone_data
-    return hilbert_backbone(mode.states[:, mode.coordinate_], mode.t)
+    curve = mode.nonlinearity.backbone_data if nonlinearity else None
+    return curve if curve is not None else hilbert_backbone(mode.states[:, mode.coordinate_], mode.t)
 
 
 def mode_backbones(mode, nonlinearity: bool) -> list:
     """The backbones to show for a mode: the model's (``mode.backbone``, or the model's own when the test
-    for nonlinearity is skipped) and the data's (the test's, else a Hilbert backbone of the band signal);
-    those that cannot be computed are left out.
+    for nonlinearity is skipped) and the data's (the test's when it has one, else a Hilbert backbone of the
+    band signal); those that cannot be computed are left out.
 
     Examples
     --------
