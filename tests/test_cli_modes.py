@@ -202,3 +202,20 @@ def test_version(capsys):
 
     code, printed, _ = _run(["--version"], capsys)
     assert code == 0 and printed.strip() == f"sindy-impulse {__version__}"
+
+
+def test_a_wrong_option_points_at_the_commands_help_and_traceback_works_after_the_command(capsys):
+    code, _, err = _run(["modes", "hit.csv", "--bogus"], capsys)
+    assert code == 2 and err == (
+        "sindy-impulse: error: unrecognized arguments: --bogus (see 'sindy-impulse modes --help')\n"
+    )
+    with pytest.raises(Exception, match="no such file"):  # --traceback after the command's name: raised
+        main(["modes", "missing.csv", "--traceback"])
+    code, _, err = _run(["modes", "missing.csv"], capsys)
+    assert code == 2 and err == "sindy-impulse: error: missing.csv: no such file\n"
+
+
+def test_every_help_says_what_its_plot_is(capsys):
+    for command, words in (("modes", "the spectrum with the modes"), ("fit", "its reconstruction")):
+        code, printed, _ = _run([command, "--help"], capsys)
+        assert code == 0 and words in " ".join(printed.split())

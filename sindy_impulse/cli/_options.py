@@ -84,10 +84,12 @@ def auto_int(text: str):
 # ----------------------------------------------------------------------------------------------------
 # option groups
 # ----------------------------------------------------------------------------------------------------
-def add_input_options(p: argparse.ArgumentParser) -> None:
-    """``--columns`` and the time of the samples: ``--time NAME`` and/or ``--dt S`` or ``--fs HZ`` (a time
-    column and a rate given together must agree)."""
-    p.add_argument("--columns", help="comma-separated state columns (default: all numeric columns but time)")
+def add_input_options(
+    p: argparse.ArgumentParser, columns: str = "state columns (default: all numeric columns but the time)"
+) -> None:
+    """``--columns`` (``columns``: what they are) and the time of the samples: ``--time NAME`` and/or
+    ``--dt S`` or ``--fs HZ`` (a time column and a rate given together must agree)."""
+    p.add_argument("--columns", metavar="NAMES", help=f"comma-separated {columns}")
     p.add_argument(
         "--time", metavar="NAME", help="the time column (default: a column named t or time, if there is one)"
     )
@@ -123,10 +125,14 @@ def add_damping_option(p: argparse.ArgumentParser) -> None:
     )
 
 
-def add_report_options(p: argparse.ArgumentParser) -> None:
-    """``--json OUT.json`` and ``--plot OUT.png``."""
+def add_report_options(
+    p: argparse.ArgumentParser, figure: str = "the input against its reconstruction"
+) -> None:
+    """``--json OUT.json`` and ``--plot OUT.png`` (``figure``: what the figure shows)."""
     p.add_argument("--json", metavar="OUT.json", help="also write the results as JSON")
-    p.add_argument("--plot", metavar="OUT.png", help="write the input vs reconstruction figure")
+    p.add_argument(
+        "--plot", metavar="OUT.png", help=f"also write a figure of {figure} (any format matplotlib writes)"
+    )
 
 
 # ----------------------------------------------------------------------------------------------------

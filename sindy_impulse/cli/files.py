@@ -250,7 +250,7 @@ def _check_step(path: str, time: str, t, dt: float) -> None:
         raise CLIError(
             f"{path}: the time column {time!r} has a step of {step:.6g} ({1 / step:.6g} samples per time "
             f"unit) but the option gives {dt:.6g} ({1 / dt:.6g} per time unit); leave --fs/--dt out to use "
-            "the column, or name the state columns with --columns to read it as data"
+            f"the column, or list {time!r} in --columns if it is a measured channel, not the time"
         )
 
 

@@ -59,8 +59,8 @@ DESCRIPTION = (
     "amplitude and shape per channel, fit error, the verdicts of the test for nonlinearity and of the "
     "diagnostics) and one per problem; the equations and notes go to --json. A CSV file's time column (t "
     "or time) is the time; --fs or --dt must agree with it. Several files: one survey each (--n-jobs in "
-    "parallel), outputs in --out-dir. A record with no mode is an error (exit 2, or a skipped file in a "
-    "batch) unless --allow-empty."
+    "parallel), outputs in --out-dir. A record with no mode, when outputs are asked for, is an error (exit "
+    "2, or a skipped file and exit 1 in a batch) unless --allow-empty."
 )
 
 
@@ -92,12 +92,17 @@ def add_parser(sub) -> argparse.ArgumentParser:
         help="the records: CSV with a header row, or UFF 58 (.uff/.unv), LabVIEW .lvm, TDMS, .mat, .npz "
         '(sampling rate, channel names and force channel from the file; pip install "sindy-impulse[io]")',
     )
-    add_input_options(p)
-    p.add_argument("--force", metavar="NAME", help="column of the hammer's force (onset, double hits)")
+    add_input_options(
+        p, "sensor columns of a CSV file, or channels of another format (default: all but the time and the "
+        "force)"
+    )
+    p.add_argument(
+        "--force", metavar="NAME", help="column (or channel) of the hammer's force (onset, double hits)"
+    )
     p.add_argument("--sensor", choices=_SENSORS, help="kind of sensor (residues with --force)")
     p.add_argument("--no-nonlinearity", action="store_true", help="skip the test for nonlinearity (faster)")
     _add_selection_options(p)
-    add_report_options(p)
+    add_report_options(p, "the spectrum with the modes and each mode's decay against its model")
     p.add_argument(
         "--uff",
         metavar="OUT.unv",
@@ -239,6 +244,7 @@ _ADVICE = (
     ("pass force_channel=", "name the force column with --force"),
     ("pass fs=", "give --fs"),
     ("n_modes=", "--max-modes "),
+    ("samples per period at fs", "samples per period at the sampling rate"),
 )
 #: A sentence that advises an option the command line does not have (``bands=``): left out.
 _NOT_OFFERED = re.compile(r"[,;]? *(or )?(give|pass|use) bands=[^;)]*")
