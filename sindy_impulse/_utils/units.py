@@ -9,8 +9,16 @@ the names of the values it gives (``damping_ratio_percent``).
 from __future__ import annotations
 
 import math
+import re
 
-__all__ = ["DAMPING_UNITS", "DEFAULT_DAMPING_UNIT", "check_damping_unit", "damping_key", "damping_text"]
+__all__ = [
+    "DAMPING_UNITS",
+    "DEFAULT_DAMPING_UNIT",
+    "check_damping_unit",
+    "damping_key",
+    "damping_text",
+    "damping_in_words",
+]
 
 #: unit -> (scale from a fraction, symbol after the value, suffix of the names of values in that unit).
 DAMPING_UNITS = {"percent": (100.0, " %", "_percent"), "fraction": (1.0, "", "")}
@@ -48,3 +56,23 @@ def damping_text(fraction: float, unit: str = DEFAULT_DAMPING_UNIT, digits: int 
     scale, symbol, _ = DAMPING_UNITS[check_damping_unit(unit)]
     value = float(fraction) * scale
     return f"{value:.{digits}g}{symbol}" if math.isfinite(value) else f"{value}{symbol}"
+
+
+#: "damping ratio" followed by a bare number (a fraction): not one already followed by a unit or a "±".
+_BARE_DAMPING = re.compile(r"(damping ratio )(-?\d+(?:\.\d+)?(?:e-?\d+)?)(?![\d.eE])(?!\s*[%±])")
+
+
+def damping_in_words(text: str, unit: str = DEFAULT_DAMPING_UNIT) -> str:
+    """A sentence of the library (which gives damping ratios as fractions, "damping ratio 0.00195") with
+    its damping ratios in ``unit``.
+
+    Examples
+    --------
+    >>> damping_in_words("the mode at 597.5 Hz (damping ratio 0.00195) disagrees")
+    'the mode at 597.5 Hz (damping ratio 0.195 %) disagrees'
+    >>> damping_in_words("damping ratio 1.0 ± 0.1 %, damping ratio 0.01", "fraction")
+    'damping ratio 1.0 ± 0.1 %, damping ratio 0.01'
+    """
+    if DAMPING_UNITS[check_damping_unit(unit)][0] == 1.0:
+        return text
+    return _BARE_DAMPING.sub(lambda m: m.group(1) + damping_text(float(m.group(2)), unit, 3), text)

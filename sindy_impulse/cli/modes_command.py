@@ -17,7 +17,7 @@ import math
 import re
 import sys
 
-from .._utils.units import DAMPING_UNITS, DEFAULT_DAMPING_UNIT, damping_text
+from .._utils.units import DAMPING_UNITS, DEFAULT_DAMPING_UNIT, damping_in_words, damping_text
 from ._options import (
     add_damping_option,
     add_input_options,
@@ -277,7 +277,8 @@ def survey_report(table, survey, caught, nonlinear: bool, damping_unit: str = DE
     )
     for r in account["rejected"]:
         r["reason"] = for_the_command_line(str(r["reason"]))
-    messages = [*notes, *(message for _, message in caught)]
+    warned = [damping_in_words(message, damping_unit) for _, message in caught]
+    messages = [*notes, *warned, *account.pop("notes")]  # the survey's notes are mostly warned too: once
     return {
         "file": table.path,
         "channels": table.names,
@@ -297,9 +298,11 @@ def _one_line(text: str) -> str:
 
 
 def _channel_line(channels: list) -> str:
+    from ..report.summary import phase_text
+
     return " | ".join(
         f"{c['channel']}: amplitude {c['amplitude']:.4g}, phase "
-        + ("0 deg (reference)" if c["reference"] else f"{c['phase_deg']:+.1f} deg")
+        + ("0 deg (reference)" if c["reference"] else f"{phase_text(c['phase_deg'])} deg")
         for c in channels
     )
 

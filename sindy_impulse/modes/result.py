@@ -279,7 +279,7 @@ class ModalSurvey:
         nonlinearity: bool = True,
         damping_unit: str = "percent",
         channel_names=None,
-        notes=(),
+        notes=None,
     ) -> str:
         """The survey as one self-contained HTML report (:func:`sindy_impulse.report.survey_html`).
 
@@ -303,7 +303,7 @@ class ModalSurvey:
         channel_names : sequence of str, optional
             Names of the record's channels, for the amplitudes and shapes per channel.
         notes : sequence of str, optional
-            Further notes to show with the survey's own.
+            Notes to show instead of the survey's own.
 
         Returns
         -------

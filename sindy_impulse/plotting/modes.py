@@ -115,6 +115,9 @@ def _decay_panel(ax: Axes, k, mode, sim: np.ndarray, record=None, damping_unit: 
                         label="model, extended")
         ax.axvspan(t[0], t[-1], color="C0", alpha=0.06, lw=0)
         ax.set_xlim(whole[0][0], whole[0][-1])
+        floor = np.percentile(whole[1][whole[1] > 0], 1) if np.any(whole[1] > 0) else None
+        if floor is not None and extended is not None:  # the model below the record's noise: not drawn down
+            ax.set_ylim(bottom=0.3 * min(floor, float(np.min(positive(data)))))
     ax.semilogy(t, positive(data), label="band signal (fitted)", **INPUT_STYLE)
     ax.semilogy(t, positive(model), label="model", **MODEL_STYLE)
     ax.set_title(
@@ -125,7 +128,7 @@ def _decay_panel(ax: Axes, k, mode, sim: np.ndarray, record=None, damping_unit: 
     ax.set_xlabel("t [s]")
     ax.set_ylabel("envelope")
     log_ticks(ax, "y")
-    ax.legend(loc="upper right", frameon=False, fontsize="x-small")
+    ax.legend(loc="best", frameon=False, fontsize="x-small")
 
 
 def _zoom_panel(ax: Axes, k: int, mode, sim: np.ndarray) -> None:
@@ -135,9 +138,9 @@ def _zoom_panel(ax: Axes, k: int, mode, sim: np.ndarray) -> None:
     t, y = mode.t[:n], mode.states[:n, c]
     ax.plot(t, y, label="band signal", **INPUT_STYLE)
     ax.plot(t, sim[:n, c], label="model", **MODEL_STYLE)
-    ax.set_title(f"mode {k}: the first {_PERIODS_SHOWN} periods", fontsize="small")
+    ax.set_title(f"mode {k}: the first {_PERIODS_SHOWN} periods (band signal grey, model dashed)",
+                 fontsize="small")
     ax.set_xlabel("t [s]")
-    ax.legend(loc="upper right", frameon=False, fontsize="small")
 
 
 def _check_mode(mode) -> None:

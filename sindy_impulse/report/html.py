@@ -13,9 +13,9 @@ import math
 import os
 from html import escape
 
-from .._utils.units import DAMPING_UNITS, DEFAULT_DAMPING_UNIT, check_damping_unit
+from .._utils.units import DAMPING_UNITS, DEFAULT_DAMPING_UNIT, check_damping_unit, damping_in_words
 from .figures import backbone_figure, decay_figure, mode_backbones, record_figure, spectrum_figure
-from .summary import FIT_ERROR_MEANING, default_channel_names, mode_account
+from .summary import FIT_ERROR_MEANING, default_channel_names, mode_account, phase_text
 from .text import plus_minus, uncertainty
 
 __all__ = ["survey_html", "write_html"]
@@ -97,7 +97,8 @@ def _amplitude_columns(accounts: list, names: list) -> list[tuple[str, object]]:
             if not a["channels"]:  # no shape: only the reference channel's amplitude is known
                 return "-"
             c = a["channels"][k]
-            return f"{c['amplitude']:.4g}" + ("" if c["reference"] else f" ({c['phase_deg']:+.0f}°)")
+            phase = "" if c["reference"] else f" ({phase_text(c['phase_deg'], 0)}°)"
+            return f"{c['amplitude']:.4g}{phase}"
         return text
 
     return [(f"amplitude {name} (phase)", cell(k)) for k, name in enumerate(names)]
@@ -157,9 +158,10 @@ def _table_section(survey, accounts: list, names: list, nonlinearity: bool, unit
         parts.append("<p><strong>No mode found.</strong></p>")
     for r in survey.rejected:
         band = "the whole record" if r.band_hz is None else f"{r.band_hz[0]:.5g} - {r.band_hz[1]:.5g} Hz"
-        parts.append(f"<p>Rejected ({escape(band)}, record {r.record}): {escape(str(r.reason))}</p>")
-    shown = list(dict.fromkeys([*survey.notes, *(notes or ())]))
-    parts += [f"<p>Note: {escape(str(n))}</p>" for n in shown]
+        reason = damping_in_words(str(r.reason), unit)
+        parts.append(f"<p>Rejected ({escape(band)}, record {r.record}): {escape(reason)}</p>")
+    shown = survey.notes if notes is None else notes  # the caller's notes include the survey's
+    parts += [f"<p>Note: {escape(damping_in_words(str(n), unit))}</p>" for n in dict.fromkeys(shown)]
     parts.append("</section>")
     return "\n".join(parts)
 
@@ -215,7 +217,7 @@ def _channels(account: dict) -> str:
         return ""
     rows = "".join(
         f"<tr><td class=\"text\">{escape(str(c['channel']))}{' (reference)' if c['reference'] else ''}</td>"
-        f"<td>{c['amplitude']:.4g}</td><td>{c['magnitude']:.4g}</td><td>{c['phase_deg']:+.1f}</td></tr>"
+        f"<td>{c['amplitude']:.4g}</td><td>{c['magnitude']:.4g}</td><td>{phase_text(c['phase_deg'])}</td></tr>"
         for c in account["channels"]
     )
     head = "<tr><th>channel</th><th>amplitude</th><th>shape: magnitude</th><th>shape: phase [°]</th></tr>"
@@ -260,7 +262,7 @@ def _channel_names(survey, channel_names) -> list:
 
 
 def survey_html(survey, *, source: str | None = None, nonlinearity: bool = True,
-                damping_unit: str = DEFAULT_DAMPING_UNIT, channel_names=None, notes=()) -> str:
+                damping_unit: str = DEFAULT_DAMPING_UNIT, channel_names=None, notes=None) -> str:
     """A modal survey as one self-contained HTML page.
 
     Parameters
@@ -277,7 +279,8 @@ def survey_html(survey, *, source: str | None = None, nonlinearity: bool = True,
     channel_names : sequence of str, optional
         The names of the record's channels (default ``ch0``, ``ch1``, ...).
     notes : sequence of str, optional
-        Further notes shown with the survey's own (e.g. what the command line did).
+        The notes to show instead of the survey's own (the command line gives its own with the survey's:
+        what it left out, the survey's warnings in its terms).
 
     Returns
     -------

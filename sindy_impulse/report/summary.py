@@ -15,7 +15,13 @@ import re
 
 import numpy as np
 
-from .._utils.units import DAMPING_UNITS, DEFAULT_DAMPING_UNIT, check_damping_unit, damping_text
+from .._utils.units import (
+    DAMPING_UNITS,
+    DEFAULT_DAMPING_UNIT,
+    check_damping_unit,
+    damping_in_words,
+    damping_text,
+)
 from .text import nonlinearity_words, problem_lines
 
 __all__ = [
@@ -24,6 +30,7 @@ __all__ = [
     "decision",
     "default_channel_names",
     "mode_account",
+    "phase_text",
     "survey_account",
 ]
 
@@ -32,6 +39,18 @@ FIT_ERROR_MEANING = (
     "fit error: the mean deviation of the model's simulation from the band signal, each stretch of the decay "
     "relative to its own amplitude (0: exact; Mode.fit_error)"
 )
+
+
+def phase_text(degrees: float, decimals: int = 1) -> str:
+    """A phase in degrees with its sign, zero without one.
+
+    Examples
+    --------
+    >>> phase_text(-0.04), phase_text(179.46), phase_text(-170.5, 0)
+    ('0.0', '+179.5', '-170')
+    """
+    text = f"{degrees:+.{decimals}f}"
+    return f"{0.0:.{decimals}f}" if float(text) == 0 else text
 
 
 def default_channel_names(n: int) -> list[str]:
@@ -70,7 +89,7 @@ def channel_table(mode, names) -> list[dict]:
             "channel": name,
             "amplitude": _finite(a),
             "magnitude": _finite(abs(s)),
-            "phase_deg": _finite(round(float(np.degrees(np.angle(s))), 6)),
+            "phase_deg": _finite(round(float(np.degrees(np.angle(s))), 6) + 0.0),  # no -0.0
             "reference": bool(s == 1.0),
         }
         for name, a, s in zip(names, amplitudes, shape)
@@ -213,8 +232,8 @@ def mode_account(mode, *, nonlinearity: bool = True, damping_unit: str = DEFAULT
 
 def survey_account(survey, *, nonlinearity: bool = True, damping_unit: str = DEFAULT_DAMPING_UNIT,
                    channel_names=None) -> dict:
-    """:func:`mode_account` of every mode, with the survey's rejected bands and notes, and the meaning of the
-    damping unit and of the fit error.
+    """:func:`mode_account` of every mode, with the survey's rejected bands and notes (their damping ratios in
+    ``damping_unit``), and the meaning of the damping unit and of the fit error.
 
     Examples
     --------
@@ -241,7 +260,12 @@ def survey_account(survey, *, nonlinearity: bool = True, damping_unit: str = DEF
             for m in survey.modes
         ],
         "rejected": [
-            {"band_hz": r.band_hz and list(r.band_hz), "reason": r.reason, "record": r.record}
+            {
+                "band_hz": r.band_hz and list(r.band_hz),
+                "reason": damping_in_words(str(r.reason), damping_unit),
+                "record": r.record,
+            }
             for r in survey.rejected
         ],
+        "notes": [damping_in_words(str(n), damping_unit) for n in survey.notes],
     }
