@@ -328,3 +328,16 @@ def test_which_verdict_wins_is_said_when_they_seem_to_disagree():
     assert decision(mode, tested=True).startswith("Nonlinear wins: the selected equation is linear")
     mode.nonlinearity = NS(nonlinear=False, statistic=0.1, threshold=1.0)
     assert decision(mode, tested=True) == ""  # they agree: nothing to say
+
+
+def test_the_zoom_of_a_high_mode_keeps_its_time_labels_apart():
+    from sindy_impulse.report.figures import draw_decay
+
+    rec = impact_record([150.0, 600.0], [0.005, 0.002], fs=4096.0, duration=0.6, snr_db=50, random_state=1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        survey = identify_modes(rec.y, fs=rec.fs)
+    high = max(survey, key=lambda m: m.frequency_hz)
+    assert high.frequency_hz == pytest.approx(600.0, rel=1e-3)
+    fig = draw_decay(high, 1, survey.preprocessing[0])  # 12 periods: 0.02 s, labels like 0.2325
+    assert overlapping_figure_texts(fig) == []

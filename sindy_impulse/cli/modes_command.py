@@ -206,7 +206,9 @@ _WRITERS = {
     "json": lambda survey, report, path: write_json(path, report),
     "unv": _write_uff55,
     "uff58": _write_uff58,
-    "png": lambda survey, report, path: write_figure(path, lambda: survey.plot()[0].figure),
+    "png": lambda survey, report, path: write_figure(
+        path, lambda: survey.plot(damping_unit=report["damping_unit"])[0].figure
+    ),
     "html": _write_html,
 }
 

@@ -263,12 +263,12 @@ class ModalSurvey:
         """
         return [pole_table(pre) for pre in self.preprocessing]
 
-    def plot(self, axes=None):
+    def plot(self, axes=None, damping_unit: str = "percent"):
         """Spectrum with the modes marked, and each mode's data against its model
-        (:func:`sindy_impulse.plotting.plot_modes`)."""
+        (:func:`sindy_impulse.plotting.plot_modes`; damping ratios in ``damping_unit``)."""
         from ..plotting import plot_modes
 
-        return plot_modes(self, axes=axes)
+        return plot_modes(self, axes=axes, damping_unit=damping_unit)
 
     def to_html(
         self,

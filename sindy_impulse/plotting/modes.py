@@ -138,9 +138,12 @@ def _zoom_panel(ax: Axes, k: int, mode, sim: np.ndarray) -> None:
     t, y = mode.t[:n], mode.states[:n, c]
     ax.plot(t, y, label="band signal", **INPUT_STYLE)
     ax.plot(t, sim[:n, c], label="model", **MODEL_STYLE)
+    from matplotlib.ticker import MaxNLocator
+
     ax.set_title(f"mode {k}: the first {_PERIODS_SHOWN} periods (band signal grey, model dashed)",
                  fontsize="small")
     ax.set_xlabel("t [s]")
+    ax.xaxis.set_major_locator(MaxNLocator(nbins=5))  # a short span: long labels (0.2325), few of them
 
 
 def _check_mode(mode) -> None:
@@ -209,7 +212,7 @@ def _new_figure(n_modes: int) -> np.ndarray:
     return np.array(axes, dtype=object)
 
 
-def plot_modes(survey, axes=None) -> np.ndarray:
+def plot_modes(survey, axes=None, damping_unit: str = "percent") -> np.ndarray:
     """The spectrum of a hammer-test record with the identified modes, then each mode against its model.
 
     Parameters
@@ -218,6 +221,8 @@ def plot_modes(survey, axes=None) -> np.ndarray:
         The result of :func:`sindy_impulse.identify_modes`.
     axes : sequence of ``1 + 2 * len(survey.modes)`` Axes, optional
         Default: a new figure in a constrained layout (no text overlaps).
+    damping_unit : {"percent", "fraction"}, default="percent"
+        The damping ratios' unit in the titles.
 
     Returns
     -------
@@ -244,5 +249,6 @@ def plot_modes(survey, axes=None) -> np.ndarray:
     _spectrum_panel(axes[0], survey)
     for k, mode in enumerate(survey.modes):
         record = survey.preprocessing[mode.record] if mode.record < len(survey.preprocessing) else None
-        plot_mode_decay(mode, axes=axes[1 + 2 * k : 3 + 2 * k], label=k, record=record)
+        plot_mode_decay(mode, axes=axes[1 + 2 * k : 3 + 2 * k], label=k, record=record,
+                        damping_unit=damping_unit)
     return axes
