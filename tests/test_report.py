@@ -328,6 +328,9 @@ def test_which_verdict_wins_is_said_when_they_seem_to_disagree():
     assert decision(mode, tested=True).startswith("Nonlinear wins: the selected equation is linear")
     mode.nonlinearity = NS(nonlinear=False, statistic=0.1, threshold=1.0)
     assert decision(mode, tested=True) == ""  # they agree: nothing to say
+    mode.diagnostics = NS(verdict="doubtful", missing_terms=[], unsupported_terms=[],
+                          alternative_terms=[("dy' : dy", "dy' : dy^3")])
+    assert decision(mode, tested=True).startswith("Linear wins: the diagnostics find that nonlinear terms")
 
 
 def test_the_zoom_of_a_high_mode_keeps_its_time_labels_apart():

@@ -128,6 +128,16 @@ def _untested(missing: list) -> str:
     )
 
 
+def _stand_ins(diag, states) -> list[str]:
+    """The diagnostics' exchanges of a linear term for a nonlinear one that explains the data as well."""
+    pairs = getattr(diag, "alternative_terms", [])
+    return [
+        f"{a.split(' : ')[-1]} -> {b.split(' : ')[-1]}"
+        for a, b in pairs
+        if _is_nonlinear(b, states) and not _is_nonlinear(a, states)
+    ]
+
+
 def decision(mode, tested: bool) -> str:
     """Which verdict decides, and why, when the test for nonlinearity and the diagnostics seem to disagree
     (``""`` when they do not). ``tested``: whether the test for nonlinearity was run."""
@@ -155,6 +165,14 @@ def decision(mode, tested: bool) -> str:
             f"decay and finds no amplitude dependence it can resolve ({numbers}); the diagnostics' add test "
             f"only sees that {', '.join(missing)} would lower the simulation error a little, which a small "
             "misfit of the band signal (a neighbouring mode, the band-pass) also explains"
+        )
+    swaps = _stand_ins(diag, states)
+    if not test.nonlinear and swaps:
+        return (
+            f"Linear wins: the diagnostics find that nonlinear terms could stand in for linear ones on this "
+            f"record ({', '.join(swaps[:3])}), that is the record alone cannot tell them apart; the test for "
+            f"nonlinearity, which compares the decay at all its amplitudes, finds no amplitude dependence it "
+            f"can resolve ({numbers})"
         )
     if not test.nonlinear and own:
         return (
