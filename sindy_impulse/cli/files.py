@@ -289,7 +289,7 @@ def read_csv(path: str, columns=None, time=None, dt=None, extra=()) -> Table:
     >>> with tempfile.TemporaryDirectory() as folder:
     ...     path = os.path.join(folder, "hit.csv")
     ...     with open(path, "w") as fh:
-    ...         _ = fh.write("t,ch0,ch1\n0,1,2\n0.5,3,4\n1.0,5,6\n")
+    ...         _ = fh.write("t,ch0,ch1\\n0,1,2\\n0.5,3,4\\n1.0,5,6\\n")
     ...     table = read_csv(path, dt=0.5)  # the time column is the time, and agrees with dt
     ...     try:
     ...         read_csv(path, dt=0.1)
