@@ -84,7 +84,7 @@ def plot_stabilisation(
     >>> from sindy_impulse import identify_modes, impact_record
     >>> rec = impact_record([120.0, 240.0], [0.005, 0.01], fs=2000, duration=1.0, snr_db=50, random_state=0)
     >>> ax = plot_stabilisation(identify_modes(rec.y, fs=rec.fs))
-    >>> ax.get_ylabel(), len(ax.figure.axes), ax.get_xlim()[1] < 1000
+    >>> ax.get_ylabel(), len(ax.figure.axes), bool(ax.get_xlim()[1] < 1000)
     ('model order', 2, True)
     """
     if not (hasattr(survey, "poles") and hasattr(survey, "preprocessing") and hasattr(survey, "modes")):
