@@ -376,10 +376,17 @@ def test_plot_overlays_data_and_model():
         warnings.simplefilter("error")
         axes = plot_backbone(data, model, axes=given)
     assert list(axes) == list(given)
-    assert [len(ax.get_lines()) for ax in axes] == [2, 2]
-    np.testing.assert_allclose(axes[1].get_lines()[0].get_ydata(), 100 * data.damping_ratio)
-    assert [t.get_text() for t in axes[0].get_legend().get_texts()] == ["data", "model"]
+    assert [len(ax.get_lines()) for ax in axes] == [3, 3]  # the data's points and trend, the model
+    ok = np.isfinite(data.damping_ratio)
+    np.testing.assert_allclose(axes[1].get_lines()[0].get_ydata(), 100 * data.damping_ratio[ok])
+    assert len(axes[1].collections) == 1  # the band of the data's spread
+    texts = [t.get_text() for t in axes[0].get_legend().get_texts()]
+    assert texts == ["data (points)", "data: trend ± spread", "model"]
     plt.close(fig)
+    axes = plot_backbone(data, model, spread=False, damping_unit="fraction")
+    assert [len(ax.get_lines()) for ax in axes] == [2, 2] and axes[1].get_ylabel() == "damping ratio"
+    np.testing.assert_allclose(axes[1].get_lines()[0].get_ydata(), data.damping_ratio)
+    plt.close(axes[0].figure)
     axes = plot_backbone(data, data, labels=["impact 1", "impact 2"])
     assert axes[0].get_xscale() == "log" and len(axes) == 2
     plt.close(axes[0].figure)

@@ -60,8 +60,10 @@ def test_read_csv_selects_columns_and_time(rings):
     table = read_csv(str(linear))
     assert table.names == ["x", "v"] and table.time_column == "t"
     assert table.data.shape == (401, 2) and table.t[1] == pytest.approx(0.01)
-    table = read_csv(str(linear), columns=["v"], dt=0.01)
-    assert table.names == ["v"] and table.t == 0.01 and table.time_column is None
+    table = read_csv(str(linear), columns=["v"], dt=0.01)  # the time column is still the time, and agrees
+    assert table.names == ["v"] and table.time_column == "t" and table.t[1] == pytest.approx(0.01)
+    table = read_csv(str(linear), columns=["t", "v"], dt=0.01)  # named as a state: a state
+    assert table.names == ["t", "v"] and table.t == 0.01 and table.time_column is None
 
 
 def test_read_csv_trailing_delimiter_and_quotes(tmp_path):
@@ -92,7 +94,7 @@ def test_fit_two_states_json_and_plot(rings, tmp_path, capsys):
     assert nl["terms"][0]["coefficient"] == pytest.approx(-30, rel=0.1)
     (mode,) = report["modes"]
     assert mode["frequency_hz"] == pytest.approx(8 / (2 * np.pi), rel=0.01)
-    assert mode["damping_ratio"] == pytest.approx(0.2, rel=0.05)
+    assert mode["damping_ratio_percent"] == pytest.approx(20.0, rel=0.05) and "damping_ratio" not in mode
     coef = np.array(report["coefficients"])
     assert coef.shape == (2, len(report["library"]))
     assert out_png.read_bytes()[:4] == b"\x89PNG"
@@ -187,7 +189,8 @@ def test_error_bad_dt_and_time(rings, tmp_path, capsys):
     assert "--dt must be a positive" in _error(["fit", str(linear), "--dt", "-1"], capsys)
     assert "--dt must be a positive" in _error(["fit", str(linear), "--dt", "nan"], capsys)
     assert "invalid float value" in _error(["fit", str(linear), "--dt", "abc"], capsys)
-    assert "not allowed with" in _error(["fit", str(linear), "--dt", "0.1", "--time", "t"], capsys)
+    assert "has a step of 0.01" in _error(["fit", str(linear), "--dt", "0.1", "--time", "t"], capsys)
+    assert "not allowed with" in _error(["fit", str(linear), "--dt", "0.1", "--fs", "10"], capsys)
     no_time = _write_ring(tmp_path / "no_time.csv", time=False)
     assert "no time information" in _error(["fit", str(no_time)], capsys)
     assert "not strictly increasing at line 3" in _error(["fit", str(linear), "--time", "x"], capsys)

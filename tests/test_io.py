@@ -217,6 +217,42 @@ def test_file_errors(record, tmp_path):
         read_record(tmp_path / "junk.uff")
 
 
+@pytest.mark.parametrize("suffix", [".npz", ".csv", ".lvm", ".mat", ".uff"])
+def test_written_files_get_the_users_umask_and_a_replaced_one_keeps_its_mode(record, tmp_path, suffix):
+    import stat
+
+    if suffix == ".uff":
+        pytest.importorskip("pyuff")
+    if suffix == ".mat":
+        pytest.importorskip("scipy.io")
+    old = os.umask(0o027)
+    try:
+        path = write_record(record, tmp_path / f"r{suffix}")
+        assert stat.S_IMODE(os.stat(path).st_mode) == 0o640  # 0o666 less the umask, not 0o600
+        os.chmod(path, 0o604)
+        write_record(record, path, overwrite=True)
+        assert stat.S_IMODE(os.stat(path).st_mode) == 0o604
+    finally:
+        os.umask(old)
+    assert sorted(os.listdir(tmp_path)) == [f"r{suffix}"]  # atomic: no temporary file left
+
+
+def test_the_html_report_is_written_atomically_with_the_umask(tmp_path):
+    import stat
+
+    from sindy_impulse.report import write_html
+
+    old = os.umask(0o022)
+    try:
+        path = write_html(tmp_path / "r.html", "<p>x</p>")
+        assert stat.S_IMODE(os.stat(path).st_mode) == 0o644
+        with pytest.raises(FileExistsError, match="overwrite=True"):
+            write_html(path, "<p>y</p>")
+    finally:
+        os.umask(old)
+    assert (tmp_path / "r.html").read_text() == "<p>x</p>" and os.listdir(tmp_path) == ["r.html"]
+
+
 @pytest.mark.parametrize(
     "module, suffix", [("pyuff", ".uff"), ("nptdms", ".tdms"), ("lvm_read", ".lvm"), ("h5py", ".mat")]
 )

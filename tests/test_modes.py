@@ -94,7 +94,8 @@ def test_table_and_repr(two_modes):
 def test_plot(two_modes):
     _, survey = two_modes
     axes = survey.plot()
-    assert len(axes) == 5 and all(len(ax.lines) == 2 for ax in axes[1:])
+    assert len(axes) == 5 and all(len(ax.lines) == 2 for ax in axes[2::2])  # the zooms: data and model
+    assert all(len(ax.lines) == 4 for ax in axes[1::2])  # and the record's whole decay, the model carried on
     assert axes[1].get_yscale() == "log" and axes[1].get_xlim()[1] >= survey.modes[0].t[-1] * 0.99
 
 

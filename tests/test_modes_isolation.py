@@ -120,7 +120,9 @@ def test_record_rows_go_through_the_table_the_json_and_the_plot(monkeypatch, tmp
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         outputs = ["--json", str(tmp_path / "modes.json"), "--plot", str(tmp_path / "m.png")]
-        code = main(["modes", str(path), *outputs])
+        assert main(["modes", str(path), *outputs]) == 2  # no mode: an error unless --allow-empty
+        assert not (tmp_path / "modes.json").exists()
+        code = main(["modes", str(path), *outputs, "--allow-empty"])
     assert code in (0, 1)
     report = json.loads((tmp_path / "modes.json").read_text())
     assert report["rejected"] == [

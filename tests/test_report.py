@@ -167,12 +167,15 @@ def test_cli_out_dir_holds_the_reports(tmp_path):
 
 
 def _texts(ax) -> list:
-    """The texts an Axes draws: title, labels, offset texts, tick labels in view, legend entries."""
+    """The texts an Axes draws: title, labels, offset texts, major and minor tick labels in view, legend
+    entries."""
     texts = [ax.title, ax.xaxis.label, ax.yaxis.label, ax.xaxis.get_offset_text(), ax.yaxis.get_offset_text()]
     low, high = sorted(ax.get_xlim())
-    texts += [t for t in ax.get_xticklabels() if low <= t.get_position()[0] <= high]
+    for minor in (False, True):  # a log axis labels its minor ticks too (2x10^-2, 3x10^-2, ...)
+        texts += [t for t in ax.get_xticklabels(minor=minor) if low <= t.get_position()[0] <= high]
     low, high = sorted(ax.get_ylim())
-    texts += [t for t in ax.get_yticklabels() if low <= t.get_position()[1] <= high]
+    for minor in (False, True):
+        texts += [t for t in ax.get_yticklabels(minor=minor) if low <= t.get_position()[1] <= high]
     if ax.get_legend() is not None:
         texts += ax.get_legend().get_texts()
     return [t for t in texts if t.get_visible() and t.get_text().strip()]
@@ -211,3 +214,133 @@ def test_a_survey_without_modes_still_reports_why(tmp_path):
     assert len(empty) == 0 and "<strong>No mode found.</strong>" in page
     assert all(escape(note) in page for note in empty.notes) and 'id="mode-0"' not in page
     assert page.count("<img ") == 2  # the record and the stabilisation chart
+
+
+# -- the report's figures ------------------------------------------------------------------------------------
+def _figure_texts(fig) -> list:
+    return [t for legend in fig.legends for t in legend.get_texts()]
+
+
+def overlapping_figure_texts(fig) -> list:
+    """:func:`overlapping_texts`, the figure's own legends included (a figure made without pyplot gets a
+    canvas to draw on)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    if not hasattr(fig.canvas, "get_renderer"):
+        FigureCanvasAgg(fig)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    texts = [t for ax in fig.axes for t in _texts(ax)] + _figure_texts(fig)
+    boxes = [(t.get_text(), t.get_window_extent(renderer)) for t in texts]
+    return [(a, b) for i, (a, box) in enumerate(boxes) for b, other in boxes[i + 1 :] if box.overlaps(other)]
+
+
+def test_the_reports_figures_have_no_overlapping_text(survey):
+    from sindy_impulse.report.figures import (
+        draw_backbone,
+        draw_decay,
+        draw_record,
+        draw_spectrum,
+        mode_backbones,
+    )
+
+    pre = survey.preprocessing[0]
+    figures = [draw_record(pre), draw_spectrum(survey)]
+    for k, mode in enumerate(survey):
+        figures += [draw_decay(mode, k, pre), draw_backbone(mode_backbones(mode, nonlinearity=True))]
+    for fig in figures:
+        assert overlapping_figure_texts(fig) == []
+
+
+def test_backbone_tick_labels_over_one_to_two_decades_do_not_crowd():
+    from sindy_impulse.analysis import Backbone
+    from sindy_impulse.report.figures import draw_backbone
+
+    rng = np.random.default_rng(0)
+    for low, high in [(2.5e-3, 4.5e-2), (6e-3, 8e-2), (0.02, 0.07), (1e-4, 1.0)]:
+        a = np.geomspace(low, high, 50)
+        noise = rng.standard_normal((2, 50))
+        data = Backbone(a, 110 + 0.5 * noise[0], 0.005 + 0.001 * noise[1], "data")
+        model = Backbone(a, np.full(50, 110.0), np.full(50, 0.005), "model")
+        assert overlapping_figure_texts(draw_backbone([model, data])) == [], (low, high)
+
+
+def test_the_spectrum_is_on_its_own_axis_with_ticks_and_its_peaks_in_view(survey):
+    from sindy_impulse.report.figures import draw_spectrum
+
+    fig = draw_spectrum(survey)
+    overlapping_figure_texts(fig)  # drawn
+    chart = next(ax for ax in fig.axes if ax.get_ylabel() == "model order")
+    spectrum = next(ax for ax in fig.axes if ax is not chart)
+    assert spectrum.get_position().y0 >= chart.get_position().y1  # above the chart, not behind its poles
+    assert spectrum.get_yscale() == "log" and [t for t in spectrum.get_yticklabels() if t.get_text()]
+    (line,) = [line for line in spectrum.get_lines() if len(line.get_xdata()) > 10]
+    f, psd = line.get_xdata(), line.get_ydata()
+    shown = f <= chart.get_xlim()[1]
+    low, high = spectrum.get_ylim()
+    assert np.max(psd[shown]) <= high and np.max(psd[shown]) / np.median(psd[shown]) > 1e3  # peaks in view
+    for mode in survey:  # every mode's peak is inside the frequency range shown
+        assert mode.frequency_hz < chart.get_xlim()[1]
+
+
+def test_the_whole_decay_panel_spans_the_record_from_the_hit_to_its_end(survey):
+    from sindy_impulse.report.figures import draw_decay
+
+    pre = survey.preprocessing[0]
+    end = pre.t0 + (len(pre.y) - 1) / pre.fs
+    for k, mode in enumerate(survey):
+        decay = draw_decay(mode, k, pre).axes[0]
+        low, high = decay.get_xlim()
+        assert low <= pre.t0 + pre.impact.ringdown_index / pre.fs + 1e-9 and high >= end - 1e-9
+        assert low <= mode.t[0] and high >= mode.t[-1]
+
+
+def test_the_data_backbone_is_drawn_with_its_trend_and_spread(survey):
+    from sindy_impulse.report.figures import draw_backbone, mode_backbones
+
+    fig = draw_backbone(mode_backbones(survey[0], nonlinearity=True))
+    frequency, damping = fig.axes
+    labels = [t.get_text() for t in frequency.get_legend().get_texts()]
+    assert "data: trend ± spread" in labels and len(frequency.collections) == 1 == len(damping.collections)
+    assert damping.get_ylabel() == "damping ratio (%)"
+
+
+def test_the_offset_the_survey_removed_is_not_a_data_problem(page):
+    record = page.split('id="record"')[1].split("</section>")[0]
+    assert "removed before the survey" in record and "remove it (estimate_offset)" not in record
+
+
+def test_which_verdict_wins_is_said_when_they_seem_to_disagree():
+    from types import SimpleNamespace as NS
+
+    from sindy_impulse.report.summary import decision
+
+    model = NS(feature_names_=["y", "dy"], get_feature_names=lambda: ["1", "y", "dy", "y^3", "dy^3"],
+               coefficients=lambda: np.array([[0, 0, 1.0, 0, 0], [0, -100.0, -0.5, 0, 0]]))
+    diagnostics = NS(verdict="doubtful", missing_terms=["y' : dy^3", "dy' : y^3"], unsupported_terms=[])
+    test = NS(nonlinear=False, statistic=0.2, threshold=1.0)
+    mode = NS(model=model, diagnostics=diagnostics, nonlinearity=test)
+    text = decision(mode, tested=True)
+    assert text.startswith("Linear wins") and "y' : dy^3" in text and "statistic 0.2 <= threshold 1" in text
+    assert "skipped" in decision(mode, tested=False)
+    mode.nonlinearity = NS(nonlinear=True, statistic=3.0, threshold=1.0)
+    mode.diagnostics = NS(verdict="ok", missing_terms=[], unsupported_terms=[])
+    assert decision(mode, tested=True).startswith("Nonlinear wins: the selected equation is linear")
+    mode.nonlinearity = NS(nonlinear=False, statistic=0.1, threshold=1.0)
+    assert decision(mode, tested=True) == ""  # they agree: nothing to say
+    mode.diagnostics = NS(verdict="doubtful", missing_terms=[], unsupported_terms=[],
+                          alternative_terms=[("dy' : dy", "dy' : dy^3")])
+    assert decision(mode, tested=True).startswith("Linear wins: the diagnostics find that nonlinear terms")
+
+
+def test_the_zoom_of_a_high_mode_keeps_its_time_labels_apart():
+    from sindy_impulse.report.figures import draw_decay
+
+    rec = impact_record([150.0, 600.0], [0.005, 0.002], fs=4096.0, duration=0.6, snr_db=50, random_state=1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        survey = identify_modes(rec.y, fs=rec.fs)
+    high = max(survey, key=lambda m: m.frequency_hz)
+    assert high.frequency_hz == pytest.approx(600.0, rel=1e-3)
+    fig = draw_decay(high, 1, survey.preprocessing[0])  # 12 periods: 0.02 s, labels like 0.2325
+    assert overlapping_figure_texts(fig) == []

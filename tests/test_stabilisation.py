@@ -94,7 +94,10 @@ def test_the_survey_carries_its_stabilisation_diagram_and_draws_it():
     assert isinstance(table, PoleTable) and table is survey.poles[0]  # computed once
     np.testing.assert_allclose([m.frequency_hz for m in table.modes()], [120.0, 240.0], rtol=1e-4)
     ax = plot_stabilisation(survey)
-    assert ax.get_ylabel() == "model order" and ax.get_xlim() == (0.0, 1000.0)
+    low, high = ax.get_xlim()  # a quarter beyond the highest band or stable pole, at most Nyquist
+    assert ax.get_ylabel() == "model order" and low == 0.0 and 1.25 * 240.0 < high <= 1000.0
+    spectrum = next(other for other in ax.figure.axes if other is not ax)  # its own axis, above the chart
+    assert spectrum.get_position().y0 > ax.get_position().y1 and spectrum.get_yscale() == "log"
     dots = ax.lines[1]  # stable poles
     assert len(dots.get_xdata()) == int(table.stable.sum())
     with pytest.raises(ValueError, match="record must be"):

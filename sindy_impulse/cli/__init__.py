@@ -5,10 +5,11 @@ ring-down stored as a CSV file and reports Gamma, the nonlinearity test and the 
 finds the modes of raw hammer-test records (a modal table per record, one equation per mode). ``features``
 turns many CSV files into one table of SINDy coefficient features (paper section 3.4).
 
-One module per command (:mod:`.demo`, :mod:`.fit`, :mod:`.features`: each ``add_parser(sub)`` and
+One module per command (:mod:`.demo_command`, :mod:`.fit_command`, :mod:`.modes_command`,
+:mod:`.features_command`: each ``add_parser(sub)`` and
 ``run(args)``; a new command is one more module in :data:`COMMANDS`). The options they share are in
 :mod:`._options`, numbers are parsed strictly by :mod:`._numbers`, and every file they read or write goes
-through :mod:`._io` (regular files only, atomic outputs that never overwrite an input).
+through :mod:`.files` (regular files only, atomic outputs that never overwrite an input).
 
 CSV files are read with the standard library (no pandas): a header row of column names, then one row of
 numbers per sample. Every mistake a user can make with the files or the options ends in a one-line
@@ -20,6 +21,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from .._version import __version__
 from . import demo_command as demo
 from . import features_command as features
 from . import fit_command as fit
@@ -38,19 +40,29 @@ def build_parser() -> argparse.ArgumentParser:
     parser = Parser(
         prog="sindy-impulse",
         description="Recover differential equations from impulse-response (ring-down) measurements.",
-        epilog="CSV files: a header row of column names, then one row of numbers per sample.",
+        epilog="CSV files: a header row of column names, then one row of numbers per sample; a column "
+        "named t or time is the time (--fs or --dt, if given, must agree with it). Exit status: 0 done, 1 a "
+        "batch in which some files were skipped, 2 an error.",
     )
+    parser.add_argument("--version", action="version", version=f"sindy-impulse {__version__}")
     parser.add_argument("--traceback", action="store_true", help="show the full traceback on errors")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
+    parser.commands = {}
     for command in COMMANDS:
-        command.add_parser(sub)
+        p = command.add_parser(sub)
+        # also after the command's name; SUPPRESS: not given there, the value before it stands
+        p.add_argument("--traceback", action="store_true", default=argparse.SUPPRESS,
+                       help="show the full traceback on errors")
+        parser.commands[p.prog.split()[-1]] = p
     return parser
 
 
 def main(argv=None) -> int:
     """Run the command line; returns the exit status (0 success, 1 a batch with skipped files, 2 error)."""
     parser = build_parser()
-    args = parser.parse_args(argv)  # a usage error exits (code 2) after its one-line message
+    args, unknown = parser.parse_known_args(argv)  # a usage error exits (code 2) after its one-line message
+    if unknown:  # said by the command's parser, so that its help is the one pointed at
+        parser.commands.get(args.command, parser).error(f"unrecognized arguments: {' '.join(unknown)}")
     try:
         return args.func(args)
     except KeyboardInterrupt:

@@ -1,9 +1,10 @@
 """Options shared by the commands, their strict parsing, and the objects they stand for.
 
 Groups a command adds with one call each: :func:`add_input_options` (which columns of a CSV file, and
-its time: ``--time NAME | --dt S | --fs HZ``), :func:`add_model_options` (``--embed``, ``--tau``,
-``--dimension``, ``--degree``) and :func:`add_report_options` (``--json``, ``--plot``). The parsed
-options become reading arguments with :func:`data_options` and models with :func:`make_estimator`.
+its time: ``--time NAME``, ``--dt S | --fs HZ``), :func:`add_model_options` (``--embed``, ``--tau``,
+``--dimension``, ``--degree``), :func:`add_report_options` (``--json``, ``--plot``) and
+:func:`add_damping_option` (``--damping-unit``). The parsed options become reading arguments with
+:func:`data_options` and models with :func:`make_estimator`.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from .files import CLIError
 
 __all__ = [
     "Parser",
+    "add_damping_option",
     "add_input_options",
     "add_model_options",
     "add_report_options",
@@ -82,15 +84,22 @@ def auto_int(text: str):
 # ----------------------------------------------------------------------------------------------------
 # option groups
 # ----------------------------------------------------------------------------------------------------
-def add_input_options(p: argparse.ArgumentParser) -> None:
-    """``--columns`` and the time of the samples: ``--time NAME``, ``--dt S`` or ``--fs HZ``."""
-    p.add_argument("--columns", help="comma-separated state columns (default: all numeric columns but time)")
-    when = p.add_mutually_exclusive_group()
-    when.add_argument("--time", metavar="NAME", help="the time column (default: a column named t or time)")
-    when.add_argument(
-        "--dt", type=real, help="sampling step (time units per sample), instead of a time column"
+def add_input_options(
+    p: argparse.ArgumentParser, columns: str = "state columns (default: all numeric columns but the time)"
+) -> None:
+    """``--columns`` (``columns``: what they are) and the time of the samples: ``--time NAME`` and/or
+    ``--dt S`` or ``--fs HZ`` (a time column and a rate given together must agree)."""
+    p.add_argument("--columns", metavar="NAMES", help=f"comma-separated {columns}")
+    p.add_argument(
+        "--time", metavar="NAME", help="the time column (default: a column named t or time, if there is one)"
     )
-    when.add_argument("--fs", type=real, metavar="HZ", help="sampling frequency, instead of a time column")
+    step = p.add_mutually_exclusive_group()
+    step.add_argument(
+        "--dt", type=real, help="sampling step (time units per sample); with a time column, it must agree"
+    )
+    step.add_argument(
+        "--fs", type=real, metavar="HZ", help="sampling frequency; with a time column, it must agree"
+    )
 
 
 def add_model_options(p: argparse.ArgumentParser) -> None:
@@ -103,10 +112,27 @@ def add_model_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--degree", type=positive_int, default=3, help="PolynomialLibrary degree (default: 3)")
 
 
-def add_report_options(p: argparse.ArgumentParser) -> None:
-    """``--json OUT.json`` and ``--plot OUT.png``."""
+def add_damping_option(p: argparse.ArgumentParser) -> None:
+    """``--damping-unit {percent,fraction}``: the unit of every damping ratio the command shows or writes."""
+    from .._utils.units import DAMPING_UNITS, DEFAULT_DAMPING_UNIT
+
+    p.add_argument(
+        "--damping-unit",
+        choices=tuple(DAMPING_UNITS),
+        default=DEFAULT_DAMPING_UNIT,
+        help="unit of the damping ratios on the terminal and in the JSON, whose names say it "
+        "(damping_ratio_percent; fraction: damping_ratio) (default: percent)",
+    )
+
+
+def add_report_options(
+    p: argparse.ArgumentParser, figure: str = "the input against its reconstruction"
+) -> None:
+    """``--json OUT.json`` and ``--plot OUT.png`` (``figure``: what the figure shows)."""
     p.add_argument("--json", metavar="OUT.json", help="also write the results as JSON")
-    p.add_argument("--plot", metavar="OUT.png", help="write the input vs reconstruction figure")
+    p.add_argument(
+        "--plot", metavar="OUT.png", help=f"also write a figure of {figure} (any format matplotlib writes)"
+    )
 
 
 # ----------------------------------------------------------------------------------------------------

@@ -11,10 +11,20 @@ __all__ = ["add_parser", "run"]
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    demo = sub.add_parser("demo", help="run the paper's oscillator case 3.1.2 end to end")
-    demo.add_argument("--snr", type=real, default=None, help="add noise at this SNR in dB")
-    demo.add_argument("--seed", type=integer, default=0, help="noise seed")
-    demo.add_argument("--plot", default="sindy_impulse_demo.png", help="figure file ('' for none)")
+    demo = sub.add_parser(
+        "demo",
+        help="run the paper's oscillator case 3.1.2 end to end",
+        description="The paper's damped oscillator (Stender, Oberst & Hoffmann 2019, case 3.1.2): the "
+        "threshold sweep, the refined model, its stiffness, damping and modal parameters, and a figure.",
+    )
+    demo.add_argument("--snr", type=real, default=None, metavar="DB", help="add noise at this SNR in dB")
+    demo.add_argument("--seed", type=integer, default=0, help="noise seed (default: 0)")
+    demo.add_argument(
+        "--plot",
+        default="sindy_impulse_demo.png",
+        metavar="OUT.png",
+        help="figure file (default: sindy_impulse_demo.png, replaced when it exists; '' for none)",
+    )
     demo.set_defaults(func=run)
     return demo
 
@@ -50,7 +60,7 @@ def run(args) -> int:
     print(f"\nStiffness k = {k:.4f} (true 64), damping c = {c:.4f} (true 3.2)")
     frequencies, ratios = modal_parameters(model)
     for f, zeta in zip(frequencies, ratios):
-        print(f"Natural frequency {f:.4f} Hz (true 1.2732), damping ratio {zeta:.4f} (true 0.2)")
+        print(f"Natural frequency {f:.4f} Hz (true 1.2732), damping ratio {100 * zeta:.2f} % (true 20 %)")
     if not len(frequencies):
         print("No oscillatory mode in the linear part of the model")
     if args.plot:

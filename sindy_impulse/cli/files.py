@@ -14,7 +14,6 @@ import csv
 import glob
 import io
 import os
-import secrets
 import stat
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
@@ -207,16 +206,20 @@ def _numeric(i: int, rows: list) -> bool:
 
 
 def _select(path, index, rows, columns, time, dt, extra):
-    """The state columns and the time column (None when ``dt`` is given) to read."""
+    """The state columns and the time column to read.
+
+    A column named ``t`` or ``time`` is the time whether or not a sampling step is given (the caller
+    checks that they agree), unless ``columns`` names it as a state; ``time`` names another column."""
     available = ", ".join(index)
     if not rows:
         raise CLIError(f"{path} has a header but no data rows")
     for name in ([time] if time else []) + list(columns or []) + list(extra):
         if name not in index:
             raise CLIError(f"{path}: no column {name!r} (columns: {available})")
-    if time is None and dt is None:
-        time = next((n for n in index if n.lower() in TIME_NAMES), None)
-        if time is None:
+    if time is None:
+        chosen = set(columns or ()) | set(extra)
+        time = next((n for n in index if n.lower() in TIME_NAMES and n not in chosen), None)
+        if time is None and dt is None:
             raise CLIError(
                 f"{path}: no time information; give the sampling step with --dt or --fs, or the time "
                 "column with --time"
@@ -230,6 +233,27 @@ def _select(path, index, rows, columns, time, dt, extra):
     return list(columns), time
 
 
+def _check_step(path: str, time: str, t, dt: float) -> None:
+    """A sampling step given as an option must be the time column's: evenly spaced, and off by less than
+    half a sample over the record."""
+    import numpy as np
+
+    n = t.size
+    step = (t[-1] - t[0]) / (n - 1)
+    uneven = float(np.max(np.abs(t - (t[0] + step * np.arange(n)))))
+    if uneven > 0.01 * step:
+        raise CLIError(
+            f"{path}: the time column {time!r} is not evenly spaced, so no sampling rate (--fs, --dt) "
+            "describes it; leave the option out to use the column's times"
+        )
+    if abs(step - dt) * (n - 1) > 0.5 * dt:
+        raise CLIError(
+            f"{path}: the time column {time!r} has a step of {step:.6g} ({1 / step:.6g} samples per time "
+            f"unit) but the option gives {dt:.6g} ({1 / dt:.6g} per time unit); leave --fs/--dt out to use "
+            f"the column, or list {time!r} in --columns if it is a measured channel, not the time"
+        )
+
+
 def read_csv(path: str, columns=None, time=None, dt=None, extra=()) -> Table:
     """Read the state columns (and the time column) of a CSV file with a header row.
 
@@ -240,9 +264,11 @@ def read_csv(path: str, columns=None, time=None, dt=None, extra=()) -> Table:
     columns : list of str, optional
         State columns, by name. Default: every numeric column except the time and ``extra`` columns.
     time : str, optional
-        Name of the time column. Default: a column named ``t`` or ``time`` when ``dt`` is not given.
+        Name of the time column. Default: a column named ``t`` or ``time`` (unless ``columns`` names it
+        as a state).
     dt : float, optional
-        Sampling step (then no column is the time).
+        Sampling step: needed when the file has no time column; with one, it must agree with it (evenly
+        spaced, off by less than half a sample over the record) and the column's times are used.
     extra : sequence of str
         Further columns to read (e.g. a measured force), returned in ``Table.extra``.
 
@@ -254,7 +280,23 @@ def read_csv(path: str, columns=None, time=None, dt=None, extra=()) -> Table:
     ------
     CLIError
         Missing, empty or non-regular file, unknown column, a cell that is not a finite number in plain
-        decimal notation (with its file, column and line), no time information.
+        decimal notation (with its file, column and line), no time information, a sampling step that
+        disagrees with the time column.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = os.path.join(folder, "hit.csv")
+    ...     with open(path, "w") as fh:
+    ...         _ = fh.write("t,ch0,ch1\\n0,1,2\\n0.5,3,4\\n1.0,5,6\\n")
+    ...     table = read_csv(path, dt=0.5)  # the time column is the time, and agrees with dt
+    ...     try:
+    ...         read_csv(path, dt=0.1)
+    ...     except CLIError as err:
+    ...         problem = "step of 0.5" in str(err)
+    >>> table.names, table.time_column, problem
+    (['ch0', 'ch1'], 't', True)
     """
     import numpy as np
 
@@ -275,6 +317,8 @@ def read_csv(path: str, columns=None, time=None, dt=None, extra=()) -> Table:
             f"{path}: the time column {time!r} is not strictly increasing at line {lines[k]} "
             f"({rows[k][index[time]]} after {rows[k - 1][index[time]]})"
         )
+    if dt is not None and t.size > 1:
+        _check_step(path, time, t, dt)
     return Table(path, columns, data, check_time(t, len(rows), f"time column {time!r}"), time, extras)
 
 
@@ -409,13 +453,9 @@ def _extension(path: str) -> str:
 
 def _create_temp(folder: str, base: str):
     """A new hidden file ``.<base>.<random>.tmp`` in ``folder`` (created exclusively, umask applies)."""
-    for _ in range(100):
-        temp = os.path.join(folder, f".{base}.{secrets.token_hex(4)}.tmp")
-        try:
-            return temp, os.open(temp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
-        except FileExistsError:
-            continue
-    raise FileExistsError(f"no free temporary name for {base} in {folder}")
+    from ..io._common import temporary_beside
+
+    return temporary_beside(folder, base)
 
 
 def _sync_directory(folder: str) -> None:
@@ -473,8 +513,9 @@ def read_measurement(path: str, columns=None, time=None, dt=None, extra=()) -> T
         record = read_record(path, fs=None if dt is None else 1.0 / dt)
     except ImportError as err:
         raise CLIError(str(err)) from None
-    except (OSError, ValueError) as err:
-        raise CLIError(f"cannot read {path}: {err}") from None
+    except (OSError, ValueError) as err:  # the Python argument fs= is the option --fs here
+        message = str(err).replace("pass fs=", "give --fs").replace(" fs=", " --fs ")
+        raise CLIError(f"cannot read {path}: {message}") from None
     names = list(record.channel_names)
     for name in [*(columns or []), *extra]:
         if name not in names:

@@ -7,7 +7,9 @@ import argparse
 import math
 import sys
 
+from .._utils.units import DAMPING_UNITS, DEFAULT_DAMPING_UNIT, damping_key, damping_text
 from ._options import (
+    add_damping_option,
     add_input_options,
     add_model_options,
     add_report_options,
@@ -32,6 +34,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
     fit.add_argument("file", metavar="FILE.csv", help="CSV file with a header row")
     add_input_options(fit)
     add_model_options(fit)
+    add_damping_option(fit)
     fit.add_argument("--precision", type=positive_int, default=4, help="digits of the coefficients")
     add_report_options(fit)
     fit.set_defaults(func=run)
@@ -117,6 +120,7 @@ def fit_report(table: Table, args):
         model = estimator.fit(states, t=t, feature_names=names)
         test = nonlinearity_test(model, states, t)
     modes = modal_parameters(model)
+    scale = DAMPING_UNITS[args.damping_unit][0]
     notes = list(dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, RuntimeWarning)))
     report = {
         "file": table.path,
@@ -136,8 +140,9 @@ def fit_report(table: Table, args):
         "gamma": _finite(model.gamma_),
         "gamma_before_refinement": _finite(model.gamma_sindy_),
         "nonlinearity": _nonlinearity(test),
+        "damping_unit": args.damping_unit,
         "modes": [
-            {"frequency_hz": _finite(f), "damping_ratio": _finite(z)}
+            {"frequency_hz": _finite(f), damping_key("damping_ratio", args.damping_unit): _finite(scale * z)}
             for f, z in zip(modes.frequencies_hz, modes.damping_ratios)
         ],
         "warnings": notes,
@@ -168,15 +173,17 @@ def _print_nonlinearity(nl: dict, precision: int) -> None:
         )
 
 
-def print_modes(modes: list) -> None:
-    """The modal parameters of a report, one line per mode."""
+def print_modes(modes: list, unit: str = DEFAULT_DAMPING_UNIT) -> None:
+    """The modal parameters of a report, one line per mode (damping in ``unit``)."""
     if not modes:
         print("Modal parameters: no oscillatory mode in the linear part")
         return
     print("Modal parameters (linear part at the origin):")
+    scale = DAMPING_UNITS[unit][0]
     for i, m in enumerate(modes, 1):
-        f, zeta = _fmt(m["frequency_hz"]), _fmt(m["damping_ratio"])
-        print(f"  mode {i}: natural frequency {f} Hz, damping ratio {zeta}")
+        zeta = m[damping_key("damping_ratio", unit)]
+        zeta = "inf" if zeta is None else damping_text(zeta / scale, unit)
+        print(f"  mode {i}: natural frequency {_fmt(m['frequency_hz'])} Hz, damping ratio {zeta}")
 
 
 def print_report(r: dict, precision: int) -> None:
@@ -195,7 +202,7 @@ def print_report(r: dict, precision: int) -> None:
     for lhs, eq in r["equations"].items():
         print(f"  ({lhs[:-1]})' = {eq}")
     _print_nonlinearity(r["nonlinearity"], precision)
-    print_modes(r["modes"])
+    print_modes(r["modes"], r["damping_unit"])
     for note in r["warnings"]:
         print(f"note: {note}")
 

@@ -14,9 +14,19 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 import sys
 
-from ._options import add_input_options, add_report_options, data_options, integer
+from .._utils.units import DAMPING_UNITS, DEFAULT_DAMPING_UNIT, damping_in_words, damping_text
+from ._options import (
+    add_damping_option,
+    add_input_options,
+    add_report_options,
+    data_options,
+    integer,
+    positive_int,
+    real,
+)
 from .files import (
     CLIError,
     atomic_write,
@@ -46,9 +56,31 @@ SUMMARY = "modal tables of hammer-test records (CSV, UFF 58, LabVIEW, TDMS, MAT,
 DESCRIPTION = (
     "Find the modes of hammer-test (impact) records: onset, offset, spectral peaks, one band-passed signal "
     "per mode, one identified equation per mode. Prints one line per mode (frequency, damping ratio, "
-    "amplitude, fit error, the verdict of the test for nonlinearity) and one per problem; the equations "
-    "and notes go to --json. Several files: one survey each (--n-jobs in parallel), outputs in --out-dir."
+    "amplitude and shape per channel, fit error, the verdicts of the test for nonlinearity and of the "
+    "diagnostics) and one per problem; the equations and notes go to --json. A CSV file's time column (t "
+    "or time) is the time; --fs or --dt must agree with it. Several files: one survey each (--n-jobs in "
+    "parallel), outputs in --out-dir. A record with no mode, when outputs are asked for, is an error (exit "
+    "2, or a skipped file and exit 1 in a batch) unless --allow-empty."
 )
+
+
+def _add_selection_options(p) -> None:
+    """Which modes, in which unit, and whether a record with none is an error."""
+    p.add_argument("--fmin", type=real, metavar="HZ", help="report only modes at or above this frequency")
+    p.add_argument("--fmax", type=real, metavar="HZ", help="report only modes at or below this frequency")
+    p.add_argument(
+        "--max-modes",
+        type=positive_int,
+        metavar="N",
+        help="at most N modes, the strongest (largest amplitude; with --fmin/--fmax, in that range); the "
+        "survey looks at the N strongest spectral peaks",
+    )
+    add_damping_option(p)
+    p.add_argument(
+        "--allow-empty",
+        action="store_true",
+        help="a record in which no mode is found is not an error: write its outputs and exit 0",
+    )
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -60,11 +92,17 @@ def add_parser(sub) -> argparse.ArgumentParser:
         help="the records: CSV with a header row, or UFF 58 (.uff/.unv), LabVIEW .lvm, TDMS, .mat, .npz "
         '(sampling rate, channel names and force channel from the file; pip install "sindy-impulse[io]")',
     )
-    add_input_options(p)
-    p.add_argument("--force", metavar="NAME", help="column of the hammer's force (onset, double hits)")
+    add_input_options(
+        p, "sensor columns of a CSV file, or channels of another format (default: all but the time and the "
+        "force)"
+    )
+    p.add_argument(
+        "--force", metavar="NAME", help="column (or channel) of the hammer's force (onset, double hits)"
+    )
     p.add_argument("--sensor", choices=_SENSORS, help="kind of sensor (residues with --force)")
     p.add_argument("--no-nonlinearity", action="store_true", help="skip the test for nonlinearity (faster)")
-    add_report_options(p)
+    _add_selection_options(p)
+    add_report_options(p, "the spectrum with the modes and each mode's decay against its model")
     p.add_argument(
         "--uff",
         metavar="OUT.unv",
@@ -153,8 +191,13 @@ def _write_uff58(survey, report, path):
 
 
 def _write_html(survey, report, path):
-    nonlinearity = all("nonlinear" in m for m in report["modes"])  # the test was run (no --no-nonlinearity)
-    page = survey.to_html(source=report["file"], nonlinearity=nonlinearity)
+    page = survey.to_html(
+        source=report["file"],
+        nonlinearity=report["nonlinearity_tested"],
+        damping_unit=report["damping_unit"],
+        channel_names=report["channels"],
+        notes=report["notes"],
+    )
     atomic_write(path, lambda fh: fh.write(page))
 
 
@@ -163,7 +206,9 @@ _WRITERS = {
     "json": lambda survey, report, path: write_json(path, report),
     "unv": _write_uff55,
     "uff58": _write_uff58,
-    "png": lambda survey, report, path: write_figure(path, lambda: survey.plot()[0].figure),
+    "png": lambda survey, report, path: write_figure(
+        path, lambda: survey.plot(damping_unit=report["damping_unit"])[0].figure
+    ),
     "html": _write_html,
 }
 
@@ -193,41 +238,55 @@ def read_input(path: str, args):
     return table
 
 
-def _finite(value):
-    value = float(value)
-    return value if math.isfinite(value) else None
+#: Advice of the Python interface, as the command line offers it: (what the library says, what to say).
+_ADVICE = (
+    ("check the sensor, the sampling rate fs, or give bands=",
+     "check the sensor and the sampling rate (--fs, --dt or the file's time column)"),
+    ("the sampling rate fs", "the sampling rate (--fs, --dt or the file's time column)"),
+    ("pass force_channel=", "name the force column with --force"),
+    ("pass fs=", "give --fs"),
+    ("n_modes=", "--max-modes "),
+    ("samples per period at fs", "samples per period at the sampling rate"),
+)
+#: A sentence that advises an option the command line does not have (``bands=``): left out.
+_NOT_OFFERED = re.compile(r"[,;]? *(or )?(give|pass|use) bands=[^;)]*")
 
 
-def _coefficients_std(mode) -> dict:
-    """Per equation, the standard deviation of each of its terms' coefficients (terms the model has)."""
-    if mode.coefficients_std is None:
-        return {}
-    terms = mode.model.get_feature_names()
-    return {
-        f"{n}'": {term: float(std) for term, std in zip(terms, row) if math.isfinite(std)}
-        for n, row in zip(mode.model.feature_names_, mode.coefficients_std)
-    }
+def for_the_command_line(text: str) -> str:
+    """A message of the library with its advice in the command line's terms (``fs`` -> ``--fs``) and
+    advice the command line cannot follow (``bands=``) left out.
+
+    Examples
+    --------
+    >>> for_the_command_line("no ring-down (check the sensor, the sampling rate fs, or give bands=)")
+    "no ring-down (check the sensor and the sampling rate (--fs, --dt or the file's time column))"
+    """
+    for library, command in _ADVICE:
+        text = text.replace(library, command)
+    return _NOT_OFFERED.sub("", text)
 
 
-def survey_report(table, survey, caught, nonlinear: bool) -> dict:
-    """The JSON-ready report of one input's survey (``caught``: its warnings as (category, message))."""
-    rows = survey.table(nonlinear=nonlinear)
+def survey_report(table, survey, caught, nonlinear: bool, damping_unit: str = DEFAULT_DAMPING_UNIT,
+                  notes=()) -> dict:
+    """The JSON-ready report of one input's survey (``caught``: its warnings as (category, message);
+    ``notes``: what the command itself did, e.g. the modes it left out of the frequency range): the
+    account of every mode (:func:`sindy_impulse.report.summary.survey_account`, what the terminal and the
+    HTML report say too)."""
+    from ..report.summary import survey_account
+
+    account = survey_account(
+        survey, nonlinearity=nonlinear, damping_unit=damping_unit, channel_names=table.names
+    )
+    for r in account["rejected"]:
+        r["reason"] = for_the_command_line(str(r["reason"]))
+    warned = [damping_in_words(message, damping_unit) for _, message in caught]
+    messages = [*notes, *warned, *account.pop("notes")]  # the survey's notes are mostly warned too: once
     return {
         "file": table.path,
         "channels": table.names,
-        "modes": [
-            {
-                **{k: (_finite(v) if isinstance(v, float) else v) for k, v in row.items()},
-                "equations": {f"{n}'": eq for n, eq in zip(m.model.feature_names_, m.model.equations(4))},
-                "coefficients_std": _coefficients_std(m),
-            }
-            for row, m in zip(rows, survey.modes)
-        ],
-        "rejected": [
-            {"band_hz": r.band_hz and list(r.band_hz), "reason": r.reason, "record": r.record}
-            for r in survey.rejected
-        ],
-        "notes": list(dict.fromkeys(message for _, message in caught)),
+        "nonlinearity_tested": nonlinear,
+        **account,
+        "notes": list(dict.fromkeys(for_the_command_line(m) for m in messages)),
     }
 
 
@@ -240,21 +299,100 @@ def _one_line(text: str) -> str:
     return text if len(text) <= _LINE - 2 else text[: _LINE - 5] + "..."
 
 
+def _channel_line(channels: list) -> str:
+    from ..report.summary import phase_text
+
+    return " | ".join(
+        f"{c['channel']}: amplitude {c['amplitude']:.4g}, phase "
+        + ("0 deg (reference)" if c["reference"] else f"{phase_text(c['phase_deg'])} deg")
+        for c in channels
+    )
+
+
+def _mode_lines(i: int, m: dict, unit: str) -> list[str]:
+    verdict = {True: ", nonlinear", False: ", linear"}.get(m.get("nonlinear"), "")
+    zeta = m["damping_ratio" + DAMPING_UNITS[unit][2]]
+    amplitude = "" if m["channels"] else f", amplitude {m['amplitude']:.4g}"
+    lines = [
+        f"  mode {i}: {m['frequency_hz']:.6g} Hz, damping {damping_text(zeta / DAMPING_UNITS[unit][0], unit)}"
+        f"{amplitude}, fit error {m['fit_error']:.3g}{verdict}, diagnostics {m['diagnostics']}"
+    ]
+    if m["channels"]:
+        lines.append("    " + _one_line(_channel_line(m["channels"])))
+    lines += ["    " + _one_line(f"problem: {p}") for p in m["problems"]]
+    if m["decision"]:
+        lines.append("    " + _one_line(m["decision"]))
+    return lines
+
+
 def print_report(report: dict) -> None:
-    """One line for the file, one per mode, one per problem (a rejected band, a warning)."""
+    """One line for the file, one or more per mode (values; amplitude and phase per channel; the
+    diagnostics' problems; which verdict decides when they seem to disagree), one per problem (a rejected
+    band, a warning)."""
     modes = report["modes"]
     print(f"{report['file']}: {len(modes)} mode(s) from {', '.join(report['channels'])}")
     for i, m in enumerate(modes):
-        verdict = {True: ", nonlinear", False: ", linear"}.get(m.get("nonlinear"), "")
-        print(
-            f"  mode {i}: {m['frequency_hz']:.6g} Hz, damping ratio {m['damping_ratio']:.4g}, "
-            f"amplitude {m['amplitude']:.4g}, fit error {m['fit_error']:.3g}{verdict}"
-        )
+        for line in _mode_lines(i, m, report["damping_unit"]):
+            print(line)
     for r in report["rejected"]:
         band = "record" if r["band_hz"] is None else f"{r['band_hz'][0]:.4g}-{r['band_hz'][1]:.4g} Hz"
         print("  " + _one_line(f"rejected {band}: {r['reason']}"))
     for note in report["notes"]:
         print("  " + _one_line(f"warning: {note}"))
+
+
+def frequency_range(args) -> tuple[float, float] | None:
+    """``(--fmin, --fmax)`` checked (None when neither is given; a missing end is 0 or infinity)."""
+    low, high = args.fmin, args.fmax
+    if low is None and high is None:
+        return None
+    low = 0.0 if low is None else low
+    high = math.inf if high is None else high
+    if not (math.isfinite(low) and low >= 0):
+        raise CLIError(f"--fmin must be a frequency of 0 Hz or more, got {args.fmin!r}")
+    if not (high > 0 and not math.isnan(high)) or (args.fmax is not None and not math.isfinite(high)):
+        raise CLIError(f"--fmax must be a positive frequency, got {args.fmax!r}")
+    if low >= high:
+        raise CLIError(f"--fmin {low:g} Hz must be below --fmax {high:g} Hz")
+    return low, high
+
+
+def _band_text(low: float, high: float) -> str:
+    return f"{low:g}-{high:g} Hz" if math.isfinite(high) else f"above {low:g} Hz"
+
+
+def select_modes(survey, band, max_modes):
+    """The survey with only the modes in ``band`` (``(low, high)`` Hz, or None: all) and at most
+    ``max_modes`` of them, the strongest (largest amplitude); returns ``(survey, notes)``, the notes
+    saying what was left out. ``identify_modes`` fits every band it finds (``n_modes`` limits the spectral
+    peaks, not the modes its stabilisation diagram adds), so both are applied to its result."""
+    import dataclasses
+
+    if band is None and max_modes is None:
+        return survey, []
+    low, high = (0.0, math.inf) if band is None else band
+    inside = [m for m in survey.modes if low <= m.frequency_hz <= high]
+    notes = []
+    if len(inside) < len(survey.modes):
+        found = ", ".join(f"{m.frequency_hz:.5g}" for m in survey.modes if m not in inside)
+        notes.append(
+            f"{len(survey.modes) - len(inside)} mode(s) outside {_band_text(low, high)} left out "
+            f"(--fmin/--fmax): {found} Hz"
+        )
+    if max_modes is not None and len(inside) > max_modes:
+        strongest = sorted(inside, key=lambda m: -m.amplitude)[:max_modes]
+        dropped = ", ".join(f"{m.frequency_hz:.5g}" for m in inside if m not in strongest)
+        notes.append(
+            f"{len(inside) - max_modes} weaker mode(s) left out (--max-modes {max_modes}): {dropped} Hz"
+        )
+        inside = [m for m in inside if m in strongest]
+    rejected = [
+        r for r in survey.rejected if r.band_hz is None or (r.band_hz[1] >= low and r.band_hz[0] <= high)
+    ]
+    kept = dataclasses.replace(survey, modes=inside, rejected=rejected)
+    if "poles" in survey.__dict__:  # the stabilisation diagram does not depend on the selection
+        kept.__dict__["poles"] = survey.__dict__["poles"]
+    return kept, notes
 
 
 def _survey_all(tables: list, args) -> list:
@@ -267,6 +405,7 @@ def _survey_all(tables: list, args) -> list:
         force=[(tab.extra or {}).get("force") for tab in tables],
         names=[tab.path for tab in tables],
         sensor=args.sensor,
+        n_modes=args.max_modes if frequency_range(args) is None else None,
         nonlinearity=not args.no_nonlinearity,
         n_jobs=args.n_jobs,
         progress=False if args.no_progress else None,
@@ -281,10 +420,27 @@ def _skip(problems: list, message: str, single: bool) -> None:
     print(f"sindy-impulse: skipped: {_one_line(message)}", file=sys.stderr)
 
 
+def _empty_problem(path: str, survey, notes: list, band) -> str:
+    """Why a record gave no mode and what to try, as one message."""
+    if band is not None and notes:
+        why = f"no mode in {_band_text(*band)}; " + "; ".join(notes)
+        hint = "widen --fmin/--fmax"
+    else:
+        reasons = [for_the_command_line(str(r.reason)) for r in survey.rejected[:2]]
+        reasons += [for_the_command_line(str(n)) for n in survey.notes[-1:]]
+        why = "no mode found" + (f" ({'; '.join(reasons)})" if reasons else "")
+        hint = (
+            "check the sensor, the sampling rate (--fs, --dt or the time column) and the trigger, or hit "
+            "harder"
+        )
+    return f"{path}: {why}; {hint}; no output written (--allow-empty writes them anyway)"
+
+
 def run(args) -> int:
     from ..modes.batch import FailedRecord
 
     plan = plan_outputs(args)
+    band = frequency_range(args)
     single, problems, tables, targets = len(args.files) == 1, [], [], []
     for path, paths in zip(args.files, plan):
         try:
@@ -296,11 +452,17 @@ def run(args) -> int:
     results = _survey_all(tables, args) if tables else []
     for table, paths, (_, survey, caught) in zip(tables, targets, results):
         if isinstance(survey, FailedRecord):  # identify_modes refused the record
-            _skip(problems, survey.message if survey.error == "ValueError" else str(survey), single)
+            message = survey.message if survey.error == "ValueError" else str(survey)
+            _skip(problems, for_the_command_line(message), single)
             continue
-        report = survey_report(table, survey, caught, nonlinear=not args.no_nonlinearity)
+        survey, notes = select_modes(survey, band, args.max_modes)
+        report = survey_report(table, survey, caught, nonlinear=not args.no_nonlinearity,
+                               damping_unit=args.damping_unit, notes=notes)
         print_report(report)
         n_modes += len(survey.modes)
+        if not survey.modes and paths and not args.allow_empty:
+            _skip(problems, _empty_problem(table.path, survey, notes, band), single)
+            continue
         try:
             written += write_outputs(survey, report, paths)
         except CLIError as err:

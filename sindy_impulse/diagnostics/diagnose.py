@@ -90,7 +90,7 @@ def _notes(estimator, checks: DataChecks, fitted: Fitted) -> dict:
             "judge the model it gave"
         )
     if any(oscilations > AUTO_PERIODS for oscilations in _periods(fitted)):
-        notes["segments"] = "long record: the fit error restarts the simulation every 8 periods"
+        notes["segments"] = "long record: the checks restart the simulation every 8 periods"
     return notes
 
 

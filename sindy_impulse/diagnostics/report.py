@@ -31,8 +31,10 @@ class FitDiagnostics:
     notes : dict
         ``{check: sentence}``: what was done or seen that is not a problem (e.g. an offset removed).
     fit_error : ndarray (n_states,)
-        RMS of the model's simulation minus the filtered states, over the RMS of the filtered states about
-        their rest level (segment-restarted for records over 30 periods; inf: diverged).
+        The RMS deviation: RMS of the model's simulation minus the filtered states, over the RMS of the
+        filtered states about their rest level (segment-restarted for records over 30 periods; inf:
+        diverged); the verdict's thresholds are set on it. It is worded "RMS deviation" (also
+        :attr:`rms_deviation`): a modal survey's "fit error" is ``Mode.fit_error``, another measure.
     noise_ratio : ndarray (n_states,)
         RMS of the measured minus the filtered states over the same RMS: the noise the filter removed.
     snr_db : float
@@ -101,6 +103,11 @@ class FitDiagnostics:
     quality: list = field(repr=False)
 
     @property
+    def rms_deviation(self) -> np.ndarray:
+        """:attr:`fit_error` under the name the diagnostics' sentences give it."""
+        return self.fit_error
+
+    @property
     def ok(self) -> bool:
         """True when the verdict is ``"ok"``."""
         return self.verdict == "ok"
@@ -108,7 +115,7 @@ class FitDiagnostics:
     def summary(self) -> str:
         """The verdict and its reasons, one per line."""
         head = (
-            f"verdict: {self.verdict} (fit error {_worst(self.fit_error):.3g}, "
+            f"verdict: {self.verdict} (RMS deviation {_worst(self.fit_error):.3g}, "
             f"noise {_worst(self.noise_ratio):.3g}"
             f" = {self.snr_db:.1f} dB SNR, budget {100 * self.budget_used:.0f} % used)"
         )

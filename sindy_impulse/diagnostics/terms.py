@@ -9,11 +9,19 @@ model's own support refitted the same way:
 
 - **drop** a term (its coefficient forced to 0, the others refitted): a rise below :data:`SUPPORT_CHI2`
   (the 0.1 % point of a chi-square with one degree of freedom) means the data do not need the term;
-- **add** a term: a fall beyond the 0.1 % point corrected for the number of terms tried (Bonferroni)
-  means the data ask for a term the model lacks;
+- **add** a term: a fall beyond the 0.1 % point corrected for the number of terms tried (Bonferroni),
+  judged against the residual's own spectrum (:class:`_Colour`), means the data ask for a term the model
+  lacks;
 - **swap** a term for another of the same equation: a rise below :data:`SUPPORT_CHI2` (or a fall) means
   another term explains the data as well, so the data cannot tell which is right (e.g. ``v|v|``, ``v^3``
   and ``sgn(v)`` damping on a short or noisy ring-down).
+
+The add test's statistic is divided by how much the residual's colour inflates it in the new term's
+direction (``c' Sigma c / c' c``, read from the residual's smoothed cross-periodogram): a band-passed or
+differentiated signal leaves a residual whose power sits around the mode's own frequency, where the cubic
+terms act too, and judged as white it made the test ask for cubic terms in a fifth of the modes of linear
+hammer tests (nominal level :data:`FALSE_ALARM`; ``python -m benchmarks.robustness.term_false_alarm``
+measures both the false alarms and the power).
 
 These are the likelihood-ratio tests of nonlinear least squares under white Gaussian measurement noise: the
 comparison is with the measured states, whose noise is white, not with the filtered ones, whose smoothing
@@ -33,6 +41,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.linalg
+from scipy.ndimage import uniform_filter1d
 from scipy.stats import chi2
 
 from ..exceptions import DataWarning
@@ -53,6 +62,8 @@ NOISE_FLOOR = 1e-4
 STEP = 1e-4
 #: Simulation work of the tests, as a fraction of a fit's work budget (2.5e7 term evaluations).
 WORK_FRACTION = 0.125
+#: Frequency bins either side over which the residual's cross-periodogram is averaged (:class:`_Colour`).
+SMOOTHING = 2
 #: Library terms tried per equation by the add and swap tests (the most promising ones).
 MAX_CANDIDATES = 12
 #: Most samples per state the tests compare (every k-th beyond): each sensitivity is a column of that
@@ -142,6 +153,7 @@ class _Sensitivity:
         scale = np.sqrt(np.mean(centred**2, axis=0))
         floor = np.maximum(np.asarray(noise_ratio, float), NOISE_FLOOR) * np.where(scale > 0, scale, 1.0)
         self.sigma, self.inflation = np.ones_like(floor), 1.0
+        self.floor = floor
         own = self.residual(self.base_model, self.coef)
         self.r0 = None
         if own is not None:
@@ -268,6 +280,16 @@ class _Gram:
     def _projected(self, x: np.ndarray) -> np.ndarray:
         return x if self.nuisance is None else self.nuisance.project(x)
 
+    def orthogonal(self, column: np.ndarray) -> np.ndarray:
+        """``column`` without its least-squares fit by the nuisance columns and by every column of ``J``:
+        the direction a term adds to the model."""
+        column = self._projected(column)
+        return column - self.J @ _solve_gram(self.G, self.J.T @ column)
+
+    def residual(self) -> np.ndarray:
+        """The residual of the least-squares fit by every column (the model's own support refitted)."""
+        return self.r0 - self.J @ _solve_gram(self.G, self.b)
+
     def extended(self, column: np.ndarray):
         """Gram matrix and right-hand side with one more column (it is the last)."""
         column = self._projected(column)
@@ -307,6 +329,41 @@ def _test_stride(reference: np.ndarray) -> int:
     return max(stride, cap)
 
 
+class _Colour:
+    """The spectrum of the model's residual, to judge a statistic against coloured errors.
+
+    A band-passed or differentiated signal leaves a residual whose power sits in a narrow band, often
+    around the mode's own frequency, where the terms tested also act: the least-squares statistics, which
+    assume white errors, then overstate how much a term explains. With ``Sigma`` the covariance of the
+    residual, the score of a direction ``c`` (orthogonal to the model) has variance ``c' Sigma c``, which
+    is read here in the frequency domain from the smoothed (Daniell, :data:`SMOOTHING` bins either side)
+    cross-periodogram of the residual's states: ``c' Sigma c ~ sum_f C(f)^H S(f) C(f) / n``. A floor
+    (the noise level's floor, in the residual's units) keeps clean data from judging by rounding errors.
+    """
+
+    def __init__(self, residual: np.ndarray, n_states: int, floor: np.ndarray):
+        r = residual.reshape(-1, n_states)
+        self.n = r.shape[0]
+        spectrum = np.fft.rfft(r, axis=0)
+        cross = spectrum[:, :, None] * spectrum.conj()[:, None, :] / self.n
+        width = 2 * SMOOTHING + 1
+        smooth = uniform_filter1d(cross.real, width, axis=0)
+        smooth = smooth + 1j * uniform_filter1d(cross.imag, width, axis=0)
+        self.S = smooth + np.diag(np.asarray(floor, float) ** 2)[None]
+        self.weights = np.full(spectrum.shape[0], 2.0)
+        self.weights[0] = 1.0
+        if self.n % 2 == 0:
+            self.weights[-1] = 1.0
+
+    def ratio(self, column: np.ndarray) -> float:
+        """``c' Sigma c / c' c``: how much the residual's colour inflates the statistic of ``c``."""
+        c = np.fft.rfft(column.reshape(self.n, -1), axis=0)
+        quad = np.einsum("fi,fij,fj->f", c.conj(), self.S, c).real
+        power = np.einsum("fi,fi->f", c.conj(), c).real
+        total = float(self.weights @ power)
+        return float(self.weights @ quad) / total if total > 0 else 1.0
+
+
 def _solve_gram(G: np.ndarray, b: np.ndarray) -> np.ndarray:
     """``G x = b`` for a Gram matrix: Cholesky (a few hundred columns when every segment's start is a
     column: 20x faster than an SVD), least squares when ``G`` is singular or nearly so."""
@@ -340,6 +397,7 @@ def _drops(fitted, s, active, gram, base):
 def _candidate_tests(fitted, s, support, active, gram, base):
     """Add and swap tests of the promising library terms; ``(missing, alternatives, complete)``."""
     candidates = s.candidates(support)
+    colour = _Colour(gram.residual(), s.sigma.size, s.floor / s.sigma)
     threshold = float(chi2.isf(FALSE_ALARM / max(len(candidates), 1), 1))
     everything = np.arange(gram.G.shape[0] + 1)
     missing, alternatives, complete = [], [], True
@@ -349,7 +407,7 @@ def _candidate_tests(fitted, s, support, active, gram, base):
             complete = complete and not s.budget.exhausted
             continue
         G, b = gram.extended(col)
-        if base - gram.ssr(everything, G=G, b=b) > threshold:
+        if (base - gram.ssr(everything, G=G, b=b)) / colour.ratio(gram.orthogonal(col)) > threshold:
             missing.append(_name(fitted, i, k))
         for j in np.flatnonzero(support[i]):
             n = active.index((i, j))

@@ -1,7 +1,9 @@
 """The verdict rules: from the numbers of the checks to ``"ok"``, ``"doubtful"``, ``"unreliable"`` or
 ``"no dynamics"``, each problem worded with what to do.
 
-Thresholds (fit error and noise are RMS values relative to each state's RMS about its rest level):
+Thresholds (the RMS deviation of the model's simulation, ``FitDiagnostics.fit_error``, and the noise are RMS
+values relative to each state's RMS about its rest level; a survey's per-mode "fit error" is another measure,
+``Mode.fit_error``):
 
 ====================  =======================================================================  ============
 verdict               when                                                                      class
@@ -75,7 +77,7 @@ def _no_dynamics(m: dict, checks: DataChecks) -> dict:
     if np.isfinite(best) and best >= NO_DYNAMICS_ERROR and not copies:  # noise may look like a ring-down
         return {
             "no_dynamics": (
-                f"the model's simulation explains under half the variance of every state (fit error "
+                f"the model's simulation explains under half the variance of every state (RMS deviation "
                 f"{best:.2g} or more of the RMS; x' = 0 gives 1): the record looks like noise, or the "
                 "library lacks its dynamics; check the sensor and the trigger, or try another library"
             )
@@ -87,7 +89,7 @@ def _no_dynamics(m: dict, checks: DataChecks) -> dict:
         return {
             "no_dynamics": (
                 f"no state rings down (no spectral peak, no decay) and the model's simulation misses the "
-                f"data (fit error {worst:.2g}, noise {np.min(m['noise_ratio']):.2g} of the signal): the "
+                f"data (RMS deviation {worst:.2g}, noise {np.min(m['noise_ratio']):.2g} of the signal): the "
                 "record looks like noise; check the sensor and the trigger"
             )
         }
@@ -104,7 +106,7 @@ def _unreliable(m: dict, checks: DataChecks, names) -> dict:
         )
     elif worst >= UNRELIABLE_ERROR:
         out["fit_error"] = (
-            f"the model's simulation misses the data (fit error {worst:.2g} of the RMS): the library may "
+            f"the model's simulation misses the data (RMS deviation {worst:.2g} of the RMS): the library may "
             "lack the right terms, or the record is too noisy"
         )
     if m["disagree"]:
@@ -135,7 +137,7 @@ def _doubtful(m: dict, checks: DataChecks) -> dict:
     if np.all(np.isfinite(err)) and np.any(excess):
         j = int(np.argmax(np.where(excess, err / np.maximum(noise, 1e-300), 0)))
         out["adequacy"] = (
-            f"the model's simulation departs from the data by more than the noise explains (fit error "
+            f"the model's simulation departs from the data by more than the noise explains (RMS deviation "
             f"{err[j]:.2g}, noise {noise[j]:.2g} of the RMS): a term may be missing or wrong; compare "
             "other libraries"
         )

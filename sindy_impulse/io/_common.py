@@ -7,7 +7,8 @@ import json
 import math
 import os
 import re
-import tempfile
+import secrets
+import stat
 import warnings
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -54,12 +55,37 @@ def check_readable(path: str | os.PathLike) -> Path:
     return p
 
 
+def temporary_beside(folder: str | os.PathLike, name: str, suffix: str = "") -> tuple[str, int]:
+    """A new hidden file ``.<name>.<random>.tmp<suffix>`` in ``folder``, created exclusively with the
+    permissions any new file of the user gets (``0o666`` less the umask, as ``open`` gives), and its open
+    descriptor (write only).
+
+    Examples
+    --------
+    >>> import stat, tempfile
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path, fd = temporary_beside(folder, "modes.json")
+    ...     os.close(fd)
+    ...     mask = os.umask(0); _ = os.umask(mask)
+    ...     stat.S_IMODE(os.stat(path).st_mode) == 0o666 & ~mask
+    True
+    """
+    for _ in range(100):
+        path = os.path.join(os.fspath(folder), f".{name}.{secrets.token_hex(4)}.tmp{suffix}")
+        try:
+            return path, os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+        except FileExistsError:
+            continue
+    raise FileExistsError(f"no free temporary name for {name} in {os.fspath(folder)}")
+
+
 def atomic_write(path: str | os.PathLike, write: Callable[[str], None], *, overwrite: bool) -> Path:
     """Call ``write(tmp_path)`` on a temporary file beside ``path``, then move it into place.
 
     Without ``overwrite`` an existing file is never replaced (FileExistsError), even one that appears while
     writing: the finished file is hard-linked to its name, which fails if the name is taken. A failed write
-    leaves no temporary file behind.
+    leaves no temporary file behind. A new file gets the user's usual permissions (the umask applies), a
+    replaced one keeps its own.
     """
     target = Path(path)
     if target.is_dir():
@@ -69,10 +95,16 @@ def atomic_write(path: str | os.PathLike, write: Callable[[str], None], *, overw
     folder = target.parent if str(target.parent) else Path(".")
     if not folder.is_dir():
         raise FileNotFoundError(f"folder {str(folder)!r} does not exist")
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp" + target.suffix, dir=folder)
-    os.close(fd)
+    tmp, fd = temporary_beside(folder, target.name, target.suffix)
+    try:
+        mode = stat.S_IMODE(os.fstat(fd).st_mode)
+        if overwrite and target.exists():
+            mode = stat.S_IMODE(target.stat().st_mode)
+    finally:
+        os.close(fd)
     try:
         write(tmp)
+        os.chmod(tmp, mode)  # a writer may have made the file anew
         if overwrite:
             os.replace(tmp, target)
         else:

@@ -96,9 +96,12 @@ def write_signals(survey, path, *, binary: bool = False, overwrite: bool = False
     return write_record(records, path, format="uff", binary=binary, overwrite=overwrite)
 
 
-def modal_frame(survey, nonlinear: bool = False):
-    """The modal table as a :class:`pandas.DataFrame`, one row per mode (index ``mode``, from 0); see
+def modal_frame(survey, nonlinear: bool = False, damping_unit: str = "fraction"):
+    """The modal table as a :class:`pandas.DataFrame`, one row per mode (index ``mode``, from 0), the
+    damping columns in ``damping_unit`` (their names say which); see
     :meth:`~sindy_impulse.modes.ModalSurvey.to_frame`."""
+    from .._utils.units import damping_key
+
     try:
         import pandas as pd
     except ImportError as err:
@@ -106,9 +109,10 @@ def modal_frame(survey, nonlinear: bool = False):
             "ModalSurvey.to_frame() needs pandas, which is not installed: pip install pandas "
             "(or use survey.table(), a list of dicts)"
         ) from err
-    rows = survey.table(nonlinear=nonlinear)
-    extra = [c for row in rows for c in row if c not in FRAME_COLUMNS]
-    columns = list(FRAME_COLUMNS) + list(dict.fromkeys(extra))
+    rows = survey.table(nonlinear=nonlinear, damping_unit=damping_unit)
+    fixed = [damping_key(c, damping_unit) if c.startswith("damping_ratio") else c for c in FRAME_COLUMNS]
+    extra = [c for row in rows for c in row if c not in fixed]
+    columns = fixed + list(dict.fromkeys(extra))
     frame = pd.DataFrame(rows, columns=columns)
     frame.index.name = "mode"
     return frame

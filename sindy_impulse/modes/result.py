@@ -152,14 +152,22 @@ class Mode:
         """The verdict of :attr:`nonlinearity`."""
         return bool(self.nonlinearity.nonlinear)
 
-    def row(self, nonlinear: bool = False) -> dict:
-        """The mode as a row of the modal table."""
+    def row(self, nonlinear: bool = False, damping_unit: str = "fraction") -> dict:
+        """The mode as a row of the modal table.
+
+        ``damping_unit="percent"`` gives the damping values in per cent, under names that say so
+        (``damping_ratio_percent``, ``damping_ratio_std_percent``, ``damping_ratio_spread_percent``); the
+        default keeps them as fractions under their attribute names.
+        """
+        from .._utils.units import DAMPING_UNITS, check_damping_unit, damping_key
+
+        scale = DAMPING_UNITS[check_damping_unit(damping_unit)][0]
         row = {
             "frequency_hz": self.frequency_hz,
             "frequency_std_hz": self.frequency_std_hz,
             "damped_frequency_hz": self.damped_frequency_hz,
-            "damping_ratio": self.damping_ratio,
-            "damping_ratio_std": self.damping_ratio_std,
+            damping_key("damping_ratio", damping_unit): scale * self.damping_ratio,
+            damping_key("damping_ratio_std", damping_unit): scale * self.damping_ratio_std,
             "band_low_hz": self.band_hz[0],
             "band_high_hz": self.band_hz[1],
             "amplitude": self.amplitude,
@@ -168,16 +176,26 @@ class Mode:
             "source": self.source,
         }
         if self.hits:
-            row.update(
-                n_hits=len(self.hits),
-                frequency_spread_hz=self.frequency_spread_hz,
-                damping_ratio_spread=self.damping_ratio_spread,
-            )
+            row["n_hits"] = len(self.hits)
+            row["frequency_spread_hz"] = self.frequency_spread_hz
+            row[damping_key("damping_ratio_spread", damping_unit)] = scale * self.damping_ratio_spread
         if self.residue is not None:
             row["residue"] = self.residue
         if nonlinear:
             row["nonlinear"] = self.nonlinear
         return row
+
+    def channel_amplitudes(self) -> np.ndarray | None:
+        """Per channel, the mode's amplitude at the hit (``amplitude`` times the magnitude of ``shape``);
+        None without a shape (one channel, or a mode whose other channels still hold its neighbours).
+
+        Examples
+        --------
+        >>> m = Mode(100.0, 0.01, (90.0, 110.0), 2.0, 0.01, None, None, None, shape=np.array([0.5j, 1.0]))
+        >>> m.channel_amplitudes().tolist()
+        [1.0, 2.0]
+        """
+        return None if self.shape is None else self.amplitude * np.abs(np.asarray(self.shape))
 
 
 @dataclass(frozen=True)
@@ -242,12 +260,14 @@ class ModalSurvey:
     def __getitem__(self, i):
         return self.modes[i]
 
-    def table(self, nonlinear: bool = False) -> list[dict]:
+    def table(self, nonlinear: bool = False, damping_unit: str = "fraction") -> list[dict]:
         """The modal table: one dict per mode (``pandas.DataFrame(survey.table())`` makes a frame).
 
-        ``nonlinear=True`` adds the verdict of the test for nonlinearity (it refits: slower).
+        ``nonlinear=True`` adds the verdict of the test for nonlinearity (it refits: slower);
+        ``damping_unit="percent"`` gives the damping values in per cent, named ``damping_ratio_percent``
+        and so on (:meth:`Mode.row`).
         """
-        return [m.row(nonlinear) for m in self.modes]
+        return [m.row(nonlinear, damping_unit) for m in self.modes]
 
     @cached_property
     def poles(self) -> list:
@@ -259,15 +279,23 @@ class ModalSurvey:
         """
         return [pole_table(pre) for pre in self.preprocessing]
 
-    def plot(self, axes=None):
+    def plot(self, axes=None, damping_unit: str = "percent"):
         """Spectrum with the modes marked, and each mode's data against its model
-        (:func:`sindy_impulse.plotting.plot_modes`)."""
+        (:func:`sindy_impulse.plotting.plot_modes`; damping ratios in ``damping_unit``)."""
         from ..plotting import plot_modes
 
-        return plot_modes(self, axes=axes)
+        return plot_modes(self, axes=axes, damping_unit=damping_unit)
 
     def to_html(
-        self, path=None, *, overwrite: bool = False, source: str | None = None, nonlinearity: bool = True
+        self,
+        path=None,
+        *,
+        overwrite: bool = False,
+        source: str | None = None,
+        nonlinearity: bool = True,
+        damping_unit: str = "percent",
+        channel_names=None,
+        notes=None,
     ) -> str:
         """The survey as one self-contained HTML report (:func:`sindy_impulse.report.survey_html`).
 
@@ -286,6 +314,12 @@ class ModalSurvey:
             Where the record came from (e.g. its file), shown at the top.
         nonlinearity : bool, default=True
             Include the test for nonlinearity (it refits each mode once; cached on the mode).
+        damping_unit : {"percent", "fraction"}, default="percent"
+            The unit of every damping ratio on the page.
+        channel_names : sequence of str, optional
+            Names of the record's channels, for the amplitudes and shapes per channel.
+        notes : sequence of str, optional
+            Notes to show instead of the survey's own.
 
         Returns
         -------
@@ -302,7 +336,8 @@ class ModalSurvey:
         """
         from ..report import survey_html, write_html
 
-        page = survey_html(self, source=source, nonlinearity=nonlinearity)
+        page = survey_html(self, source=source, nonlinearity=nonlinearity, damping_unit=damping_unit,
+                           channel_names=channel_names, notes=notes)
         if path is not None:
             write_html(path, page, overwrite=overwrite)
         return page
@@ -385,11 +420,12 @@ class ModalSurvey:
 
         return write_signals(self, path, binary=binary, overwrite=overwrite)
 
-    def to_frame(self, nonlinear: bool = False):
+    def to_frame(self, nonlinear: bool = False, damping_unit: str = "fraction"):
         """The modal table as a :class:`pandas.DataFrame`: one row per mode (index ``mode``), the columns
         of :meth:`table` (frequency, damped frequency, damping ratio, band, amplitude, fit error, SNR;
-        hits and spreads, residue, ``nonlinear`` when present). Needs pandas (an ImportError saying
-        ``pip install pandas`` otherwise).
+        hits and spreads, residue, ``nonlinear`` when present; ``damping_unit="percent"``: the damping
+        columns in per cent, named ``damping_ratio_percent`` and so on). Needs pandas (an ImportError
+        saying ``pip install pandas`` otherwise).
 
         Examples
         --------
@@ -402,16 +438,17 @@ class ModalSurvey:
         """
         from .export import modal_frame
 
-        return modal_frame(self, nonlinear=nonlinear)
+        return modal_frame(self, nonlinear=nonlinear, damping_unit=damping_unit)
 
     def __repr__(self) -> str:
         head = f"ModalSurvey({len(self.modes)} mode(s), {len(self.rejected)} rejected)"
-        columns = "f_n [Hz]               f_d [Hz]   damping ratio         amplitude   fit error   band [Hz]"
+        columns = "f_n [Hz]               f_d [Hz]   damping [%]           amplitude   fit error   band [Hz]"
         lines = [head, "  #   " + columns]
         for i, m in enumerate(self.modes):
+            zeta = _plus_minus(100 * m.damping_ratio, 100 * m.damping_ratio_std, 4)
             lines.append(
                 f"  {i:<3d} {_plus_minus(m.frequency_hz, m.frequency_std_hz, 7):<22s} "
-                f"{m.damped_frequency_hz:<10.6g} {_plus_minus(m.damping_ratio, m.damping_ratio_std, 4):<21s} "
+                f"{m.damped_frequency_hz:<10.6g} {zeta:<21s} "
                 f"{m.amplitude:<11.4g} {m.fit_error:<11.3g} {m.band_hz[0]:.4g}-{m.band_hz[1]:.4g}"
             )
         lines += [f"  rejected {_band_text(r.band_hz)}: {r.reason}" for r in self.rejected]

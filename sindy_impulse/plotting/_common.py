@@ -159,3 +159,22 @@ def scatter_groups(
     for j, group in enumerate(groups):
         sel = keep & np.array([v == group for v in values])
         ax.scatter(x[sel], y[sel], color=f"C{j % 10}", label=legend(group), **style)
+
+
+def log_ticks(ax: Axes, axis: str = "x") -> None:
+    """Tick labels of a log axis that never crowd: over a decade or more, the powers of ten only (minor
+    ticks unlabelled); over less, 1, 2 and 5 times them, written plainly (``0.02``). Call it once the
+    axis's limits are set."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    target = ax.xaxis if axis == "x" else ax.yaxis
+    low, high = sorted(ax.get_xlim() if axis == "x" else ax.get_ylim())
+    if not (low > 0 and np.isfinite(high)):
+        return
+    if np.log10(high / low) >= 1.0:
+        target.set_major_locator(LogLocator(base=10.0, subs=(1.0,), numticks=8))
+    else:
+        target.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0), numticks=8))
+        target.set_major_formatter(FuncFormatter(lambda v, _: f"{v:.3g}"))
+    target.set_minor_locator(LogLocator(base=10.0, subs=tuple(range(2, 10)), numticks=12))
+    target.set_minor_formatter(NullFormatter())

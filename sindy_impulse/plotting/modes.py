@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._common import INPUT_STYLE, MODEL_STYLE, many_axes, positive
+from ._common import INPUT_STYLE, MODEL_STYLE, log_ticks, many_axes, positive
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -64,20 +64,71 @@ def _envelopes(mode, sim: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return envelope[0], envelope[1]
 
 
-def _decay_panel(ax: Axes, k: int, mode, sim: np.ndarray) -> None:
-    """The whole decay: the peak envelopes of the band signal and of the model on a log axis."""
+def _record_decay(mode, record):
+    """The record's free decay band-passed to the mode's band: ``(t, envelope)`` on the record's clock, from
+    the end of the hit to the end of the record (None when it cannot be formed)."""
+    from ..preprocessing import bandpass
+
+    start = record.impact.ringdown_index
+    y = np.asarray(record.y[start:], dtype=float)
+    low, high = mode.band_hz
+    if y.size < 8 or not (0 < low < high < record.fs / 2):
+        return None
+    envelope = np.abs(bandpass(y, record.fs, (low, high), analytic=True))
+    return record.t0 + (start + np.arange(y.size)) / record.fs, envelope
+
+
+def _model_to(mode, end: float):
+    """The model's free decay from the band's first state to ``end`` (record clock) at the band's rate, as
+    ``(t, peak envelope)``; None if it cannot be simulated."""
+    from scipy.ndimage import maximum_filter1d
+
+    fs = mode.fitted_fs
+    n = int(np.floor((end - mode.t[0]) * fs)) + 1
+    if not (np.isfinite(fs) and n > len(mode.t)):
+        return None
+    t = mode.t[0] + np.arange(n) / fs
+    try:
+        sim = np.asarray(mode.model.simulate(mode.states[0], t), dtype=float)
+    except (ValueError, RuntimeError, FloatingPointError):
+        return None
+    sim = sim[:, getattr(mode, "coordinate_", 0)]
+    width = max(1, int(round(fs / max(mode.damped_frequency_hz, 1e-300))))
+    envelope = maximum_filter1d(np.abs(sim), size=min(width, len(sim)), mode="nearest")
+    return t[: len(envelope)], envelope
+
+
+def _decay_panel(ax: Axes, k, mode, sim: np.ndarray, record=None, damping_unit: str = "percent") -> None:
+    """The whole decay: with the ``record``, its free decay band-passed to the mode's band from the hit to
+    the end and the model's free decay over the same span, the fitted stretch shaded; the peak envelopes of
+    the band signal and of the model on a log axis."""
+    from .._utils.units import damping_text
+
     t = np.asarray(mode.t)
     data, model = _envelopes(mode, sim)
-    ax.semilogy(t, positive(data), label="band signal", **INPUT_STYLE)
+    whole = None if record is None else _record_decay(mode, record)
+    if whole is not None:
+        ax.semilogy(whole[0], positive(whole[1]), color="0.75", lw=0.8, label="record, band-passed")
+        extended = _model_to(mode, whole[0][-1])
+        if extended is not None:
+            ax.semilogy(extended[0], positive(extended[1]), color="C3", lw=0.8, ls=":",
+                        label="model, extended")
+        ax.axvspan(t[0], t[-1], color="C0", alpha=0.06, lw=0)
+        ax.set_xlim(whole[0][0], whole[0][-1])
+        floor = np.percentile(whole[1][whole[1] > 0], 1) if np.any(whole[1] > 0) else None
+        if floor is not None and extended is not None:  # the model below the record's noise: not drawn down
+            ax.set_ylim(bottom=0.3 * min(floor, float(np.min(positive(data)))))
+    ax.semilogy(t, positive(data), label="band signal (fitted)", **INPUT_STYLE)
     ax.semilogy(t, positive(model), label="model", **MODEL_STYLE)
     ax.set_title(
-        f"mode {k}: {mode.frequency_hz:.5g} Hz, damping ratio {mode.damping_ratio:.3g}, "
+        f"mode {k}: {mode.frequency_hz:.5g} Hz, damping {damping_text(mode.damping_ratio, damping_unit, 3)}, "
         f"fit error {mode.fit_error:.2g}",
         fontsize="small",
     )
     ax.set_xlabel("t [s]")
     ax.set_ylabel("envelope")
-    ax.legend(loc="upper right", frameon=False, fontsize="small")
+    log_ticks(ax, "y")
+    ax.legend(loc="best", frameon=False, fontsize="x-small")
 
 
 def _zoom_panel(ax: Axes, k: int, mode, sim: np.ndarray) -> None:
@@ -87,9 +138,12 @@ def _zoom_panel(ax: Axes, k: int, mode, sim: np.ndarray) -> None:
     t, y = mode.t[:n], mode.states[:n, c]
     ax.plot(t, y, label="band signal", **INPUT_STYLE)
     ax.plot(t, sim[:n, c], label="model", **MODEL_STYLE)
-    ax.set_title(f"mode {k}: the first {_PERIODS_SHOWN} periods", fontsize="small")
+    from matplotlib.ticker import MaxNLocator
+
+    ax.set_title(f"mode {k}: the first {_PERIODS_SHOWN} periods (band signal grey, model dashed)",
+                 fontsize="small")
     ax.set_xlabel("t [s]")
-    ax.legend(loc="upper right", frameon=False, fontsize="small")
+    ax.xaxis.set_major_locator(MaxNLocator(nbins=5))  # a short span: long labels (0.2325), few of them
 
 
 def _check_mode(mode) -> None:
@@ -97,7 +151,8 @@ def _check_mode(mode) -> None:
         raise TypeError(f"mode must be a Mode of a ModalSurvey, got {type(mode).__name__}")
 
 
-def plot_mode_decay(mode, axes=None, label: int | str = 0) -> np.ndarray:
+def plot_mode_decay(mode, axes=None, label: int | str = 0, record=None,
+                    damping_unit: str = "percent") -> np.ndarray:
     """One mode's band signal against its model: the whole decay as log envelopes, and a zoom.
 
     Parameters
@@ -108,13 +163,20 @@ def plot_mode_decay(mode, axes=None, label: int | str = 0) -> np.ndarray:
         Where to draw the decay and the zoom; default: a new figure (constrained layout).
     label : int or str, default=0
         The mode's name in the titles (its index in the table).
+    record : Preprocessed, optional
+        The record the mode comes from (``survey.preprocessing[mode.record]``): the decay panel then spans
+        the whole free decay, from the end of the hit to the end of the record (the band signal the model
+        was fitted on is often a stretch of it), with the record band-passed to the mode's band and the
+        model's free decay carried on to the end.
+    damping_unit : {"percent", "fraction"}, default="percent"
+        The damping ratio's unit in the title.
 
     Returns
     -------
     ndarray of two Axes
         The peak envelopes (largest magnitude within one period) of the band signal and of the model
-        simulated from the band's first state over the whole band, on a log axis; then the first 12
-        periods of both.
+        simulated from the band's first state over the whole band (and, with ``record``, over the whole
+        free decay), on a log axis; then the first 12 periods of both.
 
     Examples
     --------
@@ -133,7 +195,7 @@ def plot_mode_decay(mode, axes=None, label: int | str = 0) -> np.ndarray:
         _, axes = plt.subplots(1, 2, figsize=(9, 3), layout="constrained")
     decay, zoom = many_axes(axes, 2, name="axes")
     sim = _simulation(mode)
-    _decay_panel(decay, label, mode, sim)
+    _decay_panel(decay, label, mode, sim, record, damping_unit)
     _zoom_panel(zoom, label, mode, sim)
     return np.array([decay, zoom], dtype=object)
 
@@ -150,7 +212,7 @@ def _new_figure(n_modes: int) -> np.ndarray:
     return np.array(axes, dtype=object)
 
 
-def plot_modes(survey, axes=None) -> np.ndarray:
+def plot_modes(survey, axes=None, damping_unit: str = "percent") -> np.ndarray:
     """The spectrum of a hammer-test record with the identified modes, then each mode against its model.
 
     Parameters
@@ -159,13 +221,15 @@ def plot_modes(survey, axes=None) -> np.ndarray:
         The result of :func:`sindy_impulse.identify_modes`.
     axes : sequence of ``1 + 2 * len(survey.modes)`` Axes, optional
         Default: a new figure in a constrained layout (no text overlaps).
+    damping_unit : {"percent", "fraction"}, default="percent"
+        The damping ratios' unit in the titles.
 
     Returns
     -------
     ndarray of Axes
         The spectrum (bands shaded, modes marked, rejected bands hatched), then per mode two panels
-        (:func:`plot_mode_decay`): the whole decay of its band signal and of its model as log envelopes,
-        and the first 12 periods of both.
+        (:func:`plot_mode_decay`): the whole free decay of the record in the mode's band, its band signal
+        and its model as log envelopes, and the first 12 periods of both.
 
     Examples
     --------
@@ -184,5 +248,7 @@ def plot_modes(survey, axes=None) -> np.ndarray:
     axes = _new_figure(len(survey.modes)) if axes is None else many_axes(axes, n, name="axes")
     _spectrum_panel(axes[0], survey)
     for k, mode in enumerate(survey.modes):
-        plot_mode_decay(mode, axes=axes[1 + 2 * k : 3 + 2 * k], label=k)
+        record = survey.preprocessing[mode.record] if mode.record < len(survey.preprocessing) else None
+        plot_mode_decay(mode, axes=axes[1 + 2 * k : 3 + 2 * k], label=k, record=record,
+                        damping_unit=damping_unit)
     return axes

@@ -13,8 +13,10 @@ import math
 import os
 from html import escape
 
+from .._utils.units import DAMPING_UNITS, DEFAULT_DAMPING_UNIT, check_damping_unit, damping_in_words
 from .figures import backbone_figure, decay_figure, mode_backbones, record_figure, spectrum_figure
-from .text import nonlinearity_words, plus_minus, problem_lines, uncertainty
+from .summary import FIT_ERROR_MEANING, default_channel_names, mode_account, phase_text
+from .text import plus_minus, uncertainty
 
 __all__ = ["survey_html", "write_html"]
 
@@ -54,6 +56,15 @@ def _facts(rows: list[tuple[str, str]]) -> str:
     return f"<table>{cells}</table>"
 
 
+def _offset_text(pre) -> str:
+    """The offset removed, how, and its size against the ring-down (the quality check saw it before)."""
+    text = f"{pre.offset.value:.4g} ({pre.offset.method.replace('_', ' ')})"
+    ratio = getattr(pre.quality, "offset_ratio", float("nan"))
+    if "offset" in pre.quality.problems and math.isfinite(ratio):
+        text += f"; it was {ratio:.2g} x the ring-down amplitude, removed before the survey"
+    return text
+
+
 def _record_section(survey, source: str | None) -> str:
     parts = ['<section id="record"><h2>The record</h2>']
     parts.append(f"<p>Source: <code>{escape(source or 'data passed to identify_modes')}</code></p>")
@@ -66,65 +77,91 @@ def _record_section(survey, source: str | None) -> str:
                 f"at {pre.t0 + pre.impact.onset_index / pre.fs:.4g} s (found from the {pre.impact.source})",
             ),
             ("free decay from", f"{pre.t0 + pre.impact.ringdown_index / pre.fs:.4g} s"),
-            ("offset removed", f"{pre.offset.value:.4g} ({pre.offset.method.replace('_', ' ')})"),
+            ("offset removed", _offset_text(pre)),
             ("ring-down", f"SNR {pre.quality.snr_db:.1f} dB, decays {pre.quality.decay_db:.1f} dB"),
         ]
-        facts += [("data problem", str(p)) for p in pre.quality.problems.values()]
+        # the offset is removed by the survey: a problem of the raw record, not of what was analysed
+        facts += [("data problem", str(p)) for k, p in pre.quality.problems.items() if k != "offset"]
         parts += [_facts(facts), _img(record_figure(pre), f"record {i}")]
     parts.append("</section>")
     return "\n".join(parts)
 
 
-def _columns(survey, nonlinearity: bool) -> list[tuple[str, object]]:
-    """The modal table's columns: ``(header, mode -> text)``."""
+def _amplitude_columns(accounts: list, names: list) -> list[tuple[str, object]]:
+    """One amplitude column per channel when some mode has a shape; else the reference channel's."""
+    if not any(a["channels"] for a in accounts):
+        return [("amplitude", lambda a: f"{a['amplitude']:.4g}")]
+
+    def cell(k):
+        def text(a):
+            if not a["channels"]:  # no shape: only the reference channel's amplitude is known
+                return "-"
+            c = a["channels"][k]
+            phase = "" if c["reference"] else f" ({phase_text(c['phase_deg'], 0)}°)"
+            return f"{c['amplitude']:.4g}{phase}"
+        return text
+
+    return [(f"amplitude {name} (phase)", cell(k)) for k, name in enumerate(names)]
+
+
+def _columns(survey, accounts: list, names: list, nonlinearity: bool, unit: str) -> list[tuple[str, object]]:
+    """The modal table's columns: ``(header, (mode, account) -> text)``."""
+    scale, symbol, _ = DAMPING_UNITS[unit]
+    zeta_head = "damping ratio" + (f" [{symbol.strip()}]" if symbol else "")
     cols = [
-        ("f_n [Hz]", lambda m: plus_minus(m.frequency_hz, uncertainty(m, "frequency_std_hz"))),
+        ("f_n [Hz]", lambda m, a: plus_minus(m.frequency_hz, uncertainty(m, "frequency_std_hz"))),
         (
-            "damping ratio [%]",
-            lambda m: plus_minus(m.damping_ratio, uncertainty(m, "damping_ratio_std"), 100, digits=4),
+            zeta_head,
+            lambda m, a: plus_minus(m.damping_ratio, uncertainty(m, "damping_ratio_std"), scale, digits=4),
         ),
-        ("f_d [Hz]", lambda m: f"{m.damped_frequency_hz:.6g}"),
-        ("amplitude", lambda m: f"{m.amplitude:.4g}"),
-        ("fit error", lambda m: f"{m.fit_error:.3g}"),
-        ("SNR [dB]", lambda m: f"{m.snr_db:.1f}"),
-        ("band [Hz]", lambda m: f"{m.band_hz[0]:.5g} - {m.band_hz[1]:.5g}"),
+        ("f_d [Hz]", lambda m, a: f"{m.damped_frequency_hz:.6g}"),
+    ]
+    cols += [(h, lambda m, a, f=f: f(a)) for h, f in _amplitude_columns(accounts, names)]
+    cols += [
+        ("fit error", lambda m, a: f"{m.fit_error:.3g}"),
+        ("SNR [dB]", lambda m, a: f"{m.snr_db:.1f}"),
+        ("band [Hz]", lambda m, a: f"{m.band_hz[0]:.5g} - {m.band_hz[1]:.5g}"),
     ]
     if any(m.hits for m in survey.modes):
         cols += [
-            ("hits", lambda m: str(len(m.hits) or 1)),
-            ("spread of f_n over hits [Hz]", lambda m: f"{m.frequency_spread_hz:.3g}"),
-            ("spread of damping over hits [%]", lambda m: f"{100 * m.damping_ratio_spread:.3g}"),
+            ("hits", lambda m, a: str(len(m.hits) or 1)),
+            ("spread of f_n over hits [Hz]", lambda m, a: f"{m.frequency_spread_hz:.3g}"),
+            (f"spread of damping over hits{f' [{symbol.strip()}]' if symbol else ''}",
+             lambda m, a: f"{scale * m.damping_ratio_spread:.3g}"),
         ]
     if any(m.residue is not None for m in survey.modes):
-        cols.append(("residue", lambda m: "-" if m.residue is None else f"{m.residue:.4g}"))
+        cols.append(("residue", lambda m, a: "-" if m.residue is None else f"{m.residue:.4g}"))
     if nonlinearity:
-        cols.append(("nonlinear", lambda m: "yes" if m.nonlinear else "no"))
-    cols.append(("diagnostics", lambda m: getattr(m.diagnostics, "verdict", "-")))
+        cols.append(("nonlinear", lambda m, a: "yes" if a["nonlinear"] else "no"))
+    cols.append(("diagnostics", lambda m, a: a["diagnostics"] or "-"))
     return cols
 
 
-def _table_section(survey, nonlinearity: bool) -> str:
+def _table_section(survey, accounts: list, names: list, nonlinearity: bool, unit: str, notes) -> str:
     parts = ['<section id="table"><h2>Modal table</h2>']
     if survey.modes:
-        cols = _columns(survey, nonlinearity)
+        cols = _columns(survey, accounts, names, nonlinearity, unit)
         head = "".join(f"<th>{escape(h)}</th>" for h, _ in [("mode", None)] + cols)
         rows = [
             f'<tr><td><a href="#mode-{k}">{k}</a></td>'
-            + "".join(f"<td>{escape(f(m))}</td>" for _, f in cols)
+            + "".join(f"<td>{escape(f(m, a))}</td>" for _, f in cols)
             + "</tr>"
-            for k, m in enumerate(survey.modes)
+            for k, (m, a) in enumerate(zip(survey.modes, accounts))
         ]
         parts.append(f'<table class="modes"><tr>{head}</tr>{"".join(rows)}</table>')
         parts.append(
             '<p class="muted">value ± standard deviation where the identification gives one; the spread '
-            "over repeated hits is their interquartile range.</p>"
+            f"over repeated hits is their interquartile range; {escape(FIT_ERROR_MEANING)}; the phase of "
+            "each channel is relative to the reference channel.</p>"
         )
     else:
         parts.append("<p><strong>No mode found.</strong></p>")
     for r in survey.rejected:
         band = "the whole record" if r.band_hz is None else f"{r.band_hz[0]:.5g} - {r.band_hz[1]:.5g} Hz"
-        parts.append(f"<p>Rejected ({escape(band)}, record {r.record}): {escape(str(r.reason))}</p>")
-    parts += [f"<p>Note: {escape(str(n))}</p>" for n in survey.notes]
+        reason = damping_in_words(str(r.reason), unit)
+        parts.append(f"<p>Rejected ({escape(band)}, record {r.record}): {escape(reason)}</p>")
+    shown = survey.notes if notes is None else notes  # the caller's notes include the survey's
+    parts += [f"<p>Note: {escape(damping_in_words(str(n), unit))}</p>" for n in dict.fromkeys(shown)]
     parts.append("</section>")
     return "\n".join(parts)
 
@@ -137,27 +174,24 @@ def _spectrum_section(survey) -> str:
     return '<section id="spectrum"><h2>Spectrum and stabilisation chart</h2>' + "".join(images) + "</section>"
 
 
-def _equations(mode) -> str:
-    model = mode.model
-    names = list(model.feature_names_)[: getattr(model, "n_states_", len(model.feature_names_))]
-    lines = [f"({n})' = {eq}" for n, eq in zip(names, model.equations(4))]
+def _equations(account: dict) -> str:
+    lines = [f"({n[:-1]})' = {eq}" for n, eq in account["equations"].items()]
     return f"<pre>{escape(chr(10).join(lines))}</pre>"
 
 
-def _diagnostics(diag) -> str:
-    if diag is None:
+def _diagnostics(mode, account: dict) -> str:
+    if account["diagnostics"] is None:
         return "<p>No diagnostics.</p>"
-    good = diag.verdict == "ok"
+    good = account["diagnostics"] == "ok"
+    snr = getattr(mode.diagnostics, "snr_db", float("nan"))
+    verdict = escape(account["diagnostics"])
     parts = [
-        f'<p>Verdict: <span class="verdict-{"ok" if good else "bad"}">{escape(diag.verdict)}</span> '
-        f"(fit error {float(max(diag.fit_error)):.3g} of the RMS"
-        + (f", SNR {diag.snr_db:.1f} dB" if math.isfinite(diag.snr_db) else "")
-        + ")</p>"
+        f'<p>Verdict: <span class="verdict-{"ok" if good else "bad"}">{verdict}</span> '
+        f"(fit error {mode.fit_error:.3g}" + (f", SNR {snr:.1f} dB" if math.isfinite(snr) else "") + ")</p>"
     ]
-    problems = problem_lines(diag.reasons)
-    if problems:
-        parts.append("<ul>" + "".join(f"<li>{escape(short)}</li>" for _, short, _ in problems) + "</ul>")
-    long = [(c, s) for c, _, s in problems] + [(c, s) for c, s in diag.notes.items()]
+    if account["problems"]:
+        parts.append("<ul>" + "".join(f"<li>{escape(short)}</li>" for short in account["problems"]) + "</ul>")
+    long = [*account["problem_details"].items(), *account["diagnostic_notes"].items()]
     if long:
         items = "".join(f"<li><strong>{escape(str(c))}</strong>: {escape(str(s))}</li>" for c, s in long)
         parts.append(
@@ -166,36 +200,69 @@ def _diagnostics(diag) -> str:
     return "".join(parts)
 
 
-def _nonlinearity(mode, nonlinearity: bool) -> str:
+def _nonlinearity(account: dict, nonlinearity: bool) -> str:
     if not nonlinearity:
-        return "<p>The test for nonlinearity was skipped.</p>"
-    verdict, text = nonlinearity_words(mode.nonlinearity)
-    return f"<p>The mode is <strong>{escape(verdict)}</strong>: {escape(text)}.</p>"
+        text = "<p>The test for nonlinearity was skipped.</p>"
+    else:
+        verdict = "nonlinear" if account["nonlinear"] else "linear"
+        text = f"<p>The mode is <strong>{verdict}</strong>: {escape(account['nonlinearity'])}.</p>"
+    if account["decision"]:
+        text += f'<p class="decision">{escape(account["decision"])}.</p>'
+    return text
 
 
-def _mode_section(k: int, mode, nonlinearity: bool) -> str:
+def _channels(account: dict) -> str:
+    """The mode's amplitude and shape per channel (several channels with a shape only)."""
+    if not account["channels"]:
+        return ""
+    rows = "".join(
+        f"<tr><td class=\"text\">{escape(str(c['channel']))}{' (reference)' if c['reference'] else ''}</td>"
+        f"<td>{c['amplitude']:.4g}</td><td>{c['magnitude']:.4g}</td><td>{phase_text(c['phase_deg'])}</td></tr>"
+        for c in account["channels"]
+    )
+    head = "<tr><th>channel</th><th>amplitude</th><th>shape: magnitude</th><th>shape: phase [°]</th></tr>"
+    return f"<h3>Amplitude and shape per channel</h3><table>{head}{rows}</table>"
+
+
+def _record_of(survey, mode):
+    """The preprocessed record a mode comes from (None if the survey does not hold it)."""
+    index = getattr(mode, "record", 0)
+    return survey.preprocessing[index] if 0 <= index < len(survey.preprocessing) else None
+
+
+def _mode_section(survey, k: int, mode, account: dict, nonlinearity: bool, unit: str) -> str:
+    scale, symbol, _ = DAMPING_UNITS[unit]
     freq = plus_minus(mode.frequency_hz, uncertainty(mode, "frequency_std_hz"))
-    zeta = plus_minus(mode.damping_ratio, uncertainty(mode, "damping_ratio_std"), 100, digits=4)
+    zeta = plus_minus(mode.damping_ratio, uncertainty(mode, "damping_ratio_std"), scale, digits=4)
     parts = [
         f'<section class="mode" id="mode-{k}">',
-        f"<h2>Mode {k}: {escape(freq)} Hz, damping ratio {escape(zeta)} %</h2>",
+        f"<h2>Mode {k}: {escape(freq)} Hz, damping ratio {escape(zeta)}{escape(symbol)}</h2>",
         "<h3>Band signal against the model</h3>",
-        _img(decay_figure(mode, k), f"mode {k}: band signal and model"),
+        _img(decay_figure(mode, k, _record_of(survey, mode), unit), f"mode {k}: band signal and model"),
+        _channels(account),
         "<h3>Equation</h3>",
-        _equations(mode),
+        _equations(account),
         "<h3>Backbone</h3>",
     ]
     curves = mode_backbones(mode, nonlinearity)
     if curves:
-        parts.append(_img(backbone_figure(curves), f"mode {k}: backbone"))
+        parts.append(_img(backbone_figure(curves, damping_unit=unit), f"mode {k}: backbone"))
     else:
         parts.append("<p>No backbone: the decay is too short or too noisy for one.</p>")
-    parts += ["<h3>Nonlinearity</h3>", _nonlinearity(mode, nonlinearity)]
-    parts += ["<h3>Diagnostics</h3>", _diagnostics(mode.diagnostics), "</section>"]
+    parts += ["<h3>Nonlinearity</h3>", _nonlinearity(account, nonlinearity)]
+    parts += ["<h3>Diagnostics</h3>", _diagnostics(mode, account), "</section>"]
     return "\n".join(parts)
 
 
-def survey_html(survey, *, source: str | None = None, nonlinearity: bool = True) -> str:
+def _channel_names(survey, channel_names) -> list:
+    n = max([1] + [len(m.shape) for m in survey.modes if m.shape is not None])
+    if channel_names is not None and len(channel_names) == n:
+        return [str(c) for c in channel_names]
+    return default_channel_names(n)
+
+
+def survey_html(survey, *, source: str | None = None, nonlinearity: bool = True,
+                damping_unit: str = DEFAULT_DAMPING_UNIT, channel_names=None, notes=None) -> str:
     """A modal survey as one self-contained HTML page.
 
     Parameters
@@ -207,6 +274,13 @@ def survey_html(survey, *, source: str | None = None, nonlinearity: bool = True)
     nonlinearity : bool, default=True
         Run the test for nonlinearity on each mode (it refits; False: the verdict is left out and the
         backbones are the model's and the band signal's own).
+    damping_unit : {"percent", "fraction"}, default="percent"
+        The unit of every damping ratio on the page (table, titles, figures).
+    channel_names : sequence of str, optional
+        The names of the record's channels (default ``ch0``, ``ch1``, ...).
+    notes : sequence of str, optional
+        The notes to show instead of the survey's own (the command line gives its own with the survey's:
+        what it left out, the survey's warnings in its terms).
 
     Returns
     -------
@@ -228,13 +302,22 @@ def survey_html(survey, *, source: str | None = None, nonlinearity: bool = True)
         raise TypeError(f"survey must be what identify_modes returns, got {type(survey).__name__}")
     from .._version import __version__
 
+    unit = check_damping_unit(damping_unit)
+    names = _channel_names(survey, channel_names)
+    accounts = [
+        mode_account(m, nonlinearity=nonlinearity, damping_unit=unit, channel_names=names)
+        for m in survey.modes
+    ]
     title = f"Modal survey of {source}" if source else "Modal survey"
     body = [
         f"<h1>{escape(title)}</h1>",
         _record_section(survey, source),
-        _table_section(survey, nonlinearity),
+        _table_section(survey, accounts, names, nonlinearity, unit, notes),
         _spectrum_section(survey) if survey.preprocessing else "",
-        *(_mode_section(k, m, nonlinearity) for k, m in enumerate(survey.modes)),
+        *(
+            _mode_section(survey, k, m, a, nonlinearity, unit)
+            for k, (m, a) in enumerate(zip(survey.modes, accounts))
+        ),
         f'<p class="muted">Made by sindy-impulse {escape(__version__)}.</p>',
     ]
     return (
@@ -246,7 +329,8 @@ def survey_html(survey, *, source: str | None = None, nonlinearity: bool = True)
 
 
 def write_html(path: str | os.PathLike, page: str, *, overwrite: bool = False) -> str:
-    """Write ``page`` to ``path`` (UTF-8); an existing file only with ``overwrite=True``.
+    """Write ``page`` to ``path`` (UTF-8) all at once (a temporary file beside it, then renamed); an existing
+    file only with ``overwrite=True``. A new file gets the user's usual permissions (umask).
 
     Examples
     --------
@@ -259,15 +343,20 @@ def write_html(path: str | os.PathLike, page: str, *, overwrite: bool = False) -
     ...         print("refused")
     refused
     """
+    from ..io._common import atomic_write
+
     if not isinstance(page, str):
         raise TypeError(f"page must be a str, got {type(page).__name__}")
     path = os.fspath(path)
     if os.path.isdir(path):
         raise IsADirectoryError(f"{path} is a directory, expected an HTML file name")
-    mode = "w" if overwrite else "x"
-    try:
-        with open(path, mode, encoding="utf-8") as fh:
+
+    def write(tmp: str) -> None:
+        with open(tmp, "w", encoding="utf-8") as fh:
             fh.write(page)
+
+    try:
+        atomic_write(path, write, overwrite=overwrite)
     except FileExistsError:
         raise FileExistsError(f"{path} exists; pass overwrite=True to replace it") from None
     return path
