@@ -277,14 +277,6 @@ def test_the_output_error_fit_brings_a_noisy_dampers_backbone_within_the_mark():
     assert _damping_shift_error(rec, mode) < 0.1
 
 
-def test_without_the_output_error_fit_the_dampers_shift_is_missed(monkeypatch):
-    monkeypatch.setattr(_fit, "OUTPUT_ERROR_PERIODS", 0)
-    rec = damper_record(NOISY_DAMPER)
-    (mode,) = _survey(rec).modes
-    assert mode.model.output_error_fit_ is None
-    assert _damping_shift_error(rec, mode) > 0.1
-
-
 def test_an_estimator_given_without_the_output_error_fit_is_kept_so():
     rec = damper_record(NOISY_DAMPER)
     estimator = _fit.default_estimator().set_params(output_error=False)
