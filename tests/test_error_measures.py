@@ -78,12 +78,6 @@ def test_the_survey_splits_linear_and_amplitude_dependent_damping_with_the_floor
     assert _damping_shift_error() < 0.05  # measured 0.011
 
 
-def test_with_the_estimators_floor_and_no_output_error_fit_the_split_follows_the_noise(monkeypatch):
-    monkeypatch.setattr(_fit, "SEGMENT_FLOOR", 0.01)
-    monkeypatch.setattr(_fit, "OUTPUT_ERROR_PERIODS", 0)
-    assert _damping_shift_error() > 0.1  # measured 0.19
-
-
 def test_the_output_error_fit_splits_the_damping_even_with_the_estimators_floor(monkeypatch):
     monkeypatch.setattr(_fit, "SEGMENT_FLOOR", 0.01)
     assert _damping_shift_error() < 0.05  # measured 0.011 (the same as with the survey's floor)

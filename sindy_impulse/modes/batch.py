@@ -269,7 +269,9 @@ def run_surveys(
         for i, (name, y, ti, fsi, fi) in enumerate(jobs)
     )
     config = parallel_config(backend=backend) if backend is not None else nullcontext()
-    with config:
+    # thread pools are the process's: held at one thread around the whole batch, so that workers sharing
+    # this process (the threading backend) never see one another restore them
+    with config, one_thread():
         results = Parallel(n_jobs=n_jobs, return_as="generator")(tasks)
         bar = wants_progress(progress, len(jobs))
         results = list(progress_bar(results, total=len(jobs), desc="records", unit="record", enabled=bar))

@@ -159,7 +159,8 @@ class Stage:
     def summary(self) -> str:
         """The first line of the stage function's docstring: what it does."""
         doc = (self.run.__doc__ or "").strip()
-        return doc.split("\n")[0].rstrip(".") if doc else self.run.__name__
+        line = doc.split("\n")[0].rstrip(".") if doc else self.run.__name__
+        return line[:1].lower() + line[1:]
 
 
 class Pipeline(tuple):

@@ -461,16 +461,19 @@ class ModalSurvey:
 POLE_SAMPLES = 20_000
 
 
-def pole_table(pre, max_samples: int | None = POLE_SAMPLES, start: int | None = None):
+def pole_table(pre, max_samples: int | None = POLE_SAMPLES, start: int | None = None, orders=None,
+               min_orders: int | None = None):
     """The stabilisation diagram of a preprocessed record's free decay (offset removed, from ``start``,
-    default the end of the hit; its first ``max_samples`` samples); an empty table for a record too short
-    for a Hankel matrix."""
+    default the end of the hit; its first ``max_samples`` samples; at ``orders``, a pole stable at
+    ``min_orders``, default the diagram's); an empty table for a record too short for a Hankel matrix."""
     from ..poles import PoleTable, stabilisation
+    from ..poles.stabilisation import MIN_ORDERS, ORDERS
 
     start = pre.impact.ringdown_index if start is None else start
     stop = None if max_samples is None else start + max_samples
     try:
-        return stabilisation(pre.y[start:stop], fs=pre.fs)
+        return stabilisation(pre.y[start:stop], fs=pre.fs, orders=ORDERS if orders is None else orders,
+                             min_orders=MIN_ORDERS if min_orders is None else min_orders)
     except ValueError:  # fewer samples than a Hankel matrix needs
         empty = np.empty(0)
         return PoleTable(empty, empty, empty.astype(int), empty.astype(bool), ())

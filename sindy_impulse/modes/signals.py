@@ -38,7 +38,7 @@ def component(cand, n: int, fs: float) -> np.ndarray:
     >>> from types import SimpleNamespace
     >>> c = SimpleNamespace(decay_rate=1.0, damped_frequency_hz=10.0, amplitude=np.array([2.0 + 0j]))
     >>> component(c, 3, 100.0).round(3).tolist()
-    [2.0, 1.6, 0.612]
+    [2.0, 1.602, 0.606]
     """
     t = np.arange(n) / fs
     s = -cand.decay_rate + 2j * np.pi * cand.damped_frequency_hz
