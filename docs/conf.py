@@ -52,7 +52,7 @@ exclude_patterns = [
 ]
 templates_path = ["_templates"]
 
-# -- Markdown pages (MyST): the narrative pages stay Markdown so that they read on GitHub too -----------------
+# -- Markdown pages (MyST): the narrative pages stay Markdown so that they read on GitHub too ----------
 myst_enable_extensions = ["colon_fence", "dollarmath"]
 myst_heading_anchors = 3
 suppress_warnings = ["myst.header"]

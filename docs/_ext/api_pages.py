@@ -74,7 +74,8 @@ def module_page(name: str, modules: list[str]) -> str:
     lines += [f".. currentmodule:: {name}", "", ".. autosummary::", "   :toctree: generated/", ""]
     lines += [f"   {public}" for public in own]
     if elsewhere:
-        lines += ["", "Also importable from here, documented where they are defined: " + ", ".join(elsewhere) + "."]
+        also = "Also importable from here, documented where they are defined: "
+        lines += ["", also + ", ".join(elsewhere) + "."]
     return "\n".join(lines) + "\n"
 
 
@@ -91,8 +92,8 @@ def index_page(modules: list[str]) -> str:
         "API reference",
         "=============",
         "",
-        "Generated from the docstrings. ``from sindy_impulse import NAME`` offers these names (imported lazily, "
-        "so ``import sindy_impulse`` stays fast):",
+        "Generated from the docstrings. ``from sindy_impulse import NAME`` offers these names "
+        "(imported lazily, so ``import sindy_impulse`` stays fast):",
         "",
         ".. list-table::",
         "   :header-rows: 1",

@@ -22,13 +22,15 @@ from pathlib import Path
 GROUPS = {
     "accuracy": "Accuracy on synthetic records with a known truth: the paper's cases, the modal table "
     "against ESPRIT, uncertainties, backbones, the test for nonlinearity.",
-    "real_records": "Measured records (hammer tests and free decays) against the values their sources publish.",
-    "robustness": "Bad inputs, soaks and work bounds: what happens on data that should be refused or warned about.",
+    "real_records": "Measured records (hammer tests and free decays) against the values their sources "
+    "publish.",
+    "robustness": "Bad inputs, soaks and work bounds: what happens on data that should be refused or "
+    "warned about.",
     "speed": "Speed, each figure beside a baseline measured in the same run (ratios, not absolute times).",
     "pysindy_suite": "PySINDy's own test suite run against ImpulseSINDy in PySINDy's plain mode.",
     "tracking": "Tracking modes over many tests.",
 }
-HEADER = ".. This page is written by docs/_ext/results_pages.py at build time from benchmarks/results/*.json.\n\n"
+HEADER = ".. Written by docs/_ext/results_pages.py at build time from benchmarks/results/*.json.\n\n"
 MAX_ROWS = 200
 
 
