@@ -61,7 +61,7 @@ def envelope_fit(y, fs, frequency_hz, weighted=True):
 
 def damper_record(case: dict):
     """The single-mode hammer test (``impact_record``) of a mode with an ``x^2 x'`` damper, from a dict of
-    ``f0, zeta, fs, duration, snr_db, c2, seed`` (the cases of ``benchmarks/bench_model_backbone.py``'s
+    ``f0, zeta, fs, duration, snr_db, c2, seed`` (the cases of ``benchmarks/accuracy/model_backbone.py``'s
     damping row)."""
     from sindy_impulse import impact_record
 

@@ -1,4 +1,5 @@
-"""The fast part of the bad-input matrix (benchmarks/bad_inputs.py runs all of it under a watchdog).
+"""The fast part of the bad-input matrix (``python -m benchmarks bad_inputs`` runs all of it under a
+watchdog).
 
 Every case states its expectation (right terms and coefficients within a tolerance, a named warning or a
 named error); none may end as a silent wrong answer or a crash. Here: every scikit-learn style call and
@@ -7,18 +8,12 @@ every 25th of the other cases, so each group is represented.
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import pytest
+from benchmark_helpers import helper
 
-BENCHMARKS = Path(__file__).resolve().parent.parent / "benchmarks"
-sys.path.insert(0, str(BENCHMARKS))
-
-from bad_input_matrix import all_cases  # noqa: E402
-from bad_inputs import FAILURES, run_case  # noqa: E402
-
-CASES = all_cases()
+matrix, cases = helper("robustness.bad_input_matrix"), helper("robustness.bad_input_cases")
+FAILURES, run_case = cases.FAILURES, cases.run_case
+CASES = matrix.all_cases()
 FAST = [c for c in CASES if c["group"] == "sklearn"] + [c for c in CASES if c["group"] != "sklearn"][::25]
 
 

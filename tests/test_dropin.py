@@ -1,7 +1,8 @@
 """ImpulseSINDy as a drop-in pysindy.SINDy: libraries, optimizers, trajectories, times, score, grid search.
 
-PySINDy's own test suite runs against the plain mode in benchmarks/pysindy_suite.py; these tests pin the
-behaviours that suite found, and the same behaviours in the sweep and refinement modes it does not reach.
+PySINDy's own test suite runs against the plain mode in benchmarks/pysindy_suite/pysindy_suite.py; these tests
+pin the behaviours that suite found, and the same behaviours in the sweep and refinement modes it does not
+reach.
 """
 
 import warnings

@@ -55,8 +55,8 @@ def test_a_modes_fit_error_does_not_depend_on_the_floor_that_selected_it():
     assert _fit.fit_error_of(floored) >= floored.score_ / x.size
 
 
-# An x^2 x' damper, short and noisy (bench_model_backbone.py, damping row, seed 43: 176 Hz, damping ratio
-# 1.29 % rising 1.85x towards the hit, SNR 39 dB, about 40 periods kept).
+# An x^2 x' damper, short and noisy (benchmarks/accuracy/model_backbone.py, damping row, seed 43: 176 Hz,
+# damping ratio 1.29 % rising 1.85x towards the hit, SNR 39 dB, about 40 periods kept).
 DAMPER = dict(f0=175.60678558238322, zeta=0.01285033333582105, fs=7467.999026689309,
               duration=0.6643630898416183, snr_db=39.44081007474047, c2=1471626241612469.0, seed=43)
 

@@ -1,21 +1,17 @@
-"""The record generators of the modal-table families (benchmarks/mode_families.py) and the scorer of
-benchmarks/bench_modes.py: valid configurations with each family's stated properties, no survey run."""
+"""The record generators of the modal-table families (benchmarks/accuracy/families.py) and the scorer of
+the modal-table benchmarks (benchmarks/accuracy/scoring.py): valid configurations with each family's stated
+properties, no survey run."""
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
+from benchmark_helpers import helper
 
-BENCHMARKS = Path(__file__).resolve().parent.parent / "benchmarks"
-sys.path.insert(0, str(BENCHMARKS))
+from sindy_impulse import impact_record
 
-import mode_families as mf  # noqa: E402
-from bench_modes import judge, random_case  # noqa: E402
-
-from sindy_impulse import impact_record  # noqa: E402
+mf = helper("accuracy.families")
+judge, random_case = helper("accuracy.scoring").judge, mf.random_case
 
 NONLINEAR = ("quadratic_stiffness", "cubic_stiffness", "damping_amplitude", "quadratic_damping")
 
@@ -128,7 +124,7 @@ def test_harmonic_snr_sees_the_quadratic_springs_second_harmonic():
     case = next(c for c in _cases("e", n=8) if c["kind"] == "quadratic")
     cfg = dict(case["config"], duration=min(case["config"]["duration"], 0.5), snr_db=50.0)
     f = cfg["frequencies_hz"][0]
-    a = mf._displacement_amplitude(1.0, f, cfg["sensor"])
+    a = mf.displacement_amplitude(1.0, f, cfg["sensor"])
     cfg["quadratic_stiffness"] = 6 * (2 * np.pi * f) ** 2 * 10 ** (-32 / 20) / a  # harmonic 32 dB down
     linear = {k: v for k, v in cfg.items() if k != "quadratic_stiffness"}
     with_harmonic = mf.harmonic_snr_db(impact_record(**cfg), 2)

@@ -146,7 +146,7 @@ def test_the_nonlinearity_test_runs_with_the_survey_when_asked(records):
 
 
 # ----------------------------------------------------------------------------------------------------
-# issue 26's batch: 50 three-mode accelerometer records at 50 kHz (timed by benchmarks/perf_batch.py)
+# issue 26's batch: 50 three-mode accelerometer records at 50 kHz (timed by benchmarks/speed/batch.py)
 # ----------------------------------------------------------------------------------------------------
 def _issue_records(n=50):
     return [

@@ -81,7 +81,7 @@ def test_a_mode_with_amplitude_dependent_damping_is_one_mode(seed):
     """``x^2 x'`` damping (the damping ratio 1.6 times its small-amplitude value at the hit): its record's
     stabilisation diagram has a slowly and a fast decaying pole at the mode and a pole near 3 f; on these
     seeds the survey reported two or three modes before the poles had to be resolved to split a peak
-    (``bench_model_backbone.py``'s damper seed 39)."""
+    (``benchmarks/accuracy/model_backbone.py``'s damper seed 39)."""
     rec = impact_record(73.0, 0.0154, [1.0], fs=2400.0, duration=1.44, snr_db=33.0,
                         damping_amplitude=1.88e13, random_state=seed)
     with warnings.catch_warnings():
@@ -159,7 +159,8 @@ def test_quadratic_spring_gives_one_mode_and_its_second_harmonic_with_evidence(s
 @pytest.mark.slow
 @pytest.mark.parametrize("seed", SEEDS)
 def test_cubic_spring_gives_one_mode_and_its_third_harmonic_with_evidence(seed):
-    """A hardening spring 3.3 % stiffer at the start (bench_model_backbone.py's cubic row, seed 37)."""
+    """A hardening spring 3.3 % stiffer at the start (benchmarks/accuracy/model_backbone.py's cubic row,
+    seed 37)."""
     rec = impact_record(145.98385111493212, 0.0030984742414416995, [1.0], fs=6681.011979487065,
                         duration=0.7991751537970851, snr_db=45, cubic_stiffness=6.6998793379225256e16,
                         random_state=seed)
@@ -173,10 +174,10 @@ def test_cubic_spring_gives_one_mode_and_its_third_harmonic_with_evidence(seed):
 @pytest.mark.slow  # about 9 s a record: the harmonic's band fit runs first and fails
 @pytest.mark.parametrize("seed", (880091738, *SEEDS))
 def test_a_softening_springs_short_lived_third_harmonic_whose_band_fit_fails_is_named(seed):
-    """Family e's record 7 (bench_modes.py, seed 0; its noise seed first): a softening spring, damping ratio
-    2.5 %, so the third harmonic (28 dB band SNR) decays within its band filter's transient: its fit fails,
-    and the peak at 3 x 156 Hz (the early, large-amplitude frequency) was left as "no oscillatory mode"
-    (with the benchmark's unrounded configuration). On some noise seeds the peak is not detected at all
+    """Family e's record 7 (benchmarks/accuracy/modes.py, seed 0; its noise seed first): a softening spring,
+    damping ratio 2.5 %, so the third harmonic (28 dB band SNR) decays within its band filter's transient: its
+    fit fails, and the peak at 3 x 156 Hz (the early, large-amplitude frequency) was left as "no oscillatory
+    mode" (with the benchmark's unrounded configuration). On some noise seeds the peak is not detected at all
     (nothing to name; no mode either)."""
     rec = impact_record([159.854633190464], [0.024638558750460046], [1.0], fs=10000.0, duration=0.3846,
                         sensor="velocity", pre_trigger=0.0105, offset=3.1455, snr_db=57.8,
@@ -226,7 +227,7 @@ def test_a_linear_mode_at_exactly_twice_another_is_a_mode_not_its_harmonic(seed)
 
 @pytest.mark.parametrize("seed", [0, 1, 3])
 def test_a_linear_mode_0_03_percent_off_twice_another_decaying_faster_is_a_mode(seed):
-    # family (a) record 73 of benchmarks/bench_modes.py: locked within its few independent samples and
+    # family (a) record 73 of benchmarks/accuracy/modes.py: locked within its few independent samples and
     # with an amplitude exponent of 2.19, but a linear mode's harmonic decays exactly twice as fast: this
     # one 2.21 times. Three modes on noise seeds 0-11 but 2, 5 and 10 (none before), where the 987.5 Hz
     # band's fit leaves its damping ratio 25 % uncertain: the decay rates cannot tell it from a harmonic
@@ -242,8 +243,9 @@ def test_a_linear_mode_0_03_percent_off_twice_another_decaying_faster_is_a_mode(
 
 @pytest.mark.slow  # about 4 s
 def test_a_failed_band_at_three_times_a_nonlinear_mode_is_named_its_harmonic():
-    """Family e's record 21 (bench_modes.py, seed 0), exactly: a softening spring whose third harmonic's
-    band fit fails ("no oscillatory mode of the model inside the band"); the row now names the harmonic."""
+    """Family e's record 21 (benchmarks/accuracy/modes.py, seed 0), exactly: a softening spring whose third
+    harmonic's band fit fails ("no oscillatory mode of the model inside the band"); the row now names the
+    harmonic."""
     rec = impact_record([33.179476036761656], [0.027862307352959814], [1.0], fs=1000.0, duration=22.105,
                         sensor="velocity", pre_trigger=0.0319681636282665, offset=0.9375385786389245,
                         snr_db=50.17579901750608, random_state=1244721830, cubic_stiffness=-246890056.6420581)
@@ -262,7 +264,7 @@ def test_a_ratio_over_few_independent_samples_is_judged_with_its_uncertain_stand
     assert _near_order(2.004, 1e-6, 200.0, 2)  # within RATIO_TOL
 
 
-#: Family (e) of benchmarks/bench_modes.py (seed 0), record 60: a quadratic spring's second harmonic about
+#: Family (e) of benchmarks/accuracy/modes.py (seed 0), record 60: a quadratic spring's second harmonic about
 #: 20 dB over the noise, whose quarters hold 4 independent samples each. Over noise seeds 0-9 it is named on
 #: 7 and reported as a mode on 3 (before the Student-t quantile: 5 and 5); some seeds also split the
 #: softening mode's peak (189 and 192 Hz), another matter.

@@ -89,8 +89,8 @@ def test_a_model_with_the_damper_and_a_linear_mode_are_left_alone():
 
 @pytest.mark.slow
 def test_survey_of_a_damper_record_whose_sweep_drops_the_damper():
-    """``bench_modes.py --family g`` record 58 (seed 0): a 108.5 Hz mode whose damping ratio is 68 % higher
-    at the hit; its model keeps ``y^3`` but not the damper, so its linear part said +11 %."""
+    """``python -m benchmarks modes --family g`` record 58 (seed 0): a 108.5 Hz mode whose damping ratio is 68
+    % higher at the hit; its model keeps ``y^3`` but not the damper, so its linear part said +11 %."""
     from sindy_impulse import identify_modes, impact_record
 
     rec = impact_record([108.53213509223399], [0.0013040495464960464], [0.4136953157710286], fs=1000.0,

@@ -43,7 +43,7 @@ def _survey(**kwargs):
 @pytest.mark.parametrize(
     "case",
     [
-        # a 1.4 %-damped mode 9 % above a lightly damped one and 27 % below another (bench_modes record 83)
+        # a 1.4 %-damped mode 9 % above a lightly damped one and 27 % below another (modes record 83)
         dict(frequencies_hz=[160.42, 182.26, 198.65, 251.68], damping_ratios=[0.0063, 0.001, 0.0144, 0.0037],
              fs=2048.0, duration=3.45, sensor="displacement", snr_db=48.0, random_state=11),
         # a 2.7 %-damped mode 5 % below a lightly damped one (record 113's middle mode)

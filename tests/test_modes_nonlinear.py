@@ -15,8 +15,8 @@ from sindy_impulse.preprocessing import spectral_peaks
 from sindy_impulse.preprocessing.filters import transient_samples
 
 # Two hammer tests of a hardening mode whose frequency falls by about 3 % along the decay (the records of
-# benchmarks/bench_model_backbone.py, cubic row, seeds 7 and 15): the spectrum shows two close peaks and the
-# third harmonic.
+# benchmarks/accuracy/model_backbone.py, cubic row, seeds 7 and 15): the spectrum shows two close peaks and
+# the third harmonic.
 DUFFING = [
     dict(f0=158.62537118062534, zeta=0.0037097025593240017, fs=4853.687975314075, duration=0.7354855392824855,
          snr_db=35.672931998913825, k3=1.070541445488249e17, seed=7),
@@ -63,9 +63,9 @@ def test_without_the_merge_the_nonlinear_mode_is_split(monkeypatch):
 @pytest.mark.slow  # 4-5 s a record
 @pytest.mark.parametrize("seed", [6, 15, 1081694327])
 def test_a_chirp_split_into_modes_fitted_on_bands_of_their_own_is_one_mode(seed):
-    """Family (e) record 45 of bench_modes.py (its seed 1081694327, and noise seeds 6 and 15 of 2-21, the
-    others of which were right before): a hardening mode falling 2.5 % came out as three linear modes,
-    one fitted on a 4 Hz band better than the one oscillator on the group's band; the three lie on that
+    """Family (e) record 45 of benchmarks/accuracy/modes.py (its seed 1081694327, and noise seeds 6 and 15 of
+    2-21, the others of which were right before): a hardening mode falling 2.5 % came out as three linear
+    modes, one fitted on a 4 Hz band better than the one oscillator on the group's band; the three lie on that
     oscillator's backbone."""
     rec = impact_record([206.909], [0.00603], fs=10000.0, duration=3.9499, sensor="displacement",
                         pre_trigger=0.07775441238817055, offset=0.8503925080743324, snr_db=47.315938469597725,
@@ -79,9 +79,9 @@ def test_a_chirp_split_into_modes_fitted_on_bands_of_their_own_is_one_mode(seed)
 @pytest.mark.slow  # 1.5 s a record
 @pytest.mark.parametrize("seed", [604909077, 5])
 def test_modes_closer_than_half_their_bandwidth_on_one_backbone_are_one_mode(seed):
-    """Family (g) record 39 of bench_modes.py (its seed, and seed 5 of 0-7, the others right before): a
-    hardening 593 Hz mode came out as 594.2 and 596.2 Hz from the stabilisation diagram, in no group of
-    peaks. Those two modes were merged by the one oscillator on their band (``_clusters``); now the
+    """Family (g) record 39 of benchmarks/accuracy/modes.py (its seed, and seed 5 of 0-7, the others right
+    before): a hardening 593 Hz mode came out as 594.2 and 596.2 Hz from the stabilisation diagram, in no
+    group of peaks. Those two modes were merged by the one oscillator on their band (``_clusters``); now the
     diagram's two poles, closer than the wider one's half-power half-width, no longer split the peak
     (``partition.resolved``): one mode either way."""
     rec = impact_record([593.036, 1230.179], [0.017244, 0.0010507], [0.1913, 0.3995], fs=10000.0,
@@ -106,11 +106,11 @@ def test_a_merged_groups_oscillator_is_refitted_near_its_peaks_not_on_the_whole_
     assert _nonlinear._narrow_band(pre, (0, 1, 2), types.SimpleNamespace(band_hz=(69.0, 72.0))) is None
 
 
-#: bench_model_backbone.py's cubic row, seeds 12, 17 and 22 (30, 52 and 36 dB), with the amplitudes its
-#: comparison spans. From d10cdad (detection on stable poles) the chirp's poles split its peak and the one
-#: oscillator of the pieces was fitted on the whole group band: shift errors 11.6-22.5 %. Seeds 12 and 22
-#: are right since unresolved poles no longer split a peak (``partition.resolved``); seed 17 still groups
-#: its peaks and needs the refit on the narrow band (shift error 11.8 % without it, 2.7 % with it).
+#: benchmarks/accuracy/model_backbone.py's cubic row, seeds 12, 17 and 22 (30, 52 and 36 dB), with the
+#: amplitudes its comparison spans. From d10cdad (detection on stable poles) the chirp's poles split its peak
+#: and the one oscillator of the pieces was fitted on the whole group band: shift errors 11.6-22.5 %. Seeds 12
+#: and 22 are right since unresolved poles no longer split a peak (``partition.resolved``); seed 17 still
+#: groups its peaks and needs the refit on the narrow band (shift error 11.8 % without it, 2.7 % with it).
 _CUBIC_BACKBONES = {
     17: (dict(frequencies_hz=137.983224598718, damping_ratios=0.0040555079629956735, fs=7802.268496642156,
               duration=0.8455134093724507, snr_db=52.00493927971887, cubic_stiffness=5.505652036623548e16),
@@ -151,8 +151,8 @@ def test_close_linear_modes_are_not_merged():
     assert not any("harmonic" in r.reason for r in found.rejected)
 
 
-# bench_model_backbone.py, cubic row, seed 37 (3.3 % shift, 34 dB): its third harmonic, fitted at 451.1 Hz,
-# is seen nearer the hit than the mode's backbone reaches (top 149.6 Hz).
+# benchmarks/accuracy/model_backbone.py, cubic row, seed 37 (3.3 % shift, 34 dB): its third harmonic, fitted
+# at 451.1 Hz, is seen nearer the hit than the mode's backbone reaches (top 149.6 Hz).
 HARMONIC_SEEN_EARLY = dict(f0=145.98385111493212, zeta=0.0030984742414416995, fs=6681.011979487065,
                            duration=0.7991751537970851, snr_db=34.34459278842981, k3=6.6998793379225256e16,
                            seed=37)
@@ -195,8 +195,8 @@ def test_mode_backbone_uses_the_tests_alternative_when_the_model_lacks_the_term(
     assert _mode_with_test(nonlinear=False, source="search", backbone_model=curve).backbone == "own"
 
 
-# A mode with an x^2 x' damper (damping ratio 2.2x higher at the start; bench_model_backbone.py, damping row,
-# seed 18): the broad peak of its third harmonic (15 % "damping") is grouped with it.
+# A mode with an x^2 x' damper (damping ratio 2.2x higher at the start; benchmarks/accuracy/model_backbone.py,
+# damping row, seed 18): the broad peak of its third harmonic (15 % "damping") is grouped with it.
 DAMPER = dict(f0=85.79060934499395, zeta=0.00924857622186462, fs=2895.526117765121,
               duration=1.3599001983714711, snr_db=50.35088397773171, c2=24894765317601.613, seed=18)
 
@@ -224,8 +224,8 @@ def test_without_the_rule_the_grouped_nonlinear_mode_becomes_a_linear_joint_mode
     assert mode.states.shape[1] == 4 and not _nonlinear.has_nonlinear_terms(mode.model)
 
 
-# A strongly damped mode with an x^2 x' damper (bench_model_backbone.py, damping row, seed 25): the spike
-# of the hammer's contact in the first samples led the damped-sinusoid fit of the only peak astray.
+# A strongly damped mode with an x^2 x' damper (benchmarks/accuracy/model_backbone.py, damping row, seed 25):
+# the spike of the hammer's contact in the first samples led the damped-sinusoid fit of the only peak astray.
 SPIKE = dict(f0=50.07271493204269, zeta=0.016274373945438, fs=2948.005380192316, duration=2.3299448976354378,
              snr_db=53.128245856781824, c2=122559699166733.03, seed=25)
 
@@ -258,7 +258,8 @@ def test_candidate_frequency_tolerance_keeps_it_positive():
 
 
 def test_harmonic_of_a_damper_mode_is_named_within_its_half_power_band():
-    """bench_model_backbone.py, damping row, seed 1: the third harmonic, fitted at 2.980 f (0.7 % off)."""
+    """benchmarks/accuracy/model_backbone.py, damping row, seed 1: the third harmonic, fitted at 2.980 f
+    (0.7 % off)."""
     rec = impact_record(100.71472579980895, 0.0067940492473532454, [1.0], fs=3494.3798148277324,
                         duration=1.1583873732483316, snr_db=42.59997388176576,
                         damping_amplitude=7137006459386.118, random_state=1)
@@ -267,10 +268,10 @@ def test_harmonic_of_a_damper_mode_is_named_within_its_half_power_band():
     assert any("harmonic 3" in r.reason for r in found.rejected)
 
 
-# An x^2 x' damper (bench_model_backbone.py, damping row, seed 0): the own-band mode disagrees with the
-# peak's damped sinusoid (as an amplitude-dependent mode does), so the peak is fitted again on the deflated
-# record, in a band that was narrower than its own (10 % of f against 21 %): a longer filter transient cut
-# off the largest amplitudes, and that linear model replaced the own band's.
+# An x^2 x' damper (benchmarks/accuracy/model_backbone.py, damping row, seed 0): the own-band mode disagrees
+# with the peak's damped sinusoid (as an amplitude-dependent mode does), so the peak is fitted again on the
+# deflated record, in a band that was narrower than its own (10 % of f against 21 %): a longer filter
+# transient cut off the largest amplitudes, and that linear model replaced the own band's.
 WIDE = dict(f0=34.54832705117374, zeta=0.006437144663300511, fs=1039.162139629273,
             duration=3.3769121872054013, snr_db=48.03867618713298, c2=50617324256.16316, seed=0)
 
@@ -313,10 +314,10 @@ def test_every_deflated_band_holds_the_peaks_own_band_and_starts_no_later(monkey
     assert band.t[0] <= own.t[0] + 1e-9
 
 
-# A mode with an x^2 x' damper at 35 dB (damping ratio 2.2x higher at the start; bench_model_backbone.py,
-# damping row, seed 4): the segment-wise measure's restarts from noisy states split its damping wrongly
-# between the linear and the amplitude-dependent term (shift error 25 %); the output-error fit, which takes
-# the initial state as an unknown, brings it to 2 %.
+# A mode with an x^2 x' damper at 35 dB (damping ratio 2.2x higher at the start;
+# benchmarks/accuracy/model_backbone.py, damping row, seed 4): the segment-wise measure's restarts from noisy
+# states split its damping wrongly between the linear and the amplitude-dependent term (shift error 25 %); the
+# output-error fit, which takes the initial state as an unknown, brings it to 2 %.
 NOISY_DAMPER = dict(f0=130.12484047835096, zeta=0.011793451670762425, fs=6483.3749019754305,
                     duration=0.8965749063575348, snr_db=34.62290733842147, c2=700968078126841.6, seed=4)
 
@@ -365,8 +366,9 @@ def test_a_band_of_hundreds_of_periods_keeps_the_segment_wise_model():
     assert mode.model.output_error_fit_ is None and mode.model.error_measure_ == "segmented"
 
 
-#: Family (e) record 37 of benchmarks/bench_modes.py (seed 0): a softening cubic spring whose third harmonic
-#: (37 dB band SNR) the damped-sinusoid test of the peaks drops (it sweeps three times the mode's chirp).
+#: Family (e) record 37 of benchmarks/accuracy/modes.py (seed 0): a softening cubic spring whose third
+#: harmonic (37 dB band SNR) the damped-sinusoid test of the peaks drops (it sweeps three times the mode's
+#: chirp).
 _SOFTENING = dict(frequencies_hz=[122.11492978736126], damping_ratios=[0.0023119130379564705], fs=10000.0,
                   duration=0.6595, sensor="velocity", pre_trigger=0.0394, offset=4.96, snr_db=57.7)
 

@@ -46,7 +46,7 @@ def test_two_short_bands_are_identified_from_their_stable_poles(seed):
 
 @pytest.mark.parametrize("seed", SEEDS)
 def test_three_short_modes_of_family_d(seed):
-    """Family (d) record 22 (``benchmarks/bench_modes.py --family d``): 33.5, 46 and 92 Hz at 2.4-6.7 %
+    """Family (d) record 22 (``python -m benchmarks modes --family d``): 33.5, 46 and 92 Hz at 2.4-6.7 %
     damping, 0.35 s. Before this path the survey missed the 33.5 and 46 Hz modes of that record."""
     rec = impact_record([33.51815, 45.99197, 92.34204], [0.053745, 0.024094, 0.06658],
                         [0.3728, 0.3769, 0.2592], fs=2048.0, duration=0.35107421875, sensor="velocity",
@@ -68,7 +68,7 @@ def test_a_short_single_mode_keeps_its_direct_fit(seed):
 
 
 # family (d) records (seed 0) the survey got wrong before its short bands were taken from the stable poles:
-# the index in `bench_short_records.py`, what went wrong then, the config (rounded to 6 digits)
+# the index in `benchmarks/accuracy/short_records.py`, what went wrong then, the config (rounded to 6 digits)
 RECORD_4 = dict(  # 157 Hz at damping 0.18 found 0.67 % high by the delay-embedded direct fit
     frequencies_hz=[157.052145, 281.778464], damping_ratios=[0.183001, 0.023189],
     amplitudes=[0.461193, 0.70749],

@@ -59,8 +59,8 @@ def test_contact_end_of_a_pulse_caught_from_its_rise(seed):
 
 @pytest.mark.parametrize("seed", [1679665483, 0])
 def test_clipped_runs_are_not_taken_for_the_end_of_the_contact(seed):
-    """Family (h) record 12 of bench_modes.py (its seed, and another): the clipped runs of the ring-down
-    fail the recurrence too; a contact's end taken after them cost the strongly damped top mode."""
+    """Family (h) record 12 of benchmarks/accuracy/modes.py (its seed, and another): the clipped runs of the
+    ring-down fail the recurrence too; a contact's end taken after them cost the strongly damped top mode."""
     import warnings
 
     from sindy_impulse import identify_modes

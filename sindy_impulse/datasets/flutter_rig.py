@@ -78,8 +78,8 @@ def load_flutter_rig() -> FlutterRigFreeDecay:
     frequencies nearly equal). The package ships every 10th sample (500 Hz, 8000 samples per channel),
     values unchanged.
 
-    What a classical look finds (``benchmarks/classical_look_flutter_rig.py``): a heave-dominated mode at
-    about 2.25 Hz, also strong in pitch, decaying over 8-9 s (about 18 periods, 70 dB above the noise),
+    What a classical look finds (``benchmarks/real_records/flutter_rig_classical.py``): a heave-dominated mode
+    at about 2.25 Hz, also strong in pitch, decaying over 8-9 s (about 18 periods, 70 dB above the noise),
     and a pitch-dominated mode at about 2.85 Hz that is gone after about 3 s; the two are coupled. The
     damping is amplitude-dependent, as with dry friction: the period-by-period damping ratio of the first
     mode grows from about 0.02 at the largest amplitude to 0.04-0.05 at a tenth of it, while its frequency

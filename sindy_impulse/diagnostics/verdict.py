@@ -56,10 +56,10 @@ ERROR_FLOOR = 0.02
 #: Relative standard error of a coefficient beyond which it is uncertain (10 % is then under three standard
 #: errors). The standard errors count the correlation of the model's residual (:mod:`.terms`), so a model
 #: that misses the data systematically gets wider ones; they are still a lower bound for this estimator
-#: (sweep and refinement are not the maximum-likelihood fit): in the soak (benchmarks/soak.py) the wrong
-#: coefficients of weak terms at 15-30 dB were 2.5-4 standard errors off. Chosen on the soak's seeds
+#: (sweep and refinement are not the maximum-likelihood fit): in the soak (benchmarks/robustness/soak.py) the
+#: wrong coefficients of weak terms at 15-30 dB were 2.5-4 standard errors off. Chosen on the soak's seeds
 #: 0-999 (unwarned wrong / warned right: 0.03 -> 6 / 41 of 688, 0.035 -> 10 / 32, 0.04 -> 12 / 31,
-#: 0.05 -> 16 / 25), checked on seeds 1000-1999 (see benchmarks/soak.py).
+#: 0.05 -> 16 / 25), checked on seeds 1000-1999 (see benchmarks/robustness/soak.py).
 UNCERTAINTY_LIMIT = 0.035
 #: Condition number of the model's library columns from which its coefficients are not determined.
 CONDITION_LIMIT = 1e8

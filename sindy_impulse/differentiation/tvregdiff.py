@@ -76,7 +76,7 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
     order : {1, 2, 3}, default=3
         Penalized derivative of ``u``: 1 is Chartrand's total variation (piecewise-constant derivative),
         2 and 3 penalize the variation of the 2nd and 3rd derivative. Smooth ring-downs favour 3 (about
-        2.4-3.3x smaller errors than 1 at 20-40 dB SNR; see ``benchmarks/bench_tvregdiff.py``).
+        2.4-3.3x smaller errors than 1 at 20-40 dB SNR; see ``benchmarks/accuracy/tvregdiff.py``).
     alpha_selection : {"gcv", "consistency"}, default="gcv"
         Criterion for ``alpha="auto"``, minimized over a log grid of alphas:
 
@@ -95,7 +95,7 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         differences of the current iterate: ``|d|`` is replaced by ``sqrt(d^2 + (eps * rms(d))^2)``.
         ``eps -> 0`` is the pure (edge-preserving) TV of Chartrand; ``eps = 1`` penalizes small variations
         quadratically and large ones linearly, which was 10-28% more accurate than ``eps=1e-3`` on smooth
-        ring-downs at 40-20 dB (order 3; ``benchmarks/bench_tvregdiff.py``).
+        ring-downs at 40-20 dB (order 3; ``benchmarks/accuracy/tvregdiff.py``).
     max_iter : int, default=30
         Lagged-diffusivity iterations per alpha.
     tol : float, default=1e-4

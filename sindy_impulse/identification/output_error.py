@@ -80,7 +80,7 @@ def fit_output_error(
     simulation with sensitivities (:mod:`~sindy_impulse.simulation.sensitivity`) for a two-state cubic
     model.
     Started from a refined model, it removes what the measured first state's noise did to the
-    coefficients: on ``benchmarks/bench_model_backbone.py``'s amplitude-dependent dampers (40-105
+    coefficients: on ``benchmarks/accuracy/model_backbone.py``'s amplitude-dependent dampers (40-105
     periods) the damping backbones within the marks went from 40 to 45 of 50 records.
 
     It is a local fit of a whole free decay: meant for records short enough that the starting model's

@@ -45,7 +45,7 @@ _FIRST_STEP = 0.1
 #: forward differences (:data:`_STEP`) resolve no finer; a parameter one standard deviation off raises the
 #: score by about one over the samples compared (1e-4 to 1e-3 here), so 1e-7 leaves the coefficients a few
 #: hundredths of a standard deviation from where 1e-10 stops. On issue 26's 50 three-mode records
-#: (``benchmarks/perf_batch.py``) 1e-10 -> 1e-7 took 12 % of the survey's CPU time off and moved no
+#: (``benchmarks/speed/batch.py``) 1e-10 -> 1e-7 took 12 % of the survey's CPU time off and moved no
 #: frequency by more than 2e-11 and no damping ratio by more than 3e-9 (relative).
 _FTOL = 1e-7
 

@@ -4,7 +4,7 @@ A mode's damping ratio is its model's linear damping: the value at vanishing amp
 damping grows with amplitude (a joint, an ``x^2 x'`` damper) but the threshold sweep dropped the term that
 says so -- the segment-wise error measure of a long band hardly sees a slow change of the decay rate -- the
 linear damping term absorbs the amplitude-dependent part: the reported damping ratio is an average over the
-decay, not its small-amplitude value (measured on ``benchmarks/bench_modes.py --family g``, seed 0: +11 %
+decay, not its small-amplitude value (measured on ``python -m benchmarks modes --family g``, seed 0: +11 %
 and +15 % on two lightly damped modes whose damping was 50-70 % higher at the start of the record).
 
 :func:`small_amplitude_damping` checks every mode identified on its ``[y, dy]`` states against their decay

@@ -4,7 +4,7 @@ The spectrum of a strongly nonlinear ring-down is not one peak per mode. A harde
 falls by 2-4 % along the decay smears its peak over that range, and the damped-sinusoid refinement of the
 peaks splits it in two (e.g. 159.3 and 161.7 Hz for a 158.6 Hz mode); its odd harmonics (3 f) stand out as
 peaks of their own. A linear model per peak then reports two close linear modes and a "mode" at 3 f, all
-looking right and all wrong (measured: 3 of 20 hammer tests of ``benchmarks/bench_model_backbone.py``'s
+looking right and all wrong (measured: 3 of 20 hammer tests of ``benchmarks/accuracy/model_backbone.py``'s
 cubic row before this step).
 
 - :func:`merge_chirps`: each group of close peaks (``Preprocessed.groups``) is also fitted as *one*
@@ -52,7 +52,7 @@ def _on_its_backbone(single, inside: list) -> bool:
     """Whether every mode of ``inside`` lies on the frequency range of ``single``'s backbone (within its
     own damping ratio, at least :data:`_BACKBONE_MARGIN`): the pieces of one chirp. Fit errors of modes
     fitted on bands of their own are no yardstick then: family (e) record 45 of
-    ``benchmarks/bench_modes.py``, a hardening mode falling from 212 to 206.9 Hz, came out as three linear
+    ``benchmarks/accuracy/modes.py``, a hardening mode falling from 212 to 206.9 Hz, came out as three linear
     modes (206.9, 208.3, 212.1 Hz), one of them fitted on a 4 Hz band over 34 periods (fit error 0.004);
     the one oscillator on the group's band (a cubic spring, 0.014) passes through all three."""
     from ..analysis import backbone
@@ -110,7 +110,7 @@ def merge_chirps(pre, modes: list, rejected: list, fit_options: dict, first_peri
 #: midpoints towards the next peaks (right for deciding, beside the joint linear fit, whether the peaks are
 #: one mode); for a hardening mode cut into peaks by the stabilisation diagram (issue 25's detection on
 #: stable poles, d10cdad) it reached 63.5-110.4 Hz for a 70 Hz mode, and the cubic spring's backbones of
-#: ``benchmarks/bench_model_backbone.py`` went from 49 to 39 of 50 (seeds 12, 16, 22, 30: shift errors
+#: ``benchmarks/accuracy/model_backbone.py`` went from 49 to 39 of 50 (seeds 12, 16, 22, 30: shift errors
 #: 12-24 %; refitted with this reach 2-5 %, with 4 widths one backbone undefined at its ends, with 8 widths
 #: 5-10 %). Deciding on the narrow band instead merged a linear close pair of family (f) (record 42) and
 #: missed a mode of another (25).
@@ -139,7 +139,7 @@ def _refitted(pre, group, band, modes: list, single: Mode, fit_options: dict, fi
     band of :data:`_MERGE_REACH`; unchanged when that band is the group's, cannot be extracted, or its fit
     is not a nonlinear mode, and when ``single`` lies at 2 or 3 times a lower mode
     (:func:`~sindy_impulse.preprocessing.partition.at_harmonic_place`): it is left as decided for the
-    harmonic test, which reads its decay rate (family (e) record 71 of ``benchmarks/bench_modes.py``: a
+    harmonic test, which reads its decay rate (family (e) record 71 of ``benchmarks/accuracy/modes.py``: a
     softening mode's third harmonic, split in two poles and merged, decayed 2.92 times as fast as its mode
     on the group's band and 2.63 times on the narrow one, and became a spurious mode)."""
     if at_harmonic_place(single.frequency_hz, [m.frequency_hz for m in modes]):
@@ -206,7 +206,7 @@ def _clusters(modes: list) -> list:
     """Runs of modes (by frequency) each not :func:`~sindy_impulse.preprocessing.partition.resolved` from
     the next (closer than half the wider one's half-power bandwidth, ``zeta f``): the pieces of a chirp
     that the stabilisation diagram and the peaks cut in two or three (family (g) of
-    ``benchmarks/bench_modes.py``: 593.0 Hz as 594.2 and 596.2 Hz, 341.2 Hz as 341.4 and 343.5 Hz), never a
+    ``benchmarks/accuracy/modes.py``: 593.0 Hz as 594.2 and 596.2 Hz, 341.2 Hz as 341.4 and 343.5 Hz), never a
     pair of modes the record resolves (family (f) draws them 1-3 bandwidths apart).
 
     Examples

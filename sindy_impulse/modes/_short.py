@@ -17,7 +17,7 @@ mode inside a refused band is identified here without band-pass (:func:`fit_free
    reproduces that part of the record.
 
 The mode's frequency and damping ratio are the stable pole's (the median over the orders of the diagram):
-on a few periods of decay they are the more accurate -- ``python benchmarks/bench_short_records.py --poles
+on a few periods of decay they are the more accurate -- ``python -m benchmarks short_records --poles
 --n 30`` (family (d) records 0-29, seed 0; 46 true modes whose stable pole's equation agrees): the pole
 within 1.8e-4 in frequency and 1.3e-3 in damping ratio (medians; largest 4.7e-3 and 2.9e-2), the fitted
 equation's linear mode within 4.5e-4 and 3.7e-3 (largest 1.5e-2 and 5.0e-2). The pole's values are written
@@ -51,8 +51,8 @@ __all__ = ["PERSISTENCE", "POLE_AGREEMENT", "checked_by_poles", "disagreement", 
 POLE_BAND_WIDTHS = 3.0
 #: Largest :func:`disagreement` of a short band's fitted equation with its stable pole: loose, as the
 #: reported values are the pole's and the check is that one oscillator reproduces that part of the record
-#: (family (d) record 4 of ``benchmarks/bench_short_records.py``: its 157 Hz mode at a damping ratio of 0.18
-#: was 0.15 from its pole with a quarter-period smoothing window).
+#: (family (d) record 4 of ``benchmarks/accuracy/short_records.py``: its 157 Hz mode at a damping ratio of
+#: 0.18 was 0.15 from its pole with a quarter-period smoothing window).
 POLE_AGREEMENT = 0.3
 
 
@@ -224,7 +224,7 @@ def from_stable_poles(index, pre, template, table):
 
 
 #: A record is short for a stable mode when its ring-down holds at most this many periods of it (family (d)
-#: of ``benchmarks/bench_modes.py``: 3-15 periods of the lowest mode, the others up to 4 times higher).
+#: of ``benchmarks/accuracy/modes.py``: 3-15 periods of the lowest mode, the others up to 4 times higher).
 SHORT_PERIODS = 60.0
 #: Least damping ratio of a stable mode checked by :func:`checked_by_poles`: below it a band-pass keeps
 #: enough of a short record (family (d) draws 0.02-0.25) and the band's own fit stands.

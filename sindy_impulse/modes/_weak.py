@@ -6,7 +6,7 @@ strong neighbours' leakage. The equation fitted on it (:func:`.band_fit.fit_band
 accurate estimate of the mode's linear values: its own standard deviations (``frequency_std_hz``,
 ``damping_ratio_std``) reach 0.4 % in frequency and 50 % in damping ratio. The stabilisation diagram's
 stable pole (:func:`~sindy_impulse.poles.stabilisation`: ESPRIT over model orders on the whole free decay,
-no band-pass) has no transient and no leakage. Measured on ``benchmarks/bench_modes.py --family b``
+no band-pass) has no transient and no leakage. Measured on ``python -m benchmarks modes --family b``
 (seeds 0 and 1, 120 records): of the modes whose equation disagreed with their stable pole
 (:func:`._short.disagreement` over :data:`._short.MODE_POLE_AGREEMENT`), 21 had the pole within the marks
 (0.3 % / 10 %) where the equation was not, one the reverse; family a (60 records) had one such mode (both

@@ -382,7 +382,7 @@ def identify_modes(
     max_periods : float or None, default=200
         Each mode is identified on the first ``max_periods`` periods of its band signal (the strongest
         part of the ring-down; None: all of it). 200 periods resolve the frequency and the damping ratio
-        well inside the marks of ``benchmarks/bench_modes.py`` and bound the cost of long records.
+        well inside the marks of ``benchmarks/accuracy/modes.py`` and bound the cost of long records.
 
     Returns
     -------

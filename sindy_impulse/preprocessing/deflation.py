@@ -18,7 +18,7 @@ swallows it. When lightly damped neighbours ring inside the wide band they are r
    with ``min_samples_per_period``).
 
 The mode is then identified on that band signal like on any other (its frequency and damping come from
-its model, not from step 1): measured on ``benchmarks/bench_modes.py`` records whose strongly damped mode
+its model, not from step 1): measured on ``benchmarks/accuracy/modes.py`` records whose strongly damped mode
 (damping ratio 1-3 %) sits 5-10 % from lightly damped ones, the identified damping ratio is within 1-3 %
 where the mode's own band gave none.
 """

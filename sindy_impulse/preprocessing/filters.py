@@ -13,7 +13,7 @@ Both preserve the frequency and decay rate of a damped sinusoid exactly once the
 (the response to ``exp(s t)`` is ``H(s) exp(s t)``); what remains is the transient's tail and the leak
 of neighbouring modes. Measured on noise-free ring-downs at 5 kHz (first mode at 150 Hz, bands from
 :func:`~sindy_impulse.preprocessing.partition.peak_bands`, transient trimmed at a 1e-3 tolerance, kept
-down to -80 dB; ``python benchmarks/bench_preprocessing.py``), worst of 6 phases: relative errors of a
+down to -80 dB; ``python -m benchmarks preprocessing``), worst of 6 phases: relative errors of a
 log-envelope fit, trim in periods, residual of the best exact damped sinusoid over its envelope (RMS):
 
 ===================================  =================================  =================================

@@ -43,8 +43,8 @@ def resolved(frequency_hz: tuple[float, float], damping_ratio: tuple[float, floa
     """Whether two modes are at least the wider one's half-power half-width (``zeta f``) apart.
 
     Closer than that they are the pieces of one mode that a linear fit cuts in two: a chirp's stable poles
-    (family (g) of ``benchmarks/bench_modes.py``: 593.0 Hz as 594.2 and 596.2 Hz), or an
-    amplitude-dependent damping's two decay rates (``benchmarks/bench_model_backbone.py``'s damper seed 39:
+    (family (g) of ``benchmarks/accuracy/modes.py``: 593.0 Hz as 594.2 and 596.2 Hz), or an
+    amplitude-dependent damping's two decay rates (``benchmarks/accuracy/model_backbone.py``'s damper seed 39:
     a 73.0 Hz mode at damping ratio 0.015 as poles at 73.04 Hz, 0.017, and 71.9 Hz, 0.137). Two true modes
     a record resolves are farther apart (family (f) draws pairs ``k (zeta1 f1 + zeta2 f2)`` apart, ``k >=
     1``).

@@ -4,7 +4,7 @@
 refined and tested as damped sinusoids against the noise floor of what the fit leaves) and cuts the
 frequency axis into bands (:mod:`~sindy_impulse.preprocessing.partition`).
 
-Measured (``python benchmarks/bench_preprocessing.py``): on 300 records of ``benchmarks/bench_modes.py``'s
+Measured (``python -m benchmarks preprocessing``): on 300 records of ``benchmarks/accuracy/modes.py``'s
 ``random_case`` (seeds 0-2, through :func:`~sindy_impulse.preprocessing.preprocess`) every true mode has
 a peak within 1 % of its frequency in every record and no record has a spurious peak (before: modes
 missed in 25 records, spurious peaks in 47), for 0.11 s per record (median, max 1.6 s; before 0.03 s);

@@ -35,8 +35,8 @@ __all__ = ["with_stable_poles", "PERSISTENCE"]
 #: Share of the diagram's orders a stable mode must be found at to be a candidate.
 PERSISTENCE = 0.5
 #: Largest damping ratio of a candidate (as for the peaks' damped sinusoids; family (d) of
-#: ``benchmarks/bench_modes.py`` draws damping ratios up to 0.25: a 0.246 mode stable at every order was left
-#: out at 0.2).
+#: ``benchmarks/accuracy/modes.py`` draws damping ratios up to 0.25: a 0.246 mode stable at every order was
+#: left out at 0.2).
 _MAX_DAMPING = 0.3
 
 
@@ -57,7 +57,7 @@ def _splittable(peaks: SpectralPeaks, k: int, poles: list) -> bool:
     are :func:`~.partition.resolved`. An amplitude-dependent damping gives two poles at one frequency, a
     slow and a fast decay, and a chirp two close ones: one mode, whose peak is fitted with its two poles
     when the candidates are tested (a single damped sinusoid leaves it in the residual and raises the
-    floor the candidates are measured over: family (e) record 7 of ``benchmarks/bench_modes.py`` lost its
+    floor the candidates are measured over: family (e) record 7 of ``benchmarks/accuracy/modes.py`` lost its
     third harmonic's pole) but stays one peak."""
     if not _pair_inside(peaks, k, poles):
         return False

@@ -18,8 +18,8 @@ __all__ = ["Reference", "STEP_SCALE", "SMOOTH_STEP_SCALE", "ADAPTIVE_CALL_COST"]
 
 #: Work units charged per right-hand-side evaluation through the adaptive integrator on top of the terms'
 #: cost: SciPy's step, the event and the Python call take about 150 us an evaluation, ~2,000 RK4 kernel
-#: term evaluations (``benchmarks/bench_work_bounds.py``). Charged at 25 units a term alone, a stiff model's
-#: refinement on 150 samples ran 394 s within its budget.
+#: term evaluations (``benchmarks/robustness/work_bounds.py``). Charged at 25 units a term alone, a stiff
+#: model's refinement on 150 samples ran 394 s within its budget.
 ADAPTIVE_CALL_COST = 2000.0
 
 #: Target of ``h * rho`` per Runge-Kutta sub-step (``h`` the sub-step, ``rho`` the spectral radius).
@@ -30,7 +30,7 @@ STEP_SCALE = 0.02
 #: The scale of nonlinear polynomial models, whose cost is the sub-steps: RK4's error per radian of phase
 #: is about ``(h rho)**4 / 120``, so 0.1 keeps the global error about 1e-6 of the amplitude; against
 #: 0.02 it moved a fitted frequency by about 1e-8 and a damping ratio by 1e-5 relative, at half the
-#: survey's time (issue 26: ``python benchmarks/run.py --only "survey speed"``).
+#: survey's time (issue 26: ``python -m benchmarks speed --only "survey speed"``).
 SMOOTH_STEP_SCALE = 0.1
 
 

@@ -11,8 +11,8 @@ of linear two-state ones, by their propagator): :func:`.integrators.integrate`'s
 tree, kept apart so that it compiles fast (1.2 s; the general kernel takes 1.1 s more): the first fit of
 the paper's case after installation waits for it and TVRegDiff's kernels only.
 
-Measured (``benchmarks/run.py``, a 4-term Duffing model, 401 samples, 5 sub-steps): 1.25-1.3x a minimal
-hand-written numba RK4, against 4-6x through the product tree. Its results equal RK4 on the model's
+Measured (``benchmarks/speed/speed.py``, a 4-term Duffing model, 401 samples, 5 sub-steps): 1.25-1.3x a
+minimal hand-written numba RK4, against 4-6x through the product tree. Its results equal RK4 on the model's
 equations to rounding (``tests/test_simulation.py``), not bit for bit the product tree's (the sums run in
 another order).
 """

@@ -1,0 +1,108 @@
+"""The benchmarks package: one runner lists every benchmark, each a ``main(argv=None)``; no benchmark
+edits ``sys.path`` or imports another module's private names; results are saved as plain JSON."""
+
+from __future__ import annotations
+
+import ast
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from benchmark_helpers import PACKAGE, helper
+
+ROOT = PACKAGE.parent
+FILES = sorted(p for p in PACKAGE.rglob("*.py") if "results" not in p.parts)
+GROUPS = ("accuracy", "real_records", "robustness", "speed", "pysindy_suite", "tracking")
+
+
+def _tree(path: Path) -> ast.Module:
+    return ast.parse(path.read_text(), filename=str(path))
+
+
+def _main(path: Path) -> ast.FunctionDef | None:
+    return next((n for n in _tree(path).body if isinstance(n, ast.FunctionDef) and n.name == "main"), None)
+
+
+BENCHMARKS = {p.stem: p for p in FILES if p.parent != PACKAGE and _main(p) is not None}
+
+
+def _runner(*args: str) -> subprocess.CompletedProcess:
+    """``python -m benchmarks ARGS`` from the repository root, as a user types it."""
+    return subprocess.run([sys.executable, "-m", "benchmarks", *args], cwd=ROOT, capture_output=True,
+                          text=True, timeout=600)
+
+
+def test_the_groups_are_packages_and_every_module_is_in_one():
+    for group in GROUPS:
+        assert (PACKAGE / group / "__init__.py").is_file(), group
+    loose = [p.name for p in FILES if p.parent == PACKAGE]
+    assert sorted(loose) == ["__init__.py", "__main__.py"]
+    assert all(p.parent.parent == PACKAGE and p.parent.name in GROUPS for p in FILES if p.parent != PACKAGE)
+
+
+def test_the_list_names_every_benchmark_once_with_a_summary():
+    done = _runner("--list")
+    assert done.returncode == 0, done.stderr
+    listed = {}
+    for line in done.stdout.splitlines():
+        if line.startswith("  "):
+            name, rest = line.split(maxsplit=1)
+            listed[name] = rest
+    assert set(listed) == set(BENCHMARKS) and len(BENCHMARKS) >= 30
+    assert all(len(summary) > 20 for summary in listed.values())
+
+
+def test_every_benchmark_has_main_argv_none():
+    for name, path in BENCHMARKS.items():
+        args = _main(path).args
+        assert [a.arg for a in args.args] == ["argv"], name
+        assert len(args.defaults) == 1 and ast.literal_eval(args.defaults[0]) is None, name
+
+
+def test_benchmark_names_are_unique():
+    stems = [p.stem for p in FILES if p.parent != PACKAGE and p.name != "__init__.py"]
+    assert len(stems) == len(set(stems))
+
+
+def test_every_module_imports_and_each_main_checks():
+    done = _runner("--check")
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "every main(argv=None)" in done.stdout
+
+
+@pytest.mark.parametrize("path", FILES, ids=[str(p.relative_to(PACKAGE)) for p in FILES])
+def test_no_sys_path_edits_and_no_private_imports(path):
+    text = path.read_text()
+    assert "sys.path" not in text, f"{path.name} edits sys.path: import benchmarks.<group>.<module>"
+    for node in ast.walk(_tree(path)):
+        if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("benchmarks"):
+            private = [a.name for a in node.names if a.name.startswith("_")]
+            assert not private, f"{path.name} imports private names {private} of {node.module}"
+        if isinstance(node, (ast.Import, ast.ImportFrom)):
+            modules = [a.name for a in node.names] if isinstance(node, ast.Import) else [node.module or ""]
+            assert not any(m.split(".")[0] in ("tests", "conftest") or m.startswith("test_") for m in modules)
+
+
+def test_an_unknown_name_is_refused_with_the_list_command():
+    done = _runner("no_such_benchmark")
+    assert done.returncode == 2 and "python -m benchmarks --list" in done.stderr
+
+
+def test_results_are_plain_json():
+    plain = helper("__main__").plain
+    value = {"a": (np.float64(1.5), np.int64(2)), "b": np.array([[1.0, np.nan]]), 3: {np.inf, -np.inf},
+             "p": Path("x"), "ok": np.bool_(True)}
+    out = plain(value)
+    assert out["a"] == [1.5, 2] and out["b"] == [[1.0, "nan"]] and sorted(out["3"]) == ["-inf", "inf"]
+    assert out["p"] == "x" and out["ok"] is True
+    text = json.dumps(out, allow_nan=False)
+    assert json.loads(text) == out and not any(isinstance(v, float) and math.isnan(v) for v in out["b"][0])
+
+
+def test_results_are_ignored_by_git_but_their_readme_is_not():
+    ignore = (ROOT / ".gitignore").read_text()
+    assert "benchmarks/results/*.json" in ignore and (PACKAGE / "results" / "README.md").is_file()
