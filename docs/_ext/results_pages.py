@@ -1,10 +1,13 @@
 """Write the benchmark results pages at build time from the runner's saved JSON.
 
-``python -m benchmarks NAME [--quick]`` runs ``benchmarks/<group>/NAME.py`` and saves what its ``main``
-returned as ``benchmarks/results/NAME.json``. Here every group gets a page (``results/<group>.rst``) with
-one section per benchmark of the group: its module docstring's first paragraph, the command that reruns it,
-and its saved result as tables; a benchmark without a saved result says "not run yet" instead of failing the
-build. The JSON is rendered by shape, so a benchmark needs no page code of its own:
+``python -m benchmarks NAME [--quick]`` runs ``benchmarks/<group>/NAME.py`` and saves
+``benchmarks/results/NAME.json`` (``NAME.quick.json`` for a quick run): the command, the date, the commit,
+the machine's load, the printed output and ``result``, what the benchmark's ``main`` returned. Here every
+group gets a page (``results/<group>.rst``) with one section per benchmark of the group (a module defining
+``main``, the runner's own rule, read without importing it): its docstring's first paragraph, the command
+that reruns it, the run's facts, ``result`` as tables and the printed output. A benchmark without a saved
+result says "not run yet" instead of failing the build; a full run's file is preferred to a quick one's.
+``result`` is rendered by shape, so a benchmark needs no page code of its own:
 
 - a mapping of scalars is a two-column table (quantity, value);
 - a list of mappings is a table with one row per mapping (the union of their keys as columns);
@@ -102,15 +105,45 @@ def docstring_summary(path: Path) -> str:
     return " ".join((doc or "").split("\n\n")[0].split())
 
 
+def is_benchmark(path: Path) -> bool:
+    """A module that defines ``main`` at its top level (the runner's rule; helpers define none)."""
+    try:
+        tree = ast.parse(path.read_text())
+    except (SyntaxError, UnicodeDecodeError):
+        return False
+    return any(isinstance(node, ast.FunctionDef) and node.name == "main" for node in tree.body)
+
+
 def benchmarks(root: Path) -> dict[str, list[Path]]:
-    """Each group folder of ``benchmarks/`` and its benchmark modules (files not starting with ``_``)."""
+    """Each group folder of ``benchmarks/`` and its benchmark modules."""
     found: dict[str, list[Path]] = {group: [] for group in GROUPS}
     for folder in sorted(p for p in (root / "benchmarks").glob("*/") if p.is_dir()):
         if folder.name.startswith(("_", ".")) or folder.name == "results":
             continue
         found.setdefault(folder.name, [])
-        found[folder.name] += sorted(p for p in folder.glob("*.py") if not p.name.startswith("_"))
+        modules = [p for p in folder.glob("*.py") if not p.name.startswith("_") and is_benchmark(p)]
+        found[folder.name] += sorted(modules)
     return found
+
+
+#: The facts of a run the runner saves beside its result, as the page names them.
+FACTS = {"command": "command", "date": "date (UTC)", "seconds": "wall time (s)", "git_commit": "commit",
+         "git_dirty": "uncommitted changes", "load_average": "load average before / after (1, 5, 15 min)",
+         "cpu_count": "cores", "python": "Python", "platform": "platform"}
+
+
+def saved_run(data) -> list[str]:
+    """A saved run: its facts, its result as tables, its printed output (a plain result is shown as is)."""
+    if not (isinstance(data, dict) and "result" in data):
+        return render(data, 2)
+    facts = [[label, fmt(data[key])] for key, label in FACTS.items() if key in data]
+    out = table(facts, ["run", "value"]) if facts else []
+    out += heading("result", 2) + render(data["result"], 3)
+    printed = str(data.get("output") or "").rstrip()
+    if printed:
+        out += heading("printed output", 2) + ["::", ""]
+        out += ["    " + line for line in printed.splitlines()] + [""]
+    return out
 
 
 def section(module: Path, results: Path) -> list[str]:
@@ -120,14 +153,16 @@ def section(module: Path, results: Path) -> list[str]:
     if summary:
         out += [summary, ""]
     out += [f"Rerun: ``python -m benchmarks {name}`` (``--quick`` for a smaller run).", ""]
-    saved = results / f"{name}.json"
-    if not saved.exists():
+    saved = next((p for p in (results / f"{name}.json", results / f"{name}.quick.json") if p.exists()), None)
+    if saved is None:
         return out + ["**Not run yet**: no saved result in ``benchmarks/results``.", ""]
     try:
         data = json.loads(saved.read_text())
     except (OSError, ValueError) as err:
-        return out + [f"**Not readable**: ``benchmarks/results/{name}.json`` ({fmt(err)}).", ""]
-    return out + render(data, 2)
+        return out + [f"**Not readable**: ``benchmarks/results/{saved.name}`` ({fmt(err)}).", ""]
+    if saved.name.endswith(".quick.json"):
+        out += ["A ``--quick`` run (smaller inputs): a full run's figures may differ.", ""]
+    return out + saved_run(data)
 
 
 def group_page(group: str, modules: list[Path], results: Path) -> str:
