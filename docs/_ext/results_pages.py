@@ -19,6 +19,7 @@ from __future__ import annotations
 import ast
 import json
 import math
+import re
 from pathlib import Path
 
 #: The groups in the order the site lists them, with what each measures; others found are appended.
@@ -49,7 +50,9 @@ def fmt(value) -> str:
         return f"{value:.4g}"
     if isinstance(value, list | tuple) and all(not isinstance(v, dict | list) for v in value):
         return ", ".join(fmt(v) for v in value)
-    if isinstance(value, dict | list):
+    if isinstance(value, dict):
+        return "; ".join(f"{k}: {fmt(v)}" for k, v in value.items())[:300]
+    if isinstance(value, list):
         return json.dumps(value, separators=(", ", ": "))[:300]
     text = " ".join(str(value).split())
     return text.replace("|", "/") or "-"
@@ -98,11 +101,14 @@ def _is_table(value) -> bool:
 
 
 def docstring_summary(path: Path) -> str:
+    """The module docstring's first paragraph, on one line, safe as reST text (``name_`` is not a link)."""
     try:
         doc = ast.get_docstring(ast.parse(path.read_text()))
     except (SyntaxError, UnicodeDecodeError):
         doc = None
-    return " ".join((doc or "").split("\n\n")[0].split())
+    text = " ".join((doc or "").split("\n\n")[0].split())
+    parts = re.split(r"(``.+?``)", text)  # literals stay as they are
+    return "".join(p if p.startswith("``") else re.sub(r"(?<=\w)_(?=\W|$)", r"\\_", p) for p in parts)
 
 
 def is_benchmark(path: Path) -> bool:
@@ -152,7 +158,8 @@ def section(module: Path, results: Path) -> list[str]:
     summary = docstring_summary(module)
     if summary:
         out += [summary, ""]
-    out += [f"Rerun: ``python -m benchmarks {name}`` (``--quick`` for a smaller run).", ""]
+    quick = " (``--quick`` for a smaller run)" if '"--quick"' in module.read_text() else ""
+    out += [f"Rerun: ``python -m benchmarks {name}``{quick}.", ""]
     saved = next((p for p in (results / f"{name}.json", results / f"{name}.quick.json") if p.exists()), None)
     if saved is None:
         return out + ["**Not run yet**: no saved result in ``benchmarks/results``.", ""]
