@@ -82,7 +82,7 @@ def module_page(name: str, modules: list[str]) -> str:
 def index_page(modules: list[str]) -> str:
     """The reference's front page: the top-level names, then one link per module page."""
     rows = []
-    for public in sorted(sindy_impulse._PUBLIC):
+    for public in sorted(sindy_impulse._PUBLIC, key=str.lower):
         obj = getattr(sindy_impulse, public)
         home = _home(obj, modules)
         target = obj.__name__ if inspect.ismodule(obj) else f"{home}.{public}"
