@@ -23,7 +23,7 @@ DOCS = Path(__file__).resolve().parent
 def write_report(folder: Path) -> Path:
     from sindy_impulse import identify_modes, impact_record
 
-    record = impact_record([118.0, 243.0, 402.0], [0.002, 0.004, 0.008], fs=5000.0, duration=2.0,
+    record = impact_record([118.0, 243.0, 402.0], [0.002, 0.004, 0.008], fs=5000.0, duration=1.0,
                            offset=2.0, snr_db=45, random_state=7)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

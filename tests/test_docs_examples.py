@@ -4,7 +4,8 @@ A page's ```python blocks run in order in one namespace, in a fresh temporary fo
 blocks' ``$ `` lines run there too, in the shell, at their place between the Python blocks (the
 README writes ``hit.csv`` in Python, then surveys it with ``sindy-impulse``); a command must exit with 0.
 Blocks fenced as ``bash`` or ``text`` are shown, not run (the set-up commands, a cluster's address). The
-gallery's examples run when the site is built (sphinx-gallery), the docstrings' examples as doctests.
+pages in ``SLOW`` run with the slow checks (``pytest -m slow``). The gallery's examples run when the site is
+built (sphinx-gallery), the docstrings' examples as doctests.
 """
 
 from __future__ import annotations
@@ -22,6 +23,9 @@ ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs"
 #: The pages whose examples a user copies: the README, the site's front page, getting started, the guide.
 PAGES = [ROOT / "README.md", DOCS / "index.md", DOCS / "getting-started.md", *sorted(DOCS.glob("guide/*.md"))]
+#: Pages whose examples take half a minute of CPU or more (several command-line processes; a dask cluster):
+#: they run with the slow checks (`pytest -m slow`, CI's second step), so the default run stays short.
+SLOW = {DOCS / "guide" / "cli.md", DOCS / "guide" / "batches.md"}
 #: Pages of prose only (an index, the method): nothing to run.
 NO_EXAMPLES = {DOCS / "guide" / "index.md", DOCS / "guide" / "method.md"}
 FENCE = re.compile(r"^```([\w-]*)[^\n]*\n(.*?)^```[ \t]*$", re.MULTILINE | re.DOTALL)
@@ -52,7 +56,13 @@ def _shell(command: str, folder: Path, where: str) -> None:
     assert proc.returncode == 0, f"{where}: $ {command}\n{proc.stdout[-2000:]}\n{proc.stderr[-2000:]}"
 
 
-@pytest.mark.parametrize("page", PAGES, ids=[str(p.relative_to(ROOT)) for p in PAGES])
+def _params():
+    for page in PAGES:
+        marks = [pytest.mark.slow] if page in SLOW else []
+        yield pytest.param(page, marks=marks, id=str(page.relative_to(ROOT)))
+
+
+@pytest.mark.parametrize("page", list(_params()))
 def test_page_examples_run(page, tmp_path, monkeypatch):
     import matplotlib
 

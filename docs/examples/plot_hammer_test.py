@@ -11,7 +11,7 @@ import matplotlib.pyplot as plt
 
 from sindy_impulse import identify_modes, impact_record
 
-record = impact_record([118.0, 243.0, 402.0], [0.002, 0.004, 0.008], fs=5000.0, duration=2.0,
+record = impact_record([118.0, 243.0, 402.0], [0.002, 0.004, 0.008], fs=5000.0, duration=1.0,
                        offset=2.0, snr_db=45, random_state=7)
 survey = identify_modes(record.y, fs=record.fs, force=record.force)
 print(survey)
