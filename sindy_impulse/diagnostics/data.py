@@ -153,9 +153,9 @@ def _quality(trajectories, times) -> tuple:
 
 
 def clipped_samples(trajectories) -> int:
-    """Clipped samples (runs of equal samples at the extremes, :func:`~sindy_impulse.preprocessing.
-    clipping_mask`) over every non-constant state of the checked trajectories (the first
-    :data:`MAX_CHECKED`, each at least :data:`MIN_QUALITY_SAMPLES` long).
+    """Clipped samples (runs of equal samples at the extremes,
+    :func:`~sindy_impulse.preprocessing.clipping_mask`) over every non-constant state of the checked
+    trajectories (the first :data:`MAX_CHECKED`, each at least :data:`MIN_QUALITY_SAMPLES` long).
 
     Examples
     --------

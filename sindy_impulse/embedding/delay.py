@@ -262,7 +262,7 @@ class DelayEmbedding(TransformerMixin, BaseEstimator):
 
         Returns
         -------
-        ndarray of shape (n_samples - offset_, n_channels * dimension_)
+        ndarray of shape ``(n_samples - offset_, n_channels * dimension_)``
             Row ``r`` holds ``[s_(n-(m-1)tau), ..., s_(n-tau), s_n]`` of channel 0, then of channel 1, ...
             for ``n = offset_ + r``.
         """
@@ -285,7 +285,7 @@ class DelayEmbedding(TransformerMixin, BaseEstimator):
 
         Returns
         -------
-        ndarray of shape (n_samples - offset_,)
+        ndarray of shape ``(n_samples - offset_,)``
 
         Examples
         --------

@@ -25,7 +25,7 @@ class MechanicalLibrary(BaseFeatureLibrary):
     ==================  ======================  ===================================================
     family              terms                   for a single mode with states ``(x, v)``
     ==================  ======================  ===================================================
-    polynomial          monomials to ``degree``  ``x``, ``v``; ``x^3`` a Duffing spring (frequency
+    polynomial          monomials to degree     ``x``, ``v``; ``x^3`` a Duffing spring (frequency
                                                 ~ ``a^2``), ``x^2 v`` and ``v^3`` damping ~ ``a^2``
     quadratic_damping   ``x_j|x_j|``            ``v|v|`` drag (damping ~ ``a``), ``x|x|`` a spring
                                                 stiffening ~ ``a``
