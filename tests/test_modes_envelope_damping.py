@@ -90,7 +90,8 @@ def test_the_amplitude_dependence_of_a_damper_and_of_a_linear_decay(seed):
     for c2, nonlinear in ((8 * omega * zeta * 0.8, True), (0.0, False)):
         x, t, _ = _decay(seed, c2, zeta)
         z = x[:, 0] + 1j * (-x[:, 1] / omega)  # y and its quadrature: the analytic signal
-        e = _envelope.amplitude_dependence(z[200:-200], FS, 10.0, 1e-4, frequency_hz=F_HZ)
+        e = _envelope.amplitude_dependence(z[200:-200], FS, 10.0, 1e-3, frequency_hz=F_HZ)  # 0.1 % noise
+        assert e.misfit < 3  # the averaged equations describe this envelope
         assert e.nonlinear is nonlinear
         assert e.coefficients[2] == pytest.approx(zeta * omega, rel=0.05)  # the rate at zero amplitude
 

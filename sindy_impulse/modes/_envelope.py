@@ -37,17 +37,20 @@ FREQUENCY_CHANGE = 1e-3
 DECAY_CHANGE = 0.1
 #: ... either change standing this many standard errors from zero, ...
 CHANGE_SIGMAS = 3.0
-#: ... over at least this many periods of the mode.
+#: ... over at least this many periods of the mode, ...
 MIN_PERIODS = 10.0
+#: ... from an envelope whose residual about the averaged equations is at most this many times the noise's.
+ENVELOPE_MISFIT = 3.0
 
 
 @dataclass(frozen=True)
 class AmplitudeDependence:
     """How a mode's frequency and decay rate change over the amplitudes of its decay
     (:func:`amplitude_dependence`): relative changes from its smallest amplitude analysed to its largest,
-    with their standard errors, the amplitudes, and the averaged equations' ``(omega_0, omega_2, sigma_0,
+    with their standard errors, the amplitudes, the averaged equations' ``(omega_0, omega_2, sigma_0,
     sigma_2)`` (damped angular frequency and decay rate at zero amplitude and their slopes in ``A^2``)
-    with their standard errors."""
+    with their standard errors, and ``misfit``: the RMS residual of ``A ln A`` and ``A phi`` about them over
+    the noise (about 1 where they describe the envelope)."""
 
     frequency_change: float
     frequency_change_std: float
@@ -56,11 +59,16 @@ class AmplitudeDependence:
     amplitude: tuple
     coefficients: tuple = ()
     coefficients_std: tuple = ()
+    misfit: float = 1.0
 
     @property
     def nonlinear(self) -> bool:
         """Whether either change exceeds its threshold (:data:`FREQUENCY_CHANGE`, :data:`DECAY_CHANGE`)
-        and :data:`CHANGE_SIGMAS` standard errors."""
+        and :data:`CHANGE_SIGMAS` standard errors, read off an envelope the averaged equations describe
+        (``misfit`` at most :data:`ENVELOPE_MISFIT`: not a beating with an unresolved neighbour, nor a
+        decay that is not a function of the amplitude)."""
+        if not self.misfit <= ENVELOPE_MISFIT:
+            return False
         return any(abs(c) > max(limit, CHANGE_SIGMAS * std) for c, std, limit in (
             (self.frequency_change, self.frequency_change_std, FREQUENCY_CHANGE),
             (self.decay_change, self.decay_change_std, DECAY_CHANGE)))
@@ -104,11 +112,12 @@ def amplitude_dependence(z: np.ndarray, fs: float, bandwidth_hz: float, noise_rm
     integral = np.concatenate([[0.0], np.cumsum(0.5 * (a[1:] ** 2 + a[:-1] ** 2) * np.diff(t))])
     design = np.column_stack([np.ones_like(t), t - t[0], integral])
     weights = a**2 / np.max(a**2)
-    coef, cov = [], []
+    coef, cov, misfit = [], [], []
     for target in (np.log(a), phase):
         c, v = _weighted_line(design, target, weights, keep.size / n_eff)
         coef.append(c)
         cov.append(v)
+        misfit.append(float(np.sqrt(np.mean(((target - design @ c) * a) ** 2))) / max(noise_rms, 1e-300))
     span = a.max() ** 2 - a.min() ** 2
     sigma0, sigma2 = -coef[0][1], -coef[0][2]
     omega0, omega2 = coef[1][1], coef[1][2]
@@ -120,7 +129,8 @@ def amplitude_dependence(z: np.ndarray, fs: float, bandwidth_hz: float, noise_rm
     return AmplitudeDependence(float(frequency_change), float(frequency_std), float(decay_change),
                                float(decay_std), (float(a.max()), float(a.min())),
                                (float(omega0), float(omega2), float(sigma0), float(sigma2)),
-                               (std(cov[1][1, 1]), std(cov[1][2, 2]), std(cov[0][1, 1]), std(cov[0][2, 2])))
+                               (std(cov[1][1, 1]), std(cov[1][2, 2]), std(cov[0][1, 1]), std(cov[0][2, 2])),
+                               max(misfit))
 
 
 def _weighted_line(design: np.ndarray, target: np.ndarray, weights: np.ndarray, correlation: float):

@@ -48,6 +48,9 @@ SEED_PERSISTENCE = 0.25
 #: A component whose damping ratio reaches this share of the decay fit's largest is a transient (the hit's
 #: tail, a trend the offset left), not a mode.
 TRANSIENT = 0.95
+#: Highest damped frequency of a candidate over the sampling rate (the decay fit holds up to the Nyquist
+#: frequency; a spectral peak is searched up to 0.45 fs, a stable pole may lie above).
+TOP = 0.49
 #: A component damped more than this is a mode only where a stable pole confirms it (a broad component
 #: that the diagram does not see follows the hit's tail or a misfit, not a vibration).
 MODE_DAMPING = 0.2
@@ -275,7 +278,8 @@ def fit_candidates(state) -> None:
     """The modes of the free decay: poles and spectral peaks refined by the decay fit."""
     pre, fs, given = state.pre, state.pre.fs, state.options.bands is not None
     ring = _ring(state)
-    lo, hi = search_range(pre.peaks.spectrum) if len(pre.peaks.spectrum.psd) > 2 else (0.0, 0.45 * fs)
+    lo = search_range(pre.peaks.spectrum)[0] if len(pre.peaks.spectrum.psd) > 2 else 0.0
+    hi = TOP * fs
     f0, s0 = _seeds(state)
     inside = (f0 >= lo) & (f0 <= hi)
     f0, s0 = f0[inside], s0[inside]
