@@ -22,7 +22,7 @@ from numbers import Integral
 import numpy as np
 
 from .._utils.params import Interval, check_param
-from ..poles.decay_fit import MAX_DAMPING, fit_decay, missing_peaks
+from ..poles.decay_fit import MAX_DAMPING, MISFIT_REACH, MISFIT_SHARE, fit_decay, missing_peaks
 from ..preprocessing.partition import peak_bands
 from ..preprocessing.peaks import SpectralPeaks, spectral_peaks
 from ..preprocessing.pipeline import prepare_record
@@ -256,9 +256,6 @@ def _ring(state) -> np.ndarray:
     return np.column_stack(columns)
 
 
-#: What the fit leaves is not searched within this many half-power half-widths (and this share of the
-#: frequency) of a mode it does not explain: a chirp or a changing decay rate spreads there.
-MISFIT_REACH, MISFIT_SHARE = 20.0, 0.04
 
 
 def _searched(fit, lo: float, hi: float, threshold_db: float) -> tuple[np.ndarray, np.ndarray]:
@@ -288,7 +285,7 @@ def fit_candidates(state) -> None:
     while f0.size:
         rounds += 1
         fit = fit_decay(ring, fs, f0, s0, noise=noise)
-        noise = fit.noise_power
+        noise = fit.noise_power if noise is None else noise  # one floor for every round's heights
         f = fit.damped_frequency_hz
         keep = np.ones(len(fit), bool) if given else (fit.height_db >= threshold) & (
             fit.damping_ratio < TRANSIENT * MAX_DAMPING)

@@ -12,8 +12,6 @@ without band-pass (:func:`free_decay`).
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 
 from ..preprocessing.band import band_noise_rms, extract_band
@@ -21,12 +19,14 @@ from ..preprocessing.filters import bandpass, transient_samples
 from ..preprocessing.partition import peak_bands
 from .kinds import Kind
 
-__all__ = ["component", "deflated", "analytic", "band_signal", "first_periods", "free_decay", "mode_bands",
-           "END_SNR_DB", "MIN_PERIODS"]
+__all__ = ["component", "deflated", "analytic", "band_signal", "free_decay", "mode_bands", "END_SNR_DB",
+           "MIN_PERIODS"]
 
 #: The free decay of a mode without band-pass ends where its envelope falls to this many dB over the noise,
 #: as a band signal ends at the noise floor; at least :data:`MIN_PERIODS` of its periods are kept.
 END_SNR_DB, MIN_PERIODS = 10.0, 2.0
+#: ... and at least this many samples (a smoothing window's worth).
+MIN_SAMPLES = 24
 _MODES = (Kind.LINEAR, Kind.NONLINEAR)
 
 
@@ -77,32 +77,15 @@ def _noise_spectrum(state):
     return state.cache["_noise_spectrum"]
 
 
-def first_periods(band, max_periods):
-    """The band signal's first ``max_periods`` periods of its centre frequency (all of it for None)."""
-    keep = None if max_periods is None else int(np.ceil(max_periods * band.samples_per_period))
-    if keep is None or keep >= band.y.size:
-        return band
-    stop = band.start_index + int(np.ceil(keep * band.decimation / band.upsampling))
-    return replace(
-        band,
-        y=band.y[:keep],
-        t=band.t[:keep],
-        envelope=band.envelope[:keep],
-        stop_index=stop,
-        trimmed_end=band.trimmed_end + (band.stop_index - stop),
-        end_reason="max_periods",
-    )
-
-
 def band_signal(state, k: int, max_periods):
     """Candidate ``k``'s own signal (:func:`deflated`) in its band, band-passed from the decay's start
     (:func:`~sindy_impulse.preprocessing.extract_band`; the noise from the pre-trigger's or the spectrum's
-    floor), cut to its first ``max_periods`` periods; a ValueError when the band cannot keep enough."""
+    floor), its first ``max_periods`` periods; a ValueError when the band cannot keep enough."""
     pre, band_hz = state.pre, state.candidates[k].band_hz
     noise = band_noise_rms(_noise_spectrum(state), band_hz)
-    band = extract_band(deflated(state, k), pre.fs, band_hz, start=state.start, t0=pre.t0,
-                        samples_per_period=state.options.samples_per_period, noise_rms=noise)
-    return first_periods(band, max_periods)
+    return extract_band(deflated(state, k), pre.fs, band_hz, start=state.start, t0=pre.t0,
+                        samples_per_period=state.options.samples_per_period, noise_rms=noise,
+                        max_periods=max_periods)
 
 
 def analytic(state, k: int, band_hz) -> tuple[np.ndarray, int]:
@@ -127,7 +110,7 @@ def free_decay(state, k: int) -> tuple[np.ndarray, np.ndarray]:
     if cand.noise_std > 0 and amplitude > 0 and cand.decay_rate > 0:
         floor = cand.noise_std * 10 ** (END_SNR_DB / 20)
         seconds = np.log(max(amplitude / floor, 1.0)) / cand.decay_rate
-        least = MIN_PERIODS * pre.fs / cand.frequency_hz
+        least = max(MIN_PERIODS * pre.fs / cand.frequency_hz, MIN_SAMPLES)
         stop = int(min(y.size, max(least, seconds * pre.fs)))
     return y[:stop], pre.t0 + (start + np.arange(stop)) / pre.fs
 

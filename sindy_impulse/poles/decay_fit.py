@@ -43,6 +43,9 @@ REACH = 8.0
 MIN_BINS, MAX_BINS = 8, 256
 #: Largest damping ratio of a fitted mode: a faster decay is a transient, not a vibration.
 MAX_DAMPING = 0.3
+#: A mode whose lack of fit is this improbable from noise alone leaves a residual that is not noise within
+#: this many half-power half-widths, or this share of its frequency, of it (a chirp, a changing decay).
+MISFIT_P, MISFIT_REACH, MISFIT_SHARE = 1e-6, 20.0, 0.04
 #: Bins within this many half-power half-widths of a mode (at least :data:`CORE_BINS`) hold its lack of fit.
 CORE = 3.0
 CORE_BINS = 2
@@ -219,10 +222,18 @@ def _levenberg_marquardt(problem, x, lower, upper, k: int, max_nfev: int) -> np.
     return x
 
 
-def _noise_power(P, fs, n, f_hz, sigma) -> np.ndarray:
-    """Noise variance per bin: the floor of the periodogram ``P`` with the modes' core bins left out."""
+def _noise_power(P, fs, n, f_hz, sigma, misfit=None) -> np.ndarray:
+    """Noise variance per bin: the floor of the periodogram ``P`` with the modes' core bins left out (and
+    the bins within :data:`MISFIT_REACH` half-widths or :data:`MISFIT_SHARE` of the frequency of the modes
+    ``misfit`` marks: what a linear decay leaves of them spreads there and is no noise)."""
     core = np.zeros(P.size, bool)
     core[_bins(f_hz, sigma, n, fs, CORE, CORE_BINS)] = True
+    spread = core.copy()
+    for f, s in zip(np.asarray(f_hz)[misfit], np.asarray(sigma)[misfit]) if misfit is not None else ():
+        reach = max(MISFIT_REACH * s / (2 * np.pi), MISFIT_SHARE * f) * n / fs
+        spread[int(max(f * n / fs - reach, 0)): int(f * n / fs + reach) + 1] = True
+    if spread.mean() <= 0.5:  # the floor needs bins to stand on: broad misfits leave the core alone
+        core = spread
     if P.size < 16:
         return np.full(P.size, max(float(np.median(P)), np.finfo(float).tiny))
     return np.maximum(noise_floor(P, exclude=core), np.finfo(float).tiny)
@@ -343,17 +354,15 @@ def _fit(spectrum, P, noise, fs, n, f0, s0, reach, max_nfev, passes, estimate) -
     bounds = (np.concatenate([np.zeros(k), lo]), np.concatenate([fastest, hi]))
     sigma, omega, g = np.maximum(s0, 1e-9 * omega0), omega0.copy(), np.zeros(k, complex)
     first = True
-    for _ in range(passes):
+    for done in range(1, passes + 1):
         for _sweep in range(SWEEPS if len(clusters) > 1 else 1):
             for c in clusters:
                 sigma[c], omega[c], g[c] = _fit_cluster(spectrum[:, 0] / scale, noise / scale**2, ranges, c,
                                                         (sigma, omega, g), bounds, fs, n, max_nfev, first)
             first = False
         full = _all_bins_residual(spectrum[:, 0], sigma, omega, g * scale, fs, n)
-        if estimate:
-            fitted_noise = _noise_power(np.abs(full) ** 2, fs, n, omega / (2 * np.pi), sigma)
-            if passes > 1:
-                noise = fitted_noise
+        if estimate and done < passes:
+            noise = _residual_noise(full, noise, sigma, omega, fs, n)
     cov = np.zeros((2 * k, 2 * k))
     for c in clusters:
         cov[np.ix_(c + [k + i for i in c], c + [k + i for i in c])] = _cluster_covariance(
@@ -363,7 +372,7 @@ def _fit(spectrum, P, noise, fs, n, f0, s0, reach, max_nfev, passes, estimate) -
         bins = np.unique(np.concatenate(ranges))
         a, b = _design((-sigma + 1j * omega) / fs, np.exp(-2j * np.pi * bins / n))
         g_all = np.column_stack([g_all[:, 0], _amplitudes(spectrum[bins, 1:], a, b, np.ones(bins.size))])
-    return _result(sigma, omega, g_all, cov, noise, full, fs, n, fitted_noise if estimate else noise)
+    return _result(sigma, omega, g_all, cov, noise, full, fs, n, estimate)
 
 
 def _cluster_problem(Y, noise, ranges, c, params, fs, n):
@@ -456,9 +465,25 @@ def _natural(sigma, omega, cov, chi) -> tuple[np.ndarray, ...]:
     return wn, sigma / wn, root(np.maximum(var_wn, 0)), root(np.maximum(var_z, 0)), root(np.maximum(var_s, 0))
 
 
-def _result(sigma, omega, g, cov, noise, full, fs, n, noise_out) -> DecayFit:
+def _residual_noise(full, noise, sigma, omega, fs, n, statistics=None) -> np.ndarray:
+    """The noise floor of what the fit leaves (``full``), without the reach of the modes whose lack of fit
+    (against ``noise``; ``statistics``: their ``(lof, lof_p)`` when known) the linear decay does not explain
+    (:data:`MISFIT_P`)."""
+    if statistics is None:
+        bins = np.unique(_bins(omega / (2 * np.pi), sigma, n, fs, REACH, MIN_BINS))
+        statistics = _core_statistics(np.abs(full[bins]) ** 2 / noise[bins], bins, sigma, omega, fs, n)[:2]
+    lof, lof_p = statistics
+    damping = sigma / np.maximum(np.hypot(sigma, omega), np.finfo(float).tiny)
+    misfit = (lof_p < MISFIT_P) & (lof > 1.5) & (damping < MAX_DAMPING)
+    return _noise_power(np.abs(full) ** 2, fs, n, omega / (2 * np.pi), sigma, misfit)
+
+
+def _result(sigma, omega, g, cov, noise, full, fs, n, estimate) -> DecayFit:
+    """The fit's values; the reported noise floor re-estimated (``estimate``) without what the modes the
+    linear decay does not explain leave near them."""
     bins = np.unique(_bins(omega / (2 * np.pi), sigma, n, fs, REACH, MIN_BINS))
     lof, lof_p, chi = _core_statistics(np.abs(full[bins]) ** 2 / noise[bins], bins, sigma, omega, fs, n)
+    noise_out = _residual_noise(full, noise, sigma, omega, fs, n, (lof, lof_p)) if estimate else noise
     wn, zeta, wn_std, zeta_std, sigma_std = _natural(sigma, omega, cov, chi)
     c = g / (1.0 - np.exp((-sigma + 1j * omega) / fs) ** n)[:, None]
     height = _heights(c[:, 0], sigma, omega, fs, n, noise)

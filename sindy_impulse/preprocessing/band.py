@@ -210,7 +210,7 @@ def _too_short(band: tuple, periods: float, trim: int, min_periods: float):
 def extract_band(y, fs: float, band_hz, *, start: int = 0, t0: float = 0.0, samples_per_period: float = 16.0,
                  min_samples_per_period: float = 8.0, method: str = "fft", order: int = 4,
                  transient_tol: float = 1e-3, noise_rms: float | None = None, end_snr_db: float | None = 10.0,
-                 min_periods: float = 10.0) -> BandSignal:
+                 min_periods: float = 10.0, max_periods: float | None = None) -> BandSignal:
     """Band-pass one band of a record, trim the filter transient, stop at the noise floor and decimate.
 
     See the module docstring for the steps.
@@ -241,6 +241,9 @@ def extract_band(y, fs: float, band_hz, *, start: int = 0, t0: float = 0.0, samp
         Local SNR at which the band ends; None keeps everything up to the end transient.
     min_periods : float
         Fewest periods that must remain (else a ValueError).
+    max_periods : float, optional
+        Most periods kept (``end_reason`` "max_periods" when they end the band): the strongest part of a
+        long ring-down, at a bounded cost.
 
     Returns
     -------
@@ -267,6 +270,7 @@ def extract_band(y, fs: float, band_hz, *, start: int = 0, t0: float = 0.0, samp
     check_param("noise_rms", noise_rms, [None, Interval(Real, 0, None)], "extract_band")
     check_param("end_snr_db", end_snr_db, [None, Real], "extract_band")
     check_param("transient_tol", transient_tol, [Interval(Real, 1e-9, 1, "neither")], "extract_band")
+    check_param("max_periods", max_periods, [None, Interval(Real, 0, None, "neither")], "extract_band")
     segment = arr[start:]
     trim = transient_samples(rate, band, method=method, order=order, tol=transient_tol)
     z = bandpass(segment, rate, band, method=method, order=order, analytic=True)
@@ -285,6 +289,8 @@ def extract_band(y, fs: float, band_hz, *, start: int = 0, t0: float = 0.0, samp
             stop, reason = end, "noise floor"
     if stop - trim < min_periods * rate / centre:
         _too_short(band, (stop - trim) * centre / rate, trim, min_periods)
+    if max_periods is not None and stop - trim > max_periods * rate / centre:
+        stop, reason = trim + int(np.ceil(max_periods * rate / centre)), "max_periods"
     if up > 1:
         signal, envelope, keep = resample_band(z, trim, stop, rate, centre, up)
     else:
