@@ -228,9 +228,36 @@ def library_terms(library, n_inputs: int):
             candidate = build(library, n_inputs)
         except (TypeError, AttributeError, ValueError):
             continue
+        key = _verified_key(library, candidate)
+        if key is not None and key in _VERIFIED:
+            return candidate
         if _same_terms(candidate, transform, probe):
+            if key is not None:
+                _VERIFIED.add(key)
             return candidate
     return transform
+
+
+#: Libraries whose table was checked against their own ``transform`` (:func:`_verified_key`): the same
+#: class with the same plain parameters and the same table gives the same terms, checked once per process.
+_VERIFIED: set = set()
+_PLAIN = (bool, int, float, str, type(None))
+
+
+def _verified_key(library, candidate):
+    """A key naming a library's class, its parameters and its table, when all of them are plain values
+    (None for anything else: such a library is checked every time)."""
+    if not isinstance(candidate, TermTable):
+        return None
+    try:
+        params = library.get_params(deep=False)
+    except (AttributeError, TypeError):
+        return None
+    if not all(isinstance(v, _PLAIN) for v in params.values()):
+        return None
+    arrays = (candidate.powers, candidate.func, candidate.func_state, candidate.func_param)
+    table = tuple(np.ascontiguousarray(a).tobytes() for a in arrays)
+    return (type(library).__module__, type(library).__qualname__, tuple(sorted(params.items())), table)
 
 
 def _same_terms(candidate, transform, probe) -> bool:
