@@ -11,12 +11,9 @@ __all__ = ["add_parser", "run"]
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    demo = sub.add_parser(
-        "demo",
-        help="run the paper's oscillator case 3.1.2 end to end",
-        description="The paper's damped oscillator (Stender, Oberst & Hoffmann 2019, case 3.1.2): the "
-        "threshold sweep, the refined model, its stiffness, damping and modal parameters, and a figure.",
-    )
+    about = ("The paper's damped oscillator (Stender, Oberst & Hoffmann 2019, case 3.1.2): the threshold "
+             "sweep, the refined model, its stiffness, damping and modal parameters, and a figure.")
+    demo = sub.add_parser("demo", help="run the paper's oscillator case 3.1.2 end to end", description=about)
     demo.add_argument("--snr", type=real, default=None, metavar="DB", help="add noise at this SNR in dB")
     demo.add_argument("--seed", type=integer, default=0, help="noise seed (default: 0)")
     demo.add_argument(

@@ -29,18 +29,13 @@ from ..feature_library.terms import term_table
 __all__ = ["AmplitudeDependence", "amplitude_dependence", "envelope_decay", "FREQUENCY_CHANGE",
            "DECAY_CHANGE"]
 
-#: A mode whose frequency changes by more than this (relative) over the amplitudes of its decay is
-#: nonlinear for the survey: a modal table's frequencies are read to about 0.1 %.
-FREQUENCY_CHANGE = 1e-3
-#: ... or whose decay rate changes by more than this (relative to its small-amplitude value): damping
-#: ratios are read to about 10 %.
-DECAY_CHANGE = 0.1
-#: ... either change standing this many standard errors from zero, ...
-CHANGE_SIGMAS = 3.0
-#: ... over at least this many periods of the mode, ...
-MIN_PERIODS = 10.0
-#: ... from an envelope whose residual about the averaged equations is at most this many times the noise's.
-ENVELOPE_MISFIT = 3.0
+#: A mode is nonlinear for the survey when its frequency changes by more than ``FREQUENCY_CHANGE``
+#: (relative) over the amplitudes of its decay (a modal table's frequencies are read to about 0.1 %) or its
+#: decay rate by more than ``DECAY_CHANGE`` of its small-amplitude value (damping ratios are read to about
+#: 10 %), either change standing ``CHANGE_SIGMAS`` standard errors from zero, over at least ``MIN_PERIODS``
+#: periods of the mode, from an envelope whose residual about the averaged equations is at most
+#: ``ENVELOPE_MISFIT`` times the noise's.
+FREQUENCY_CHANGE, DECAY_CHANGE, CHANGE_SIGMAS, MIN_PERIODS, ENVELOPE_MISFIT = 1e-3, 0.1, 3.0, 10.0, 3.0
 
 
 @dataclass(frozen=True)

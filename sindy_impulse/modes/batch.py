@@ -236,23 +236,12 @@ def survey_many(
     return _collect(results)
 
 
-def run_surveys(
-    records,
-    fs=None,
-    *,
-    t=None,
-    force=None,
-    names=None,
-    nonlinearity: bool = False,
-    n_jobs: int | None = None,
-    progress: bool | None = None,
-    backend=None,
-    **identify_modes_kwargs,
-) -> list:
+def run_surveys(records, fs=None, **options) -> list:
     """What :func:`survey_many` runs, with each record's warnings handed back instead of re-issued (the
     command line prints them as the record's notes).
 
-    Same parameters as :func:`survey_many`. Returns one ``(name, survey or FailedRecord, warnings)`` per
+    Same parameters as :func:`survey_many` (``options``: its keywords, the rest passed to
+    :func:`identify_modes`). Returns one ``(name, survey or FailedRecord, warnings)`` per
     record, ``warnings`` a list of ``(category, message)`` in the order they were raised (each once).
 
     Examples
@@ -262,6 +251,10 @@ def run_surveys(
     >>> name, failed.error, caught
     ('short.csv', 'ValueError', [])
     """
+    t, force, names, backend, progress = (options.pop(k, None) for k in ("t", "force", "names", "backend",
+                                                                          "progress"))
+    nonlinearity, n_jobs = options.pop("nonlinearity", False), options.pop("n_jobs", None)
+    identify_modes_kwargs = options
     records = _check_batch(records, names, identify_modes_kwargs, n_jobs)
     jobs = _inputs(records, fs, t, force, names)
     tasks = (

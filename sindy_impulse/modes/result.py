@@ -361,13 +361,13 @@ class ModalSurvey:
 
         Returns
         -------
-        Path
-            The file written.
+        pathlib.Path
+            The file written (read it back with :func:`sindy_impulse.io.read_uff55`).
 
         Examples
         --------
-        >>> from sindy_impulse import identify_modes, impact_record
         >>> from sindy_impulse.io import read_uff55
+        >>> from sindy_impulse import identify_modes, impact_record
         >>> rec = impact_record([120.0, 240.0], [0.005, 0.01], fs=5000, duration=1.0, snr_db=50,
         ...                     random_state=0)
         >>> survey = identify_modes(rec.y, fs=rec.fs)
@@ -392,12 +392,10 @@ class ModalSurvey:
 
         Parameters
         ----------
-        path : str or path-like
-            The file (``.unv`` or ``.uff``); an existing one is replaced only with ``overwrite=True``.
+        path, overwrite
+            As for :meth:`to_uff`.
         binary : bool, default=False
             Binary data sets (``58b``) instead of ASCII.
-        overwrite : bool, default=False
-            Replace an existing file (else FileExistsError).
 
         Returns
         -------
