@@ -218,3 +218,19 @@ def test_every_help_says_what_its_plot_is(capsys):
     for command, words in (("modes", "the spectrum with the modes"), ("fit", "its reconstruction")):
         code, printed, _ = _run([command, "--help"], capsys)
         assert code == 0 and words in " ".join(printed.split())
+
+
+def test_a_column_named_force_is_the_force_not_a_sensor(tmp_path, capsys):
+    """The hammer's force is a pulse 100 times the response: read as a sensor it would be the survey's
+    reference channel, and nothing rings there."""
+    rec = impact_record([120.0, 252.0], [0.005, 0.01], fs=4000.0, duration=1.0, snr_db=50, random_state=0)
+    path = tmp_path / "hit.csv"
+    np.savetxt(path, np.column_stack([rec.t, rec.y, rec.force]), delimiter=",", header="t,acc,Force",
+               comments="")
+    code, out, _ = _run(["modes", str(path), "--json", str(tmp_path / "m.json")], capsys)
+    report = json.loads((tmp_path / "m.json").read_text())
+    assert code == 0 and report["channels"] == ["acc"] and report["force_column"] == "Force"
+    assert "column 'Force', by its name" in out
+    assert np.allclose(sorted(m["frequency_hz"] for m in report["modes"]), [120.0, 252.0], rtol=1e-3)
+    code, out, _ = _run(["modes", str(path), "--columns", "acc,Force"], capsys)  # a sensor on purpose
+    assert "from acc, Force" in out and "by its name" not in out

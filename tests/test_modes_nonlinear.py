@@ -295,9 +295,8 @@ def test_a_band_of_hundreds_of_periods_keeps_the_segment_wise_model():
     assert mode.model.output_error_fit_ is None and mode.model.error_measure_ == "segmented"
 
 
-#: Family (e) record 37 of benchmarks/accuracy/modes.py (seed 0): a softening cubic spring whose third
-#: harmonic (37 dB band SNR) the damped-sinusoid test of the peaks drops (it sweeps three times the mode's
-#: chirp).
+#: A softening cubic spring whose third harmonic (37 dB band SNR) sweeps three times the mode's chirp: a
+#: candidate of the decay fit on some noise seeds, only a spectral peak on others (then tested at its place).
 _SOFTENING = dict(frequencies_hz=[122.11492978736126], damping_ratios=[0.0023119130379564705], fs=10000.0,
                   duration=0.6595, sensor="velocity", pre_trigger=0.0394, offset=4.96, snr_db=57.7)
 
@@ -308,14 +307,14 @@ _FAST_HARMONIC = pytest.mark.xfail(strict=True, reason=(
 
 
 @pytest.mark.parametrize("seed", [1, 2, pytest.param(5, marks=_FAST_HARMONIC)])
-def test_a_harmonic_the_peak_detection_dropped_is_named_from_its_phase_locking(seed):
+def test_a_chirping_third_harmonic_is_named_once_from_its_phase_locking(seed):
     rec = impact_record(**_SOFTENING, cubic_stiffness=-44664678453.12216, random_state=seed)
     survey = identify_modes(rec.y, fs=rec.fs)
     assert [round(m.frequency_hz) for m in survey.modes] == [122]
     named = [r for r in survey.rejected if "harmonic 3" in r.reason]
     assert len(named) == 1
     e = named[0].evidence
-    assert e["locked"] and not e["by_backbone"] and e["exponent"] >= 1.5 and "detection" in e
+    assert e["locked"] and not e.get("by_backbone") and e["exponent"] >= 1.5
     assert abs(e["frequency_ratio"] - 3) < 2.5e-3
 
 

@@ -36,6 +36,8 @@ __all__ = [
 
 #: Names recognised as the time column when neither ``--time`` nor a sampling step is given.
 TIME_NAMES = ("t", "time")
+#: Names recognised as the hammer's force column (by the ``modes`` command) when ``--force`` is not given.
+FORCE_NAMES = ("force", "hammer", "excitation")
 
 
 class CLIError(Exception):
@@ -129,6 +131,7 @@ class Table:
     t: object  # float (time step) or ndarray (n_samples,)
     time_column: str | None
     extra: dict = field(default_factory=dict)  # further requested columns: name -> ndarray (n_samples,)
+    force_column: str | None = None  # the column found to be the force by its name (``find_force``)
 
 
 def _read_rows(path: str):
@@ -254,7 +257,7 @@ def _check_step(path: str, time: str, t, dt: float) -> None:
         )
 
 
-def read_csv(path: str, columns=None, time=None, dt=None, extra=()) -> Table:
+def read_csv(path: str, columns=None, time=None, dt=None, extra=(), find_force: bool = False) -> Table:
     """Read the state columns (and the time column) of a CSV file with a header row.
 
     Parameters
@@ -271,6 +274,9 @@ def read_csv(path: str, columns=None, time=None, dt=None, extra=()) -> Table:
         spaced, off by less than half a sample over the record) and the column's times are used.
     extra : sequence of str
         Further columns to read (e.g. a measured force), returned in ``Table.extra``.
+    find_force : bool
+        Without ``columns`` and ``extra``: a column named as :data:`FORCE_NAMES` lists (any case) is the
+        force, returned as ``Table.extra["force"]``, not a sensor.
 
     Returns
     -------
@@ -304,11 +310,15 @@ def read_csv(path: str, columns=None, time=None, dt=None, extra=()) -> Table:
 
     header, rows, lines = _read_rows(path)
     index = _column_index(path, header, rows)
+    named = next((n for n in index if n.lower() in FORCE_NAMES), None)
+    found = find_force and not extra and not columns and named is not None
+    extra = (named,) if found else tuple(extra)
     columns, time = _select(path, index, rows, columns, time, dt, extra)
     data = np.column_stack([_column(path, n, index[n], rows, lines) for n in columns])
-    extras = {n: _column(path, n, index[n], rows, lines) for n in extra}
+    extras = {("force" if found else n): _column(path, n, index[n], rows, lines) for n in extra}
+    force = named if found else None
     if time is None:
-        return Table(path, columns, data, dt, None, extras)
+        return Table(path, columns, data, dt, None, extras, force)
     t = _column(path, time, index[time], rows, lines)
     steps = np.diff(t)
     if np.any(steps <= 0):
@@ -319,7 +329,7 @@ def read_csv(path: str, columns=None, time=None, dt=None, extra=()) -> Table:
         )
     if dt is not None and t.size > 1:
         _check_step(path, time, t, dt)
-    return Table(path, columns, data, check_time(t, len(rows), f"time column {time!r}"), time, extras)
+    return Table(path, columns, data, check_time(t, len(rows), f"time column {time!r}"), time, extras, force)
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -493,20 +503,22 @@ def write_figure(path: str, draw: Callable) -> None:
         plt.close(figure)
 
 
-def read_measurement(path: str, columns=None, time=None, dt=None, extra=()) -> Table:
+def read_measurement(path: str, columns=None, time=None, dt=None, extra=(),
+                     find_force: bool = False) -> Table:
     """A CSV file (:func:`read_csv`) or a modal-testing file read by :func:`sindy_impulse.io.read_record`
     (UFF 58, LabVIEW ``.lvm``, TDMS, ``.mat``, ``.npz``), as the same :class:`Table`.
 
     From a modal-testing file the sampling rate and the channel names come from the file; ``columns``
     selects response channels by name (default: every channel but the force), ``extra`` names further
     channels (e.g. ``force``; the file's own force channel is taken when it marks one and ``extra`` is
-    empty), ``dt`` must agree with the file's rate and ``time`` does not apply.
+    empty), ``dt`` must agree with the file's rate and ``time`` does not apply; ``find_force``: a CSV
+    column named as a force is the force (:func:`read_csv`).
     """
     from ..io import FORMATS, read_record
 
     suffix = os.path.splitext(path)[1].lower()
     if suffix not in FORMATS or suffix == ".csv":
-        return read_csv(path, columns=columns, time=time, dt=dt, extra=extra)
+        return read_csv(path, columns=columns, time=time, dt=dt, extra=extra, find_force=find_force)
     if time is not None:
         raise CLIError(f"--time names a CSV column; {path} holds its sampling rate itself")
     try:

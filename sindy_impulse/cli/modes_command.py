@@ -97,7 +97,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
         "force)"
     )
     p.add_argument(
-        "--force", metavar="NAME", help="column (or channel) of the hammer's force (onset, double hits)"
+        "--force", metavar="NAME", help="column (or channel) of the hammer's force (onset, double hits; "
+        "default: a column named force, hammer or excitation, or the file's force channel)"
     )
     p.add_argument("--sensor", choices=_SENSORS, help="kind of sensor (residues with --force)")
     p.add_argument("--no-nonlinearity", action="store_true", help="skip the test for nonlinearity (faster)")
@@ -230,7 +231,8 @@ def write_outputs(survey, report, paths: dict) -> list[str]:
 # ----------------------------------------------------------------------------------------------------
 def read_input(path: str, args):
     """One input as a Table with its force (if any) under ``extra["force"]``."""
-    table = read_measurement(path, **data_options(args), extra=[args.force] if args.force else ())
+    table = read_measurement(path, **data_options(args), extra=[args.force] if args.force else (),
+                             find_force=True)
     if args.force:
         table.extra["force"] = table.extra.pop(args.force)
     if table.data.shape[0] < 64:
@@ -284,6 +286,7 @@ def survey_report(table, survey, caught, nonlinear: bool, damping_unit: str = DE
     return {
         "file": table.path,
         "channels": table.names,
+        "force_column": getattr(table, "force_column", None),
         "nonlinearity_tested": nonlinear,
         **account,
         "notes": list(dict.fromkeys(for_the_command_line(m) for m in messages)),
@@ -330,7 +333,9 @@ def print_report(report: dict) -> None:
     diagnostics' problems; which verdict decides when they seem to disagree), one per problem (a rejected
     band, a warning)."""
     modes = report["modes"]
-    print(f"{report['file']}: {len(modes)} mode(s) from {', '.join(report['channels'])}")
+    force = report.get("force_column")
+    force = f" (the force: column {force!r}, by its name; --force to choose)" if force else ""
+    print(f"{report['file']}: {len(modes)} mode(s) from {', '.join(report['channels'])}{force}")
     for i, m in enumerate(modes):
         for line in _mode_lines(i, m, report["damping_unit"]):
             print(line)

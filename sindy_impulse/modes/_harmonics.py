@@ -1,30 +1,30 @@
 """Harmonics decided from the data: is a mode near 2 or 3 times another that mode's harmonic, or a mode?
 
-A harmonic made by a term of power ``p`` of a mode (``x^2``: p = 2 at 2 f; ``x^3`` or ``x^2 x'``: p = 3 at
-3 f; a ``|x'| x'`` damper: p = 2 at 3 f) is **phase-locked** to its mode: its instantaneous phase is exactly
-``n`` times the mode's at every instant, so their instantaneous frequency ratio is ``n`` even while the
-mode's frequency follows its backbone; and its **amplitude goes as the mode's amplitude to the power p**
-(``p >= 2``), so its envelope decays ``p`` times as fast. A true mode near ``n f`` (a 1:2 internal-resonance
-rig, a beam's second mode 0.56 % below twice the first) keeps its own frequency: the phase ``phi_2 - n phi_1``
-drifts at ``2 pi (f_2 - n f_1)``. (With equal damping ratios such a mode's envelope also decays about ``n``
-times as fast as its parent's: only the phase tells them apart.)
+A harmonic made by a term of power ``p`` of a mode (``x^2``: p = 2 at 2 f; ``x^3`` or ``x^2 x'``: p = 3 at 3
+f; a ``|x'| x'`` damper: p = 2 at 3 f) is **phase-locked** to its mode: its instantaneous phase is exactly
+``n`` times the mode's at every instant, so their instantaneous frequency ratio is ``n`` even while the mode's
+frequency follows its backbone; and its **amplitude goes as the mode's amplitude to the power p** (``p >=
+2``), so its envelope decays ``p`` times as fast. A true mode near ``n f`` (a 1:2 internal-resonance rig, a
+beam's second mode 0.56 % below twice the first) keeps its own frequency: the phase ``phi_2 - n phi_1`` drifts
+at ``2 pi (f_2 - n f_1)``. (With equal damping ratios such a mode's envelope also decays about ``n`` times as
+fast as its parent's: only the phase tells them apart.)
 
-:func:`harmonic_evidence` measures both: each mode's analytic signal in its own band (zero-phase FFT
-band-pass, :func:`~sindy_impulse.preprocessing.filters.bandpass`), over the stretch after both filters'
-transients where both envelopes stand :data:`MIN_SNR_DB` over their band's noise; the frequency ratio ``n +
-(d/dt (phi_2 - n phi_1)) / (2 pi f_1)`` from a weighted straight-line fit of the phase difference, its
-standard error from the residual with one independent sample per ``1 / bandwidth``; the exponent ``p`` from a
-straight-line fit of ``log a_2`` against ``log a_1``. A candidate is a harmonic (:func:`_evidence`, which the
-survey's classification calls on each candidate's own signal) when it is locked (over the whole stretch and
-over each of its :data:`_SEGMENTS` pieces the ratio within :data:`SIGMAS` standard errors of ``n`` -- a
-Student-t quantile for pieces of few independent samples -- or within :data:`RATIO_TOL`; resolved: the whole
-stretch's relative standard error at most :data:`RESOLVED`) and whose exponent is at least
-:data:`MIN_EXPONENT` and at most ``n + 0.5`` (a term of power at most ``n`` makes harmonic ``n``), the numbers
-kept as evidence. When the record cannot resolve the locking (a harmonic a few dB over the noise, or seen only
-just after the hit) and the parent is a nonlinear mode, the candidate is its harmonic when it lies at ``n``
-times a frequency of the parent's fitted backbone (:func:`_on_backbone`; ``by_backbone`` in the evidence);
-harmonics of a nonlinear mode too weak to be candidates are named where a spectral peak stands phase-locked at
-their place (:func:`_unseen_harmonics`).
+:func:`harmonic_evidence` measures both: each mode's analytic signal in its own band (zero-phase FFT band-
+pass, :func:`~sindy_impulse.preprocessing.filters.bandpass`), over the stretch after both filters' transients
+where both envelopes stand :data:`MIN_SNR_DB` over their band's noise; the frequency ratio ``n + (d/dt (phi_2
+- n phi_1)) / (2 pi f_1)`` from a weighted straight-line fit of the phase difference, its standard error from
+the residual with one independent sample per ``1 / bandwidth``; the exponent ``p`` from a straight-line fit of
+``log a_2`` against ``log a_1`` weighted as the phases (each envelope less the noise's power). A candidate is
+a harmonic (:func:`_evidence`, which the survey's classification calls on each candidate's own signal) when it
+is locked (over the whole stretch and over each of its :data:`_SEGMENTS` pieces the ratio within
+:data:`SIGMAS` standard errors of ``n`` -- a Student-t quantile for pieces of few independent samples -- or
+within :data:`RATIO_TOL`; resolved: the whole stretch's relative standard error at most :data:`RESOLVED`) and
+whose exponent is at least :data:`MIN_EXPONENT` and at most ``n + 0.5`` (a term of power at most ``n`` makes
+harmonic ``n``), the numbers kept as evidence. When the record cannot resolve the locking (a harmonic a few dB
+over the noise, or seen only just after the hit) and the parent is a nonlinear mode, the candidate is its
+harmonic when it lies at ``n`` times a frequency of the parent's fitted backbone (:func:`_on_backbone`;
+``by_backbone`` in the evidence); harmonics of a nonlinear mode too weak to be candidates are named where a
+spectral peak stands phase-locked at their place (:func:`_unseen_harmonics`).
 """
 
 from __future__ import annotations
@@ -73,9 +73,6 @@ _EXPONENT_TOL = 0.3
 #: The filters' transients are trimmed down to this share of their peak (not 1e-3 as for the bands: a
 #: harmonic decays p times as fast as its mode and its largest amplitudes would be lost with them).
 _TRANSIENT_TOL = 1e-2
-#: The exponent is fitted where both envelopes stand this much higher still (dB): near the floor the noise
-#: lifts an envelope and flattens its slope (a p = 3 harmonic read 2.3 down to 10 dB).
-_EXPONENT_SNR_DB = 10.0
 #: The stretch is cut into this many pieces, each locked too (a chirping parent crossing ``f_2 / n``
 #: halfway would give ``n`` on average).
 _SEGMENTS = 4
@@ -130,8 +127,11 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
     dict
         ``order``, ``frequency_ratio`` and its standard error ``ratio_sigma``, ``phase_drift_rad`` (of
         ``phi_2 - n phi_1`` over the stretch), ``exponent`` (``p``) and ``exponent_sigma``, ``periods``
-        (of the candidate, measured), ``locked`` and ``harmonic`` (bool). Too short a stretch: the ratio
-        and exponent are NaN and nothing is decided.
+        (of the candidate, measured), ``locked``, ``locked_within_errors`` and ``harmonic`` (bool),
+        ``parent_sweep`` (the parent's relative frequency change over the stretch's pieces) and
+        ``locking_proven`` (locked within errors while that change would have moved a mode of its own
+        off ``n`` by more than twice :data:`SIGMAS` standard errors). Too short a stretch: the ratio and
+        exponent are NaN and nothing is decided.
 
     Examples
     --------
@@ -161,7 +161,7 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
     f2 = order * 0.5 * (parent_band[0] + parent_band[1])
     nan = dict(order=order, frequency_ratio=np.nan, ratio_sigma=np.nan, phase_drift_rad=np.nan,
                exponent=np.nan, exponent_sigma=np.nan, periods=float(t.size / fs * f2), locked=False,
-               locked_within_errors=False, harmonic=False)
+               locked_within_errors=False, parent_sweep=np.nan, locking_proven=False, harmonic=False)
     if t.size < 8 or t.size / fs * f2 < _MIN_PERIODS:
         return nan
     z1, z2, a1, a2 = z1[keep], z2[keep], a1[keep], a2[keep]
@@ -176,17 +176,25 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
               for k in stretches]
     locked = sigma <= RESOLVED * order and all(_near_order(*piece, order) for piece in pieces)
     within_errors = locked and all(_near_order(*piece, order, tol=0.0) for piece in pieces)
+    # the parent's frequency over the pieces: a mode of its own at n f_1 would stay where it is while the
+    # parent moves, and its ratio would move by n times the parent's relative change
+    f_pieces = [np.polyfit(t[k], np.unwrap(np.angle(z1[k])), 1)[0] / (2 * np.pi) for k in stretches[1:]]
+    sweep = float((max(f_pieces) - min(f_pieces)) / f1)
+    proven = within_errors and order * sweep > 2 * SIGMAS * max(piece[1] for piece in pieces[1:])
     n_eff = max(t.size * bandwidth / fs, 2.0)
-    higher = 10 ** (_EXPONENT_SNR_DB / 20)
-    strong = (a1 >= higher * floor[0]) & (a2 >= higher * floor[1])
-    strong = strong if np.count_nonzero(strong) >= 8 else np.ones(a1.size, bool)
-    log1, log2 = np.log(a1[strong]), np.log(a2[strong])
-    _, p, pres = _line(log1, log2, np.ones_like(log1))
-    p_sigma = float(np.sqrt(np.mean(pres**2) / max(np.var(log1), np.finfo(float).tiny) / n_eff))
+    # log a_2 against log a_1, each envelope's power less the noise's (the analytic noise adds 2 sigma^2 on
+    # average), weighted as the phases are (by each sample's SNR): the samples near the floor, which the
+    # noise lifts and which would flatten the slope, count little without being cut away
+    sigma2 = 2.0 * np.asarray(noise_rms, float) ** 2
+    log1, log2 = (0.5 * np.log(np.maximum(a**2 - s2, 1e-2 * a**2)) for a, s2 in zip((a1, a2), sigma2))
+    _, p, pres = _line(log1, log2, w)
+    spread = np.average((log1 - np.average(log1, weights=w)) ** 2, weights=w)
+    p_sigma = float(np.sqrt(np.average(pres**2, weights=w) / max(spread, np.finfo(float).tiny) / n_eff))
     return dict(order=order, frequency_ratio=float(ratio), ratio_sigma=float(sigma),
                 phase_drift_rad=float(slope * (t[-1] - t[0])), exponent=float(p), exponent_sigma=p_sigma,
                 periods=float(t.size / fs * f2), locked=bool(locked),
-                locked_within_errors=bool(within_errors), harmonic=bool(locked and _whole_power(p, order)))
+                locked_within_errors=bool(within_errors), parent_sweep=sweep, locking_proven=bool(proven),
+                harmonic=bool(locked and _whole_power(p, order)))
 
 
 def _near_order(ratio: float, sigma: float, n_eff: float, order: int, tol: float = RATIO_TOL) -> bool:
@@ -398,7 +406,11 @@ def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: in
         e.update(harmonic=False)
     if e["locked"] and not e["harmonic"] and not linear and (
             _nonlinear_parent(e["exponent"], order)
-            or _nonlinear_parent(e.get("decay_exponent", np.nan), order, whole=True)):
+            or _nonlinear_parent(e.get("decay_exponent", np.nan), order, whole=True)
+            or (e["locking_proven"] and e["exponent"] >= MIN_EXPONENT)):
+        # (proven: the ratio stayed n within its errors while the parent's frequency moved more than they
+        # allow; the envelopes then only need to decay faster than the parent's: a sensor's frequency
+        # weighting steepens an exponent as the frequency moves)
         e.update(harmonic=True)
     unresolved = not e["ratio_sigma"] <= RESOLVED * order
     e.update(undecided=bool(unresolved and not e["harmonic"]))
@@ -426,6 +438,14 @@ def _unseen_peak(spectrum, target: float) -> float | None:
     return float(spectrum.frequency_hz[k]) if height >= MIN_SNR_DB else None
 
 
+def _names(row, mode, order: int) -> bool:
+    """Whether a rejected row names a harmonic ``order`` of ``mode`` (its parent's frequency in the mode's
+    band)."""
+    e, band = row.evidence or {}, mode.band_hz or (mode.frequency_hz, mode.frequency_hz)
+    parent = e.get("parent_frequency_hz", np.nan)
+    return bool(e.get("harmonic") and e.get("order") == order and band[0] <= parent <= band[1])
+
+
 def _unseen_harmonics(pre, ring, modes: list, rejected: list) -> tuple:
     """Harmonics the detection did not keep: near ``n`` times a mode whose model has nonlinear terms (a
     linear mode makes none), where no mode, peak or rejected row lies, a spectral peak over the floor
@@ -450,6 +470,8 @@ def _unseen_harmonics(pre, ring, modes: list, rejected: list) -> tuple:
             target = order * freqs[i]
             if target >= 0.45 * pre.fs or any(abs(f / target - 1) <= NEAR for f in taken):
                 continue
+            if any(_names(r, parent, order) for r in rejected):
+                continue  # its harmonic of this order is named already (a chirping one lies off n f)
             f = _unseen_peak(spectrum, target)
             if f is None:
                 continue

@@ -285,7 +285,8 @@ def fit_candidates(state) -> None:
     while f0.size:
         rounds += 1
         fit = fit_decay(ring, fs, f0, s0, noise=noise)
-        noise = fit.noise_power if noise is None else noise  # one floor for every round's heights
+        # the floor only falls from round to round: what a poor round leaves unexplained lifts its floor
+        noise = fit.noise_power if noise is None else np.minimum(noise, fit.noise_power)
         f = fit.damped_frequency_hz
         keep = np.ones(len(fit), bool) if given else (fit.height_db >= threshold) & (
             fit.damping_ratio < TRANSIENT * MAX_DAMPING)
@@ -313,10 +314,15 @@ def fit_candidates(state) -> None:
 def _candidates(fit, table) -> list:
     stable = [m for m in table.modes() if m.n_orders >= SEED_PERSISTENCE * len(table.orders)]
     resolution = fit.fs / fit.n_samples
+    # a pole confirms the component nearest to it only (a broad component's half-power band holds its
+    # neighbours' poles too)
+    f_all = np.asarray(fit.frequency_hz, float)
+    nearest = [(int(np.argmin(np.abs(f_all - m.frequency_hz))), m) for m in stable] if f_all.size else []
     out = []
     for k in range(len(fit)):
         f, zeta = float(fit.frequency_hz[k]), float(fit.damping_ratio[k])
-        near = any(abs(m.frequency_hz - f) <= max(zeta * f, 1.5 * resolution) for m in stable)
+        near = any(abs(m.frequency_hz - f) <= max(zeta * f, 1.5 * resolution)
+                   for j, m in nearest if j == k)
         out.append(Candidate(f, zeta, float(fit.frequency_std_hz[k]), float(fit.damping_ratio_std[k]),
                              float(fit.decay_rate[k]), float(fit.decay_rate_std[k]), fit.amplitude[k],
                              float(fit.height_db[k]), float(fit.lack_of_fit[k]), float(fit.lack_of_fit_p[k]),

@@ -2,11 +2,13 @@
 
 The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence; the record holds the rest:
 
-- **tone** (:attr:`Kind.TONE`): a sinusoid the decay fit explains that does not decay measurably (its decay
-  rate within three standard deviations of zero, and at most three e-folds over the record at its upper
-  bound; a slow component of a chirp leaves a misfit a tone does not), or that
-  stands as strong before the hit as after it: hum, a rotating machine (or a mode too lightly damped for
-  the record to measure its decay: the row says which it may be). It is named, not reported as a mode
+- **tone** (:attr:`Kind.TONE`): a sinusoid that stands as strong before the hit as after it, or, where the
+  record has no pre-trigger long enough to tell, that the decay fit explains and that does not decay
+  measurably (its decay rate within three standard deviations of zero, and at most three e-folds over the
+  record at its upper bound; a slow component of a chirp leaves a misfit a tone does not): hum, a rotating
+  machine (or a mode too lightly damped for the record to measure its decay: the row says which it may
+  be). A pre-trigger where it is absent shows that it began with the hit: a mode, however slowly it
+  decays. It is named, not reported as a mode
   with a damping ratio it does not have.
 - **harmonic** (:attr:`Kind.HARMONIC`): a component near 2 or 3 times a lower one that is phase-locked to it
   and whose amplitude goes as a whole power of the lower one's (:func:`~._harmonics.harmonic_evidence`): a
@@ -27,12 +29,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..preprocessing.partition import peak_bands, resolved
+from ..preprocessing.partition import _TOP, peak_bands, resolved
 from ._envelope import amplitude_dependence
 from ._harmonics import NEAR, ORDERS, _evidence
 from .candidates import MISFIT_REACH, MISFIT_SHARE
 from .kinds import Kind
-from .signals import analytic, deflated
+from .signals import _members, analytic, deflated
 
 __all__ = ["classify_candidates", "TONE_SIGMAS", "TONE_SHARE"]
 
@@ -44,7 +46,7 @@ TONE_DECAY = 3.0
 #: ... or whose amplitude before the hit is at least this share of its amplitude after it.
 TONE_SHARE = 0.5
 #: Fewest periods of a component in the pre-trigger for its amplitude there to be read.
-_PRE_PERIODS = 8.0
+_PRE_PERIODS = 4.0
 
 
 def classify_candidates(state) -> None:
@@ -54,9 +56,9 @@ def classify_candidates(state) -> None:
         c.kind, c.parent, c.evidence = Kind.LINEAR, None, {}
     _tones(state)
     _pieces(cands)
-    _harmonics(state)
     _amplitude_dependent(state)
     _unconfirmed(cands)
+    _harmonics(state)  # of whole modes: a chirp's pieces are one parent
     counts = {k: sum(c.kind is k for c in cands) for k in Kind}
     state.decide(", ".join(f"{n} {k.value}" for k, n in counts.items() if n) or "no candidate")
 
@@ -80,19 +82,44 @@ def _tones(state) -> None:
         before = _pre_trigger_amplitude(state, c.damped_frequency_hz)
         at_start = float(np.abs(c.amplitude[0]))
         there = before is not None and before >= TONE_SHARE * at_start
-        if still or there:
+        if there or (still and before is None):  # a pre-trigger without it: it began with the hit
             c.kind = Kind.TONE
             c.evidence.update(decay_rate=(c.decay_rate, c.decay_rate_std), pre_trigger_amplitude=before,
                               amplitude=at_start)
 
 
-def _own(state, k: int) -> tuple:
-    """Candidate ``k``'s own signal from the decay's start (the other components removed), its own band
-    (regardless of its neighbours, which are removed) and the noise there."""
+#: A component's band for the harmonic test reaches this many half-power half-widths beyond its frequencies.
+_REACH = 6.0
+
+
+def _pair_bands(state, i: int, j: int, order: int) -> tuple:
+    """Bands of parent ``i`` and candidate harmonic ``j`` of ``order`` for the harmonic test, one width for
+    both: each spans its frequencies (its merged pieces: a nonlinear mode's frequency moves) and
+    :data:`_REACH` half-widths beyond them; the harmonic's at least ``order`` times the parent's (it moves
+    ``order`` times as far); the parent's as wide as the harmonic's, so that its filter's transient is no
+    longer than the harmonic's (which decays ``order`` times as fast). Neither reaches the other's side of
+    their midpoint (the other components are removed from both signals: :func:`deflated`)."""
+    cands, fs = state.candidates, state.pre.fs
+
+    def span(k: int) -> tuple[float, float]:
+        f = [cands[m].damped_frequency_hz for m in _members(state, k)]
+        reach = _REACH * cands[k].decay_rate / (2 * np.pi)
+        return min(f) - reach, max(f) + reach
+
+    (lo1, hi1), (lo2, hi2) = span(i), span(j)
+    half = 0.5 * max(hi2 - lo2, order * (hi1 - lo1))
+    f1, f2 = cands[i].damped_frequency_hz, cands[j].damped_frequency_hz
+    middle = 0.5 * (f1 + f2)
+    return ((max(f1 - half, 0.05 * f1), min(f1 + half, middle)),
+            (max(f2 - half, middle), min(f2 + half, _TOP * fs)))
+
+
+def _own(state, k: int, band) -> tuple:
+    """Candidate ``k``'s own signal from the decay's start (the other components removed) and its noise
+    in ``band``."""
     cand, fs = state.candidates[k], state.pre.fs
-    band = peak_bands([cand.damped_frequency_hz], [cand.decay_rate / np.pi], fs)[0]
     noise = cand.noise_std * np.sqrt(2 * (band[1] - band[0]) / fs)
-    return deflated(state, k)[state.start:], band, noise
+    return deflated(state, k)[state.start:], noise
 
 
 def _harmonics(state) -> None:
@@ -113,7 +140,8 @@ def _harmonics(state) -> None:
             order = next((n for n in ORDERS if abs(ratio / n - 1) <= near), None)
             if order is None or _energy(cand) > order**4 * _energy(parent):  # stronger than a harmonic can be
                 continue
-            (y1, band1, noise1), (y2, band2, noise2) = _own(state, i), _own(state, j)
+            band1, band2 = _pair_bands(state, i, j, order)
+            (y1, noise1), (y2, noise2) = _own(state, i, band1), _own(state, j, band2)
             try:
                 e = _evidence(state.pre, None, None, i, parent, band2, noise2, order, cand,
                               nonlinear=not parent.explained, own=(y1, y2, band1, noise1))
@@ -197,6 +225,8 @@ def _beside(mode, other, gap: float) -> bool:
     """Whether ``other``, unconfirmed by the diagram, lies where nonlinear ``mode``'s misfit spreads (the
     decay fit's residual is not searched there either: :data:`~.candidates.MISFIT_REACH`)."""
     reach = max(MISFIT_REACH * mode.damping_ratio * mode.frequency_hz, MISFIT_SHARE * mode.frequency_hz)
+    # (never half way to the lower one's second harmonic: what lies there is tested as a harmonic)
+    reach = min(reach, 0.5 * min(mode.frequency_hz, other.frequency_hz))
     return mode.kind is Kind.NONLINEAR and not other.stable and gap < reach
 
 
@@ -217,9 +247,12 @@ def _unconfirmed(cands: list) -> None:
             return True
         return _beside(a, b, gap) or _beside(b, a, gap)
 
-    for run in _runs(cands, (Kind.LINEAR, Kind.NONLINEAR), joined):
-        nonlinear = any(cands[k].kind is Kind.NONLINEAR for k in run)
-        _merge(cands, run, "pieces" if nonlinear else "unconfirmed")
+    runs = _runs(cands, (Kind.LINEAR, Kind.NONLINEAR), joined)
+    while runs:  # until none is left: a merged run is a nonlinear mode, whose neighbours are then beside it
+        for run in runs:
+            nonlinear = any(cands[k].kind is Kind.NONLINEAR for k in run)
+            _merge(cands, run, "pieces" if nonlinear else "unconfirmed")
+        runs = _runs(cands, (Kind.LINEAR, Kind.NONLINEAR), joined)
 
 
 def _pieces(cands: list) -> None:

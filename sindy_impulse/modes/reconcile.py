@@ -62,7 +62,8 @@ def _named(state) -> None:
             state.rejected.append(Rejected(c.band_hz, why, state.index, e, Reason.HARMONIC))
             state.note(f"the peak at {c.frequency_hz:.4g} Hz is the {why}")
     for c in cands:
-        pieces = [c.frequency_hz] + [cands[j].frequency_hz for j in c.evidence.get("pieces", [])]
+        merged = [*c.evidence.get("pieces", []), *c.evidence.get("unconfirmed", [])]  # (kept together)
+        pieces = [c.frequency_hz] + [cands[j].frequency_hz for j in merged]
         if len(pieces) > 1 and c.kind is Kind.NONLINEAR:
             listed = ", ".join(f"{f:.5g}" for f in sorted(pieces))
             state.note(f"the components at {listed} Hz, closer than their "

@@ -25,7 +25,7 @@ record's length (one FFT).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.special import gammaincc
@@ -222,6 +222,11 @@ def _levenberg_marquardt(problem, x, lower, upper, k: int, max_nfev: int) -> np.
     return x
 
 
+#: The noise floor stands at least this far under the periodogram's peak (200 dB: a noise-free record's
+#: rounding errors are no modes; a recorder's dynamic range is under 150 dB).
+PRECISION = 1e-20
+
+
 def _noise_power(P, fs, n, f_hz, sigma, misfit=None) -> np.ndarray:
     """Noise variance per bin: the floor of the periodogram ``P`` with the modes' core bins left out (and
     the bins within :data:`MISFIT_REACH` half-widths or :data:`MISFIT_SHARE` of the frequency of the modes
@@ -318,7 +323,20 @@ def fit_decay(y, fs: float, damped_frequency_hz, decay_rate, *, noise=None, reac
             if power.shape != P.shape:
                 raise ValueError(f"noise holds {power.size} bins, the transform of y {P.size}")
         estimate = noise is None or np.ndim(noise) != 0
-        return _fit(spectrum, P, power, fs, n, f0, s0, reach, max_nfev, passes, estimate)
+        least = PRECISION * float(np.max(P))
+        out = _fit(spectrum, P, np.maximum(power, least), fs, n, f0, s0, reach, max_nfev, passes, estimate)
+    return _floored(out, least)
+
+
+def _floored(fit: DecayFit, least: float) -> DecayFit:
+    """The fit with its noise floor at least ``least`` (:data:`PRECISION`) and its heights over that."""
+    if np.all(fit.noise_power >= least):
+        return fit
+    noise = np.maximum(fit.noise_power, least)
+    grid = np.arange(noise.size) * fit.fs / fit.n_samples
+    ratio = np.interp(fit.damped_frequency_hz, grid, noise / fit.noise_power)
+    return replace(fit, noise_power=noise, height_db=fit.height_db - 10 * np.log10(ratio),
+                   noise_std=fit.noise_std * np.sqrt(ratio))
 
 
 def _clusters(ranges: list) -> list:
@@ -352,7 +370,12 @@ def _fit(spectrum, P, noise, fs, n, f0, s0, reach, max_nfev, passes, estimate) -
     lo, hi = _bounds(omega0, s0, fs, n)
     fastest = MAX_DAMPING / np.sqrt(1 - MAX_DAMPING**2) * hi
     bounds = (np.concatenate([np.zeros(k), lo]), np.concatenate([fastest, hi]))
-    sigma, omega, g = np.maximum(s0, 1e-9 * omega0), omega0.copy(), np.zeros(k, complex)
+    sigma, omega = np.maximum(s0, 1e-9 * omega0), omega0.copy()
+    # every mode's amplitude at its seed first, all together: a cluster fitted before a strong neighbour's
+    # amplitude is known would otherwise take that neighbour's skirt for itself
+    bins = np.unique(np.concatenate(ranges))
+    seeded = _design((-sigma + 1j * omega) / fs, np.exp(-2j * np.pi * bins / n))
+    g = _amplitudes(spectrum[bins, 0] / scale, *seeded, np.sqrt(2.0 / (noise[bins] / scale**2)))
     first = True
     for done in range(1, passes + 1):
         for _sweep in range(SWEEPS if len(clusters) > 1 else 1):
