@@ -274,7 +274,9 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         self._screen_inputs = (data, filtered, rest, plain, problem.excluded)
         self.__dict__.pop("_checks", None)
         self._record_data(data, filtered, feature_names, problem.theta.shape[1])
-        thresholds, candidates = candidate_path(self.optimizer_, problem.theta, problem.y, self.sweep)
+        thresholds, candidates = candidate_path(
+            self.optimizer_, problem.theta, problem.y, self.sweep, problem.sub_libraries
+        )
         measure = fresh_measure(self.error_measure, filtered)
         if plain:
             self.error_measure_ = measure.name
