@@ -130,10 +130,13 @@ def test_a_sub_library_path_adds_the_supports_the_full_path_lacks():
     thresholds, both = candidate_path(ps.STLSQ(threshold=0.05), theta, y,
                                       sub_libraries=[np.array([True, True, False])])
     assert len(thresholds) == len(both)
-    np.testing.assert_array_equal(both[: len(full)], full)  # the full path first, unchanged
-    added = [tuple(np.flatnonzero(c[0])) for c in both[len(full):]]
-    assert (0, 1) in added and not set(added) & set(supports)  # only new supports
-    true = both[len(full) + added.index((0, 1))]
+    n_terms = [np.count_nonzero(c) for c in both]
+    assert n_terms == sorted(n_terms, reverse=True)  # densest first
+    kept = [c for c in both if tuple(np.flatnonzero(c[0])) in supports]
+    np.testing.assert_array_equal(kept, full)  # the full path's models, in its order
+    added = [tuple(np.flatnonzero(c[0])) for c in both if tuple(np.flatnonzero(c[0])) not in supports]
+    assert (0, 1) in added and len(added) == len(set(added)) == len(both) - len(full)
+    true = next(c for c in both if tuple(np.flatnonzero(c[0])) == (0, 1))
     np.testing.assert_allclose(true[0, :2], [2.0, 0.1], rtol=1e-8)  # least squares on the sub-library
     assert np.all(true[:, 2] == 0)
 

@@ -122,7 +122,8 @@ def candidate_path(optimizer, theta: np.ndarray, y: np.ndarray, sweep: bool = Tr
     sub_libraries : sequence of boolean masks (n_features,), optional
         With ``sweep``, the path of each sub-library (a copy of the optimizer fitted on those columns alone,
         its ``protected`` terms restricted to them) is enumerated too; its supports that the full path
-        lacks are appended, with their thresholds on the sub-library's scale.
+        lacks join the candidates, with their thresholds on the sub-library's scale (all in the order of
+        their number of terms, densest first; the full path's own order kept).
 
     Returns
     -------
@@ -150,7 +151,7 @@ def candidate_path(optimizer, theta: np.ndarray, y: np.ndarray, sweep: bool = Tr
     >>> _, candidates = candidate_path(ps.STLSQ(threshold=0.05), theta, y,
     ...                                sub_libraries=[np.array([True, True, False])])
     >>> [np.flatnonzero(c[0]).tolist() for c in candidates]
-    [[0, 1, 2], [0, 2], [], [0, 1], [0]]
+    [[0, 1, 2], [0, 2], [0, 1], [0], []]
     """
     optimizer.fit(theta, y)
     if not sweep:
@@ -173,7 +174,10 @@ def candidate_path(optimizer, theta: np.ndarray, y: np.ndarray, sweep: bool = Tr
                 extra.append(full)
     if not extra:
         return thresholds, candidates
-    return np.concatenate([thresholds, extra_thresholds]), np.concatenate([candidates, extra])
+    thresholds = np.concatenate([thresholds, extra_thresholds])
+    candidates = np.concatenate([candidates, extra])
+    order = np.argsort([-np.count_nonzero(c) for c in candidates], kind="stable")  # densest first
+    return thresholds[order], candidates[order]
 
 
 def _path_of(optimizer, theta, y, fitted: bool):
