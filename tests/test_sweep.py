@@ -109,3 +109,56 @@ def test_protected_terms_are_never_thresholded():
     assert np.all(sweep.candidates_[:, protected] != 0)
     with pytest.raises(ValueError, match="protected must have shape"):
         ThresholdSweep(protected=[True, False]).fit(X, Y)
+
+
+def _collinear_library(seed: int = 0):
+    """Two independent terms and a third nearly equal to the first plus a little of the weak second:
+    along the whole library's path the third takes the weak term's place."""
+    rng = np.random.default_rng(seed)
+    theta = rng.normal(size=(50, 3))
+    theta[:, 2] = theta[:, 0] + 0.02 * theta[:, 1] + 0.01 * rng.normal(size=50)
+    return theta, theta[:, :2] @ [[2.0], [0.1]]
+
+
+def test_a_sub_library_path_adds_the_supports_the_full_path_lacks():
+    from sindy_impulse.optimizers import candidate_path
+
+    theta, y = _collinear_library()
+    _, full = candidate_path(ps.STLSQ(threshold=0.05), theta, y)
+    supports = [tuple(np.flatnonzero(c[0])) for c in full]
+    assert (0, 1) not in supports  # the true model is not on the whole library's path
+    thresholds, both = candidate_path(ps.STLSQ(threshold=0.05), theta, y,
+                                      sub_libraries=[np.array([True, True, False])])
+    assert len(thresholds) == len(both)
+    n_terms = [np.count_nonzero(c) for c in both]
+    assert n_terms == sorted(n_terms, reverse=True)  # densest first
+    kept = [c for c in both if tuple(np.flatnonzero(c[0])) in supports]
+    np.testing.assert_array_equal(kept, full)  # the full path's models, in its order
+    added = [tuple(np.flatnonzero(c[0])) for c in both if tuple(np.flatnonzero(c[0])) not in supports]
+    assert (0, 1) in added and len(added) == len(set(added)) == len(both) - len(full)
+    true = next(c for c in both if tuple(np.flatnonzero(c[0])) == (0, 1))
+    np.testing.assert_allclose(true[0, :2], [2.0, 0.1], rtol=1e-8)  # least squares on the sub-library
+    assert np.all(true[:, 2] == 0)
+
+
+def test_a_sub_library_path_keeps_the_protected_terms_of_its_columns():
+    from sindy_impulse.optimizers import candidate_path
+
+    theta, y = _collinear_library()
+    protected = np.array([False, True, True])
+    _, both = candidate_path(ThresholdSweep(protected=protected), theta, y,
+                             sub_libraries=[np.array([True, True, False])])
+    from_sub = [c for c in both if c[0, 2] == 0]  # the protected third term is in every full-path model
+    assert from_sub and all(c[0, 1] != 0 for c in both)  # the weak term is protected in the sub-library too
+
+
+def test_no_sub_library_path_without_a_sweep_or_for_the_whole_library():
+    from sindy_impulse.optimizers import candidate_path
+
+    theta, y = _collinear_library()
+    single = candidate_path(ps.STLSQ(threshold=0.05), theta, y, sweep=False,
+                            sub_libraries=[np.array([True, True, False])])[1]
+    assert single.shape == (1, 1, 3)
+    _, plain = candidate_path(ThresholdSweep(), theta, y)
+    _, same = candidate_path(ThresholdSweep(), theta, y, sub_libraries=[np.ones(3, bool), np.zeros(3, bool)])
+    np.testing.assert_array_equal(plain, same)

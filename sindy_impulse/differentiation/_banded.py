@@ -31,6 +31,7 @@ __all__ = [
     "tv_smooth",
     "trace_inverse",
     "IdentityBasis",
+    "centred_slopes",
     "consistency_error",
     "penalty_weight",
     "polynomial_residual",
@@ -124,8 +125,8 @@ class IdentityBasis:
         return c
 
     def slopes(self, c: np.ndarray) -> np.ndarray:
-        """d y / d tau at the samples: centred differences (second order, no lag)."""
-        return np.gradient(c, self.tau)
+        """d y / d tau at the samples: centred differences (see :func:`centred_slopes`)."""
+        return centred_slopes(c)
 
     def evaluate(self, c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The smoothed samples and their derivative per unit of ``tau``."""
@@ -137,6 +138,38 @@ class IdentityBasis:
 
     def start(self, f: np.ndarray) -> np.ndarray:
         return f.copy()
+
+
+def centred_slopes(c: np.ndarray) -> np.ndarray:
+    """The derivative of samples ``c`` at unit spacing by centred differences of sixth order (no lag),
+    of fourth and second order at the second and third samples from each end, one-sided at the ends.
+
+    A centred difference of order ``2p`` sees ``cos(w t)`` with the gain ``1 - O((w h)^(2p))``: at 10
+    samples per period the second-order one (``sin(w h) / (w h)``) under-estimates the derivative by
+    6.5 %, enough to put every regression's frequencies that much low, the sixth-order one by 0.05 %. The
+    smoothed signal is smooth (its penalized derivative is small), so the longer stencil does not bring
+    its noise back.
+
+    Examples
+    --------
+    >>> tau = np.arange(40.0)
+    >>> w = 2 * np.pi / 10  # 10 samples per period
+    >>> slopes = centred_slopes(np.sin(w * tau))
+    >>> bool(np.max(np.abs(slopes[3:-3] - w * np.cos(w * tau[3:-3]))) < 1e-3 * w)
+    True
+    >>> bool(np.max(np.abs(np.gradient(np.sin(w * tau))[3:-3] - w * np.cos(w * tau[3:-3]))) > 0.06 * w)
+    True
+    """
+    c = np.asarray(c, dtype=float)
+    n = c.shape[0]
+    out = np.gradient(c) if n > 1 else np.zeros(n)
+    if n >= 5:
+        i = np.arange(2, n - 2)
+        out[i] = (8.0 * (c[i + 1] - c[i - 1]) - (c[i + 2] - c[i - 2])) / 12.0
+    if n >= 7:
+        i = np.arange(3, n - 3)
+        out[i] = (45.0 * (c[i + 1] - c[i - 1]) - 9.0 * (c[i + 2] - c[i - 2]) + (c[i + 3] - c[i - 3])) / 60.0
+    return out
 
 
 def consistency_error(g: np.ndarray, slopes: np.ndarray, tau: np.ndarray, trim: int) -> float:

@@ -25,6 +25,7 @@ from ..simulation import ERROR_MEASURES, ErrorMeasure, WorkBudget
 from ..simulation import simulation_gamma as _gamma
 from .components import ComponentsMixin
 from .fitted import FittedModelMixin, SweepPath, fresh_measure
+from .initial_state import estimate_initial_states
 from .selection import SELECTION_RULES
 from .stages import filter_states, prepare, run_stages
 
@@ -258,6 +259,8 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         self.output_error_fit_ = None
         plain = not (self.sweep or self.refine)  # plain PySINDy: one model, no simulation
         filtered, derivs = filter_states(self.differentiation_method_, data, x_dot, plain)
+        if x_dot is None and not plain:  # the filter's first sample is its least accurate
+            filtered = estimate_initial_states(data.x, filtered, derivs, data.t, data.u)
         rest = rest_level(data.x, data.t, allow_removal=not plain)  # a ring-down's rest level (0: none)
         check_magnitude(data.x, refuse_small=not plain)  # states that overflow the library: refused now
         problem = prepare(
@@ -274,7 +277,9 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         self._screen_inputs = (data, filtered, rest, plain, problem.excluded)
         self.__dict__.pop("_checks", None)
         self._record_data(data, filtered, feature_names, problem.theta.shape[1])
-        thresholds, candidates = candidate_path(self.optimizer_, problem.theta, problem.y, self.sweep)
+        thresholds, candidates = candidate_path(
+            self.optimizer_, problem.theta, problem.y, self.sweep, problem.sub_libraries
+        )
         measure = fresh_measure(self.error_measure, filtered)
         if plain:
             self.error_measure_ = measure.name

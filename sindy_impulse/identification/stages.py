@@ -30,7 +30,7 @@ from ..exceptions import DataWarning, NoDynamicsWarning
 from ..feature_library.terms import library_terms
 from ..optimizers import least_squares
 from ..preprocessing.states import leave_out_clipped
-from ..simulation import Reference, WorkBudget, at_rest_level, compile_model, oscillation_count
+from ..simulation import Reference, TermTable, WorkBudget, at_rest_level, compile_model, oscillation_count
 from .output_error import OutputErrorResult, fit_output_error
 from .refinement import refine
 from .selection import select_candidate
@@ -101,6 +101,20 @@ class Problem:
             coef, self.terms, self.reference, self.divergence_factor, inputs, self.data.n_inputs
         )
         return at_rest_level(model, self.level)
+
+    @property
+    def sub_libraries(self) -> list[np.ndarray]:
+        """Column masks of the sub-libraries whose threshold paths join the candidates
+        (:func:`~sindy_impulse.optimizers.candidate_path`): the library's linear terms (a constant, or one
+        state or input itself), when it holds other terms too and describes its terms (a
+        :class:`~sindy_impulse.simulation.TermTable`). The linear model is every structure's model at
+        small amplitude, and the one the full library's path passes by when nonlinear terms are collinear
+        with the linear ones on the data.
+        """
+        if not isinstance(self.terms, TermTable):
+            return []
+        linear = self.terms.linear
+        return [linear] if linear.any() and not linear.all() else []
 
     def on_supports(self, supports) -> list[np.ndarray]:
         """Least-squares coefficients of the regression on each given support (boolean masks)."""

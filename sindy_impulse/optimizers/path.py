@@ -6,6 +6,14 @@ protocol*) exposes, after ``fit``, ``candidates_`` (ndarray (n_candidates, n_tar
 with a ``threshold`` parameter (e.g. PySINDy's ``STLSQ``) is refitted along a grid of thresholds taken from
 the magnitudes of its coefficients at threshold 0, and each distinct support is a candidate. An optimizer
 without a threshold gives one candidate.
+
+A path can also be run on a *sub-library* (some of the library's columns, e.g. its linear terms), and its
+supports join the candidates. Thresholding a whole library can pass by a sparse model of a few of its
+terms when other terms are collinear with them on the data: on a decaying oscillation ``x**3`` is nearly
+proportional to ``x`` over each period (``x**3 ~ 3/4 A**2 x``) and ``x**2 v`` to ``v``, so cubic terms
+share the work of the stiffness and damping with large, opposite coefficients; once a weak true term (a
+damping) is thresholded, the cubic terms absorb its share and stay, and the path's sparse end lacks the
+damping. The same sweep over the sub-library alone contains that model.
 """
 
 from __future__ import annotations
@@ -98,7 +106,7 @@ def _threshold_grid(optimizer, theta, y):
     return np.asarray(thresholds), np.asarray(coefs)
 
 
-def candidate_path(optimizer, theta: np.ndarray, y: np.ndarray, sweep: bool = True):
+def candidate_path(optimizer, theta: np.ndarray, y: np.ndarray, sweep: bool = True, sub_libraries=()):
     """Fit ``optimizer`` and return the candidate models.
 
     Parameters
@@ -111,6 +119,11 @@ def candidate_path(optimizer, theta: np.ndarray, y: np.ndarray, sweep: bool = Tr
         Derivatives (rows with NaN are dropped by the optimizer).
     sweep : bool
         Enumerate the threshold path (True) or return the optimizer's single model (False).
+    sub_libraries : sequence of boolean masks (n_features,), optional
+        With ``sweep``, the path of each sub-library (a copy of the optimizer fitted on those columns alone,
+        its ``protected`` terms restricted to them) is enumerated too; its supports that the full path
+        lacks join the candidates, with their thresholds on the sub-library's scale (all in the order of
+        their number of terms, densest first; the full path's own order kept).
 
     Returns
     -------
@@ -126,16 +139,69 @@ def candidate_path(optimizer, theta: np.ndarray, y: np.ndarray, sweep: bool = Tr
     >>> thresholds, candidates = candidate_path(ps.STLSQ(threshold=0.05), theta, y)
     >>> [int(np.count_nonzero(c)) for c in candidates]
     [3, 2, 1, 0]
+
+    A third term nearly collinear with the first (and a little of the weak second) takes the weak term's
+    place along the path; the path of the first two terms alone adds the true model ``[0, 1]``:
+
+    >>> theta[:, 2] = theta[:, 0] + 0.02 * theta[:, 1] + 0.01 * rng.normal(size=50)
+    >>> y = theta[:, :2] @ [[2.0], [0.1]]
+    >>> _, candidates = candidate_path(ps.STLSQ(threshold=0.05), theta, y)
+    >>> [np.flatnonzero(c[0]).tolist() for c in candidates]
+    [[0, 1, 2], [0, 2], []]
+    >>> _, candidates = candidate_path(ps.STLSQ(threshold=0.05), theta, y,
+    ...                                sub_libraries=[np.array([True, True, False])])
+    >>> [np.flatnonzero(c[0]).tolist() for c in candidates]
+    [[0, 1, 2], [0, 2], [0, 1], [0], []]
     """
     optimizer.fit(theta, y)
-    single = (np.array([np.nan]), np.asarray(optimizer.coef_, dtype=float)[None].copy())
     if not sweep:
-        return single
+        return np.array([np.nan]), np.asarray(optimizer.coef_, dtype=float)[None].copy()
+    thresholds, candidates = _path_of(optimizer, theta, y, fitted=True)
+    seen = {(c != 0).tobytes() for c in candidates}
+    extra_thresholds, extra = [], []
+    for mask in sub_libraries:
+        mask = np.asarray(mask, dtype=bool)
+        if not mask.any() or mask.all():
+            continue
+        sub_thresholds, sub = _path_of(_restricted(optimizer, mask), theta[:, mask], y, fitted=False)
+        for lam, coef in zip(sub_thresholds, sub):
+            full = np.zeros(candidates.shape[1:])
+            full[:, mask] = coef
+            key = (full != 0).tobytes()
+            if key not in seen:
+                seen.add(key)
+                extra_thresholds.append(lam)
+                extra.append(full)
+    if not extra:
+        return thresholds, candidates
+    thresholds = np.concatenate([thresholds, extra_thresholds])
+    candidates = np.concatenate([candidates, extra])
+    order = np.argsort([-np.count_nonzero(c) for c in candidates], kind="stable")  # densest first
+    return thresholds[order], candidates[order]
+
+
+def _path_of(optimizer, theta, y, fitted: bool):
+    """Thresholds and candidates of one optimizer on ``(theta, y)`` (``fitted``: already fitted there)."""
+    if not fitted:
+        optimizer.fit(theta, y)
     if hasattr(optimizer, "candidates_") and hasattr(optimizer, "thresholds_"):
         return np.asarray(optimizer.thresholds_, dtype=float), np.asarray(optimizer.candidates_, dtype=float)
     if "threshold" in _parameters(optimizer):
         return _threshold_grid(optimizer, theta, y)
-    return single
+    coef = np.asarray(optimizer.coef_, dtype=float)
+    return np.array([np.nan]), coef.reshape(-1, theta.shape[1])[None].copy()
+
+
+def _restricted(optimizer, mask: np.ndarray):
+    """An unfitted copy of ``optimizer`` for the columns ``mask``: a ``protected`` mask (per term, or per
+    equation and term) restricted to them."""
+    opt = fresh_copy(optimizer)
+    protected = _parameters(opt).get("protected")
+    if protected is not None:
+        protected = np.asarray(protected, dtype=bool)
+        if protected.shape[-1] == mask.size:
+            opt.set_params(protected=protected[..., mask])
+    return opt
 
 
 def _parameters(optimizer) -> dict:

@@ -19,7 +19,6 @@ from sklearn.utils.validation import check_is_fitted
 
 from .._utils.params import Interval, validate_params
 from .._utils.validation import check_array, check_signal
-from .path import least_squares
 
 __all__ = ["ThresholdSweep", "threshold_path"]
 
@@ -140,10 +139,14 @@ def _path(X, Y, max_iter: int, rcond=None, protected=None):
     n_targets, n_features = Y.shape[1], X.shape[1]
 
     def solve(support, coef=None, rows=None):
-        # Only the equations whose support changed are solved again (the others keep their solution).
+        # Only the equations whose support changed are solved again (the others keep their solution);
+        # the rows are complete (the callers drop rows with NaN), so least squares on the columns directly
         coef = np.zeros((n_targets, n_features)) if coef is None else coef.copy()
         for i in range(n_targets) if rows is None else np.flatnonzero(rows):
-            coef[i] = least_squares(Xn, Yn[:, [i]], support[[i]], rcond)[0]
+            cols = np.flatnonzero(support[i])
+            coef[i] = 0.0
+            if cols.size:
+                coef[i, cols] = np.linalg.lstsq(Xn[:, cols], Yn[:, i], rcond=rcond)[0]
         return coef
 
     n_iter = 0

@@ -110,6 +110,20 @@ class CompiledModel(_SparseModel):
         self._scratch = np.empty(scratch_size(self.terms.n_inputs, self.program.n_values))
         self._own = self._last_grid = None
 
+    def _spectral_radius(self, coef) -> float:
+        """A linear model's Jacobian is its matrix everywhere: the largest |eigenvalue| of that matrix
+        (what the probes of the general estimate would all find)."""
+        state = self.program.linear_state
+        if state is None:
+            return super()._spectral_radius(coef)
+        A = np.zeros((self.n_states, self.n_states))
+        for k, j in enumerate(state):
+            if j >= 0:
+                A[:, j] += coef[:, k]
+        if not np.all(np.isfinite(A)):
+            return np.inf
+        return float(np.max(np.abs(np.linalg.eigvals(A)))) if self.n_states else 0.0
+
     @property
     def is_linear(self) -> bool:
         """True for a linear model without inputs: simulated by its RK4 propagator (same solution)."""
@@ -155,7 +169,8 @@ class CompiledModel(_SparseModel):
             integrate_cubic2(ref, t, starts, weights, steps, props, dense, bound, scratch, out, errors, rows)
         elif vals.shape[0] > 2 and props.size == 0 and out.size == 0:  # models stepped together
             work = np.empty((self._scratch.shape[0], vals.shape[0]))
-            kernels.integrate_batch(ref, t, starts, weights, steps, prog, vals, bound, uu, work, errors, rows)
+            kernels.integrate_batch(ref, t, starts, weights, steps, prog, np.ascontiguousarray(vals.T), bound,
+                                    uu, work, errors, rows)
         else:
             kernels.integrate(
                 ref, t, starts, weights, steps, prog, vals, props, bound, uu, self._scratch, out, errors, rows

@@ -188,26 +188,27 @@ def integrate_batch(ref, t, starts, weights, substeps, prog, vals, bound, u, wor
     """:func:`integrate`'s weighted error for a batch of models stepped together, stage by stage.
 
     One model's RK4 stages wait on memory; several models interleaved fill the wait (the gradient of the
-    refinement scores one model per coefficient). The arithmetic of each model is :func:`integrate`'s, in
-    the same order: the same errors and work. ``work`` is (scratch rows, n_models). Not for two-state cubic
-    models (:func:`.cubic2.integrate_cubic2` steps those faster, one after the other).
+    refinement scores one model per coefficient) and the innermost loops run over the models, side by side
+    in memory. The arithmetic of each model is :func:`integrate`'s, in the same order: the same errors and
+    work. ``vals`` is (n_values, n_models) (one column per model), ``work`` (scratch rows, n_models). Not
+    for two-state cubic models (:func:`.cubic2.integrate_cubic2` steps those faster, one after the other).
     """
     n = ref.shape[1]
     n_z = n + u.shape[1]
     x = work[2 * n_z : 2 * n_z + n]
-    for b in range(vals.shape[0]):
+    for b in range(vals.shape[1]):
         errors[b] = 0.0
         rows[b] = 0
     for k in range(starts.shape[0]):
         s0 = starts[k]
         s1 = starts[k + 1] if k + 1 < starts.shape[0] else t.shape[0] - 1
         for i in range(n):
-            for b in range(vals.shape[0]):
+            for b in range(vals.shape[1]):
                 x[i, b] = ref[s0, i]
         for s in range(s0 + 1, s1 + 1):
             _rk4_interval_batch(x, t, s, substeps, prog, vals, u, work)
             alive = 0
-            for b in range(vals.shape[0]):
+            for b in range(vals.shape[1]):
                 if errors[b] == np.inf:
                     continue
                 rows[b] += 1
@@ -225,7 +226,7 @@ def integrate_batch(ref, t, starts, weights, substeps, prog, vals, bound, u, wor
 
 @jit(_nrt=False)
 def _rk4_interval_batch(x, t, s, substeps, prog, vals, u, work):
-    """:func:`_rk4_interval` for the columns of ``x`` (n_states, n_models), each with its ``vals`` row."""
+    """:func:`_rk4_interval` for the columns of ``x`` (n_states, n_models), each with its ``vals`` column."""
     parent, var, fcode, fslot, finput, fparam, eq_ptr, slot = prog
     n, n_b = x.shape
     n_z = n + u.shape[1]
@@ -261,7 +262,7 @@ def _rk4_interval_batch(x, t, s, substeps, prog, vals, u, work):
                     dx[i, b] = 0.0
                 for p in range(eq_ptr[i], eq_ptr[i + 1]):
                     for b in range(n_b):
-                        dx[i, b] += vals[b, p] * theta[slot[p], b]
+                        dx[i, b] += vals[p, b] * theta[slot[p], b]
             step = h if stage == 2 else 0.5 * h
             weight = 1.0 if (stage == 0 or stage == 3) else 2.0
             for i in range(n):

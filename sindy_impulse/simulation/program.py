@@ -71,7 +71,7 @@ def build_program(terms: TermTable, n_states: int) -> Program:
     parent, var = [0] * (1 + n_z), [0, *range(n_z)]
 
     def monomial(powers) -> int:
-        factors = tuple(int(j) for j, p in enumerate(powers) for _ in range(int(p)))
+        factors = tuple(j for j, p in enumerate(powers) for _ in range(p))
         for d in range(1, len(factors) + 1):
             if factors[:d] not in slots:
                 slots[factors[:d]] = len(parent)
@@ -79,7 +79,7 @@ def build_program(terms: TermTable, n_states: int) -> Program:
                 var.append(factors[d - 1])
         return slots[factors]
 
-    mono_slot = [monomial(row) for row in terms.powers]
+    mono_slot = [monomial(row) for row in terms.powers.tolist()]  # plain ints: no numpy scalars
     functions = np.flatnonzero(terms.func != PLAIN)
     n_mono = len(parent)
     term_slot = np.array(mono_slot, dtype=np.int64)
