@@ -19,12 +19,13 @@ survey of a long sequence costs nothing beside the surveys (a simulated free dec
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from .values import LINEAR_TERMS, term_powers
 
-__all__ = ["backbone_at", "term_shift"]
+__all__ = ["BackbonePoint", "backbone_at", "term_shift"]
 
 _THETA = np.linspace(0.0, 2 * np.pi, 64, endpoint=False)
 _COS, _SIN = np.cos(_THETA), np.sin(_THETA)
@@ -66,7 +67,34 @@ def _equivalent(w2: float, c: float, terms: list, amplitude: float) -> tuple[flo
     return w, c_eq, units
 
 
-def backbone_at(values, amplitude: float) -> tuple[float, float, float, float]:
+@dataclass(frozen=True)
+class BackbonePoint:
+    """A mode's backbone at one amplitude (:func:`backbone_at`).
+
+    Attributes
+    ----------
+    frequency_hz, damping_ratio : float
+        Natural frequency and damping ratio at the amplitude.
+    frequency_std_hz, damping_ratio_std : float
+        Their standard deviations: those of the linear values and of each nonlinear coefficient combined
+        as if independent (NaN when one of them is unknown).
+    frequency_shift_hz, damping_shift : float
+        How far the nonlinear terms move them from the linear values (0 for a linear equation).
+    frequency_shift_std_hz, damping_shift_std : float
+        Their standard deviations, from the nonlinear coefficients' alone (0 for a linear equation).
+    """
+
+    frequency_hz: float
+    damping_ratio: float
+    frequency_std_hz: float
+    damping_ratio_std: float
+    frequency_shift_hz: float
+    damping_shift: float
+    frequency_shift_std_hz: float
+    damping_shift_std: float
+
+
+def backbone_at(values, amplitude: float) -> BackbonePoint:
     """The mode's natural frequency and damping ratio at ``amplitude``, with their standard deviations.
 
     Parameters
@@ -78,9 +106,7 @@ def backbone_at(values, amplitude: float) -> tuple[float, float, float, float]:
 
     Returns
     -------
-    frequency_hz, damping_ratio, frequency_std_hz, damping_ratio_std : float
-        The standard deviations combine those of the linear values and of each nonlinear coefficient as
-        if independent (NaN when one of them is unknown).
+    BackbonePoint
 
     Examples
     --------
@@ -90,25 +116,30 @@ def backbone_at(values, amplitude: float) -> tuple[float, float, float, float]:
     >>> w2 = (2 * math.pi * 50.0) ** 2
     >>> m = ModeValues(50.0, 0.01, 0.01, 1e-4, 1.0, terms={"y": (w2, 1.0), "y'": (2 * 0.01 * 2 * math.pi * 50,
     ...                0.01), "y^3": (0.02 * w2 / 0.75, 10.0)})
-    >>> f, zeta, f_std, zeta_std = backbone_at(m, 1.0)
-    >>> round(f / 50.0, 5)  # sqrt(1.02)
-    1.00995
-    >>> round(backbone_at(m, 0.0)[0], 6)
+    >>> point = backbone_at(m, 1.0)
+    >>> round(point.frequency_hz / 50.0, 5), round(point.frequency_shift_hz, 4)  # sqrt(1.02)
+    (1.00995, 0.4975)
+    >>> round(backbone_at(m, 0.0).frequency_hz, 6)
     50.0
     """
     w2, c = values.terms["y"][0], values.terms["y'"][0]
     terms = _polynomial(values)
     w, c_eq, units = _equivalent(w2, c, terms, amplitude)
     w0 = math.sqrt(max(w2, 0.0))
+    zeta0 = c / (2 * w0) if w0 > 0 else math.nan
     f = w / (2 * math.pi)
     zeta = c_eq / (2 * w) if w > 0 else math.nan
     ratio = w0 / w if w > 0 else math.nan
-    f_var = (ratio * values.frequency_std_hz) ** 2
-    z_var = (ratio * values.damping_ratio_std) ** 2
+    f_var = z_var = 0.0
     for (_, _, _, std), (dk, dc) in zip(terms, units):
         f_var += (dk / (4 * math.pi * w) * std) ** 2 if dk else 0.0
         z_var += (dc / (2 * w) * std) ** 2 if dc else 0.0
-    return f, zeta, math.sqrt(f_var), math.sqrt(z_var)
+    return BackbonePoint(
+        f, zeta,
+        math.sqrt(f_var + (ratio * values.frequency_std_hz) ** 2),
+        math.sqrt(z_var + (ratio * values.damping_ratio_std) ** 2),
+        f - w0 / (2 * math.pi), zeta - zeta0, math.sqrt(f_var), math.sqrt(z_var),
+    )
 
 
 def term_shift(values, key: str, delta: float, amplitude: float) -> tuple[float, float]:

@@ -98,12 +98,16 @@ class ModeValues:
         The survey's linear values and their standard deviations (NaN when the survey gives none).
     amplitude : float
         The mode's amplitude at the hit, in the sensor's units (the coordinate ``y`` of its equation).
+    snr_db : float
+        Signal-to-noise ratio of its band (NaN when unknown): where the ± are unknown, ``10^(-snr/20)``
+        stands in for the noise the fit saw.
     shape : ndarray of complex or None
         Its shape over the channels (several sensors only).
     terms : dict
         ``key -> (value, std)`` of the equation's coefficients (module docstring): ``"y"`` the linear
         stiffness ``w^2`` (1/s^2), ``"y'"`` the linear damping ``2 zeta w`` (1/s), ``"y^3"`` a cubic
-        stiffness, ... Terms the model does not have are absent (a coefficient of 0).
+        stiffness, ... Terms the model does not have are absent (a coefficient of 0). The linear ones,
+        when not given, follow from the frequency and damping ratio.
     canonical : bool
         True when the model was rewritten as one equation of ``y`` (else the nonlinear terms are raw).
     note : str
@@ -115,10 +119,16 @@ class ModeValues:
     damping_ratio: float
     damping_ratio_std: float
     amplitude: float
+    snr_db: float = math.nan
     shape: np.ndarray | None = None
     terms: dict = field(default_factory=dict)
     canonical: bool = True
     note: str = ""
+
+    def __post_init__(self):
+        if not all(k in self.terms for k in LINEAR_TERMS):  # the linear part from the modal values
+            self.terms = {**_linear_terms(self.frequency_hz, self.frequency_std_hz, self.damping_ratio,
+                                          self.damping_ratio_std), **self.terms}
 
     @property
     def nonlinear_terms(self) -> dict:
@@ -134,6 +144,7 @@ class ModeValues:
             "damping_ratio": _num(self.damping_ratio),
             "damping_ratio_std": _num(self.damping_ratio_std),
             "amplitude": _num(self.amplitude),
+            "snr_db": _num(self.snr_db),
             "shape": shape,
             "terms": {k: [_num(v), _num(s)] for k, (v, s) in self.terms.items()},
             "canonical": self.canonical,
@@ -147,6 +158,7 @@ class ModeValues:
         return cls(
             *(_float(d[k]) for k in ("frequency_hz", "frequency_std_hz", "damping_ratio",
                                      "damping_ratio_std", "amplitude")),
+            snr_db=_float(d.get("snr_db")),
             shape=None if shape is None else np.array([complex(a, b) for a, b in shape]),
             terms={k: (_float(v), _float(s)) for k, (v, s) in d.get("terms", {}).items()},
             canonical=bool(d.get("canonical", True)),
@@ -259,6 +271,7 @@ def mode_values(mode) -> ModeValues:
         terms.update(extra)
     shape = getattr(mode, "shape", None)
     return ModeValues(f, f_std, zeta, zeta_std, float(getattr(mode, "amplitude", math.nan)),
+                      float(getattr(mode, "snr_db", math.nan)),
                       None if shape is None else np.asarray(shape, complex), terms, canonical,
                       str(getattr(mode, "uncertainty_note", "")))
 

@@ -1,0 +1,152 @@
+"""Which term of a changed mode's equation carries the change (the paper's Figure 11, on surveys).
+
+Every coefficient of the mode's equation (:mod:`.values`: the linear stiffness ``w^2``, the linear damping
+``2 zeta w``, a cubic stiffness, ...) is tested as the mode's frequency is (:mod:`.statistics`): the new
+survey's coefficient against the reference surveys' (0 where a model does not have the term), Holm-corrected
+over the terms. A term no reference model has and the new one has *appeared*; one every reference model
+has and the new one lacks *vanished*. Each changed term is given the frequency shift (and damping-ratio
+shift) it causes at the amplitude of the new survey's hit: the change of the mode's backbone
+(:func:`~sindy_impulse.tracking.averaging.term_shift`) when that coefficient alone moves from the
+reference's mean to the new value. The term named is the changed one with the largest shift of the
+quantity that raised the alarm (frequency or damping); when no term is significant on its own, the most
+significant is named and said to be so.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .averaging import term_shift
+from .statistics import fit_scatter, holm, prediction_test
+from .values import LINEAR_TERMS, term_name, term_powers
+
+__all__ = ["TermChange", "ReferenceTerms", "changed_terms"]
+
+
+@dataclass(frozen=True)
+class TermChange:
+    """One coefficient of a changed mode's equation against the reference.
+
+    Attributes
+    ----------
+    key, name : str
+        The term (``"y^3"``) and its engineering name (``"cubic stiffness"``).
+    reference, reference_std : float
+        The reference's mean and its test-to-test scatter (0 where no reference model has the term).
+    value, std : float
+        The new survey's coefficient (0 when its model lacks the term) and its ±.
+    t, p : float
+        The test statistic and p-value (NaN: not testable).
+    significant : bool
+        Changed beyond the rate asked, Holm-corrected over the mode's terms.
+    status : str
+        ``"appeared"``, ``"vanished"``, ``"changed"`` or ``"unchanged"``.
+    frequency_shift_hz, damping_shift : float
+        What the change of this coefficient alone does to the mode's frequency and damping ratio at the
+        new survey's hit amplitude.
+    """
+
+    key: str
+    name: str
+    reference: float
+    reference_std: float
+    value: float
+    std: float
+    t: float
+    p: float
+    significant: bool
+    status: str
+    frequency_shift_hz: float
+    damping_shift: float
+
+    def describe(self, frequency_hz: float, zeta: float) -> str:
+        """One phrase: ``"the cubic stiffness appeared (+2.25e+03 ± 63): +0.30 % frequency at the hit"``."""
+        if self.key in LINEAR_TERMS and self.reference:
+            change = 100 * (self.value / self.reference - 1)
+            err = 100 * self.std / abs(self.reference) if math.isfinite(self.std) else math.nan
+            what = f"{change:+.3g} %" + (f" ± {err:.2g} %" if math.isfinite(err) else "")
+        else:
+            what = f"{self.value:+.4g}" + (f" ± {self.std:.2g}" if math.isfinite(self.std) else " (no ±)")
+            if self.status == "changed":
+                what += f", reference {self.reference:.4g}"
+        effect = []
+        powers = term_powers(self.key)
+        damping = powers is not None and powers[1] % 2 == 1  # odd in y': it dissipates
+        if not damping and math.isfinite(self.frequency_shift_hz) and self.frequency_shift_hz:
+            effect.append(f"{100 * self.frequency_shift_hz / frequency_hz:+.3g} % frequency")
+        if damping and math.isfinite(self.damping_shift) and self.damping_shift and zeta:
+            effect.append(f"{100 * self.damping_shift / zeta:+.3g} % damping ratio")
+        verb = {"appeared": "appeared", "vanished": "vanished", "changed": "changed"}.get(self.status, "is unchanged")
+        text = f"the {self.name} {verb} ({what})"
+        return text + (f": {', '.join(effect)} at the hit's amplitude" if effect and self.significant else "")
+
+
+class ReferenceTerms:
+    """The reference distributions of every coefficient of one mode, fitted once per term asked for."""
+
+    def __init__(self, reference_modes: list):
+        self.modes = reference_modes
+        self._fits: dict = {}
+        self.keys = list(dict.fromkeys(k for m in reference_modes for k in m.terms))
+
+    def fit(self, key: str):
+        """The :class:`~.statistics.Scatter` of ``key`` (0 with an unknown ± where a model lacks it)."""
+        if key not in self._fits:
+            x = np.array([m.terms.get(key, (0.0, math.nan))[0] for m in self.modes])
+            s = np.array([m.terms.get(key, (0.0, math.nan))[1] for m in self.modes])
+            proxy = np.array([10 ** (-m.snr_db / 20) for m in self.modes])
+            self._fits[key] = (fit_scatter(x, s, proxy), float(np.mean([key in m.terms for m in self.modes])))
+        return self._fits[key]
+
+
+def _status(share_in_reference: float, in_new: bool, significant: bool) -> str:
+    if not significant:
+        return "unchanged"
+    if share_in_reference == 0 and in_new:
+        return "appeared"
+    if share_in_reference == 1 and not in_new:
+        return "vanished"
+    return "changed"
+
+
+def changed_terms(reference: ReferenceTerms, new, alpha: float) -> list[TermChange]:
+    """Every coefficient of the mode in ``new`` (a ModeValues) or in the reference, tested (module
+    docstring), most significant first."""
+    keys = list(dict.fromkeys(reference.keys + list(new.terms)))
+    fits, t, p = [], [], []
+    for key in keys:
+        ref, share = reference.fit(key)
+        value, std = new.terms.get(key, (0.0, math.nan))
+        if ref is None:
+            fits.append((None, share, value, std))
+            t.append(math.nan)
+            p.append(math.nan)
+            continue
+        ti, pi = prediction_test(ref, [value], [std])
+        fits.append((ref, share, value, std))
+        t.append(float(ti[0]))
+        p.append(float(pi[0]))
+    significant = holm(np.array([p]), alpha)[0]
+    out = []
+    for key, (ref, share, value, std), ti, pi, sig in zip(keys, fits, t, p, significant):
+        mean = float(ref.mean) if ref is not None else math.nan
+        delta = value - mean if ref is not None else math.nan
+        df, dz = term_shift(new, key, delta, new.amplitude) if math.isfinite(delta) else (math.nan, math.nan)
+        out.append(TermChange(key, term_name(key), mean, float(ref.std) if ref is not None else math.nan,
+                              value, std, ti, pi, bool(sig), _status(share, key in new.terms, bool(sig)),
+                              df, dz))
+    return sorted(out, key=lambda c: (np.inf if not math.isfinite(c.p) else c.p))
+
+
+def named_term(changes: list[TermChange], quantity: str) -> tuple[TermChange | None, bool]:
+    """The term that carries a change of ``quantity`` (``"frequency"`` or ``"damping"``): the significant
+    one with the largest shift of it, else the most significant one; and whether it is significant."""
+    shift = (lambda c: abs(c.damping_shift)) if quantity == "damping" else (lambda c: abs(c.frequency_shift_hz))
+    significant = [c for c in changes if c.significant and math.isfinite(shift(c))]
+    if significant:
+        return max(significant, key=shift), True
+    testable = [c for c in changes if math.isfinite(c.p)]
+    return (testable[0] if testable else None), False
