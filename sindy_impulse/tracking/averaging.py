@@ -142,35 +142,36 @@ def backbone_at(values, amplitude: float) -> BackbonePoint:
     )
 
 
-def term_shift(values, key: str, delta: float, amplitude: float) -> tuple[float, float]:
-    """How much the mode's frequency (Hz) and damping ratio at ``amplitude`` move when the coefficient
-    ``key`` moves by ``delta`` (the other coefficients as they are in ``values``).
+def term_shift(values, key: str, reference: float, amplitude: float) -> tuple[float, float]:
+    """How much the mode's frequency (Hz) and damping ratio at ``amplitude`` moved because the coefficient
+    ``key`` moved from ``reference`` to its value in ``values`` (the other coefficients as they are).
 
     Examples
     --------
     >>> from sindy_impulse.tracking.values import ModeValues
     >>> w2 = (2 * math.pi * 50.0) ** 2
-    >>> m = ModeValues(50.0, 0.01, 0.01, 1e-4, 1.0, terms={"y": (w2, 1.0), "y'": (2 * math.pi, 0.01)})
-    >>> df, dz = term_shift(m, "y", -0.01 * w2, 1.0)  # the linear stiffness 1 % lower
+    >>> m = ModeValues(50.0, 0.01, 0.01, 1e-4, 1.0)  # the linear stiffness 1 % lower than w2 / 0.99:
+    >>> df, dz = term_shift(m, "y", w2 / 0.99, 1.0)
     >>> round(df / 50.0, 5), dz > 0
-    (-0.00501, True)
-    >>> df, _ = term_shift(m, "y^3", 0.008 * w2 / 0.75, 1.0)  # a cubic spring: +0.8 % of w^2 at A = 1
+    (-0.00504, True)
+    >>> m.terms["y^3"] = (0.008 * w2 / 0.75, 1.0)  # a cubic spring that appeared: +0.8 % of w^2 at A = 1
+    >>> df, _ = term_shift(m, "y^3", 0.0, 1.0)
     >>> round(df / 50.0, 4)
     0.004
     """
     w2, c = values.terms["y"][0], values.terms["y'"][0]
-    base = _polynomial(values)
-    w, c_eq, _ = _equivalent(w2, c, base, amplitude)
+    terms = _polynomial(values)
+    w, c_eq, _ = _equivalent(w2, c, terms, amplitude)
     if key == "y":
-        w2 += delta
+        w2 = reference
     elif key == "y'":
-        c += delta
+        c = reference
     else:
         powers = term_powers(key)
         if powers is None or powers == (0, 0):
             return math.nan, math.nan
-        old = next((v for p, q, v, _ in base if (p, q) == powers), 0.0)
-        base = [t for t in base if (t[0], t[1]) != powers] + [(*powers, old + delta, math.nan)]
-    w_new, c_new, _ = _equivalent(w2, c, base, amplitude)
-    f, f_new = w / (2 * math.pi), w_new / (2 * math.pi)
-    return f_new - f, (c_new / (2 * w_new) - c_eq / (2 * w)) if w > 0 and w_new > 0 else math.nan
+        terms = [t for t in terms if (t[0], t[1]) != powers] + ([(*powers, reference, math.nan)] if reference else [])
+    w_ref, c_ref, _ = _equivalent(w2, c, terms, amplitude)
+    if not (w > 0 and w_ref > 0):
+        return math.nan, math.nan
+    return (w - w_ref) / (2 * math.pi), c_eq / (2 * w) - c_ref / (2 * w_ref)

@@ -154,6 +154,7 @@ def _allowed(scale: np.ndarray, loglik: np.ndarray, mean_s2: np.ndarray, absolut
     """The shares not ruled out: likely enough and, for the fit's own ±, within what they can explain
     (module docstring); at least the largest share within that bound."""
     ok = 2 * (loglik.max(axis=1, keepdims=True) - loglik) <= PLAUSIBLE
+    ok[:, 0] = True  # the scatter alone is always a candidate: a share never makes a test more sensitive
     if absolute:
         bound = LAMBDA_GRID[None, :] * scale <= MAX_UNDERESTIMATE**2 * mean_s2[:, None]
         bound[:, 0] = True

@@ -133,8 +133,7 @@ def changed_terms(reference: ReferenceTerms, new, alpha: float) -> list[TermChan
     out = []
     for key, (ref, share, value, std), ti, pi, sig in zip(keys, fits, t, p, significant):
         mean = float(ref.mean) if ref is not None else math.nan
-        delta = value - mean if ref is not None else math.nan
-        df, dz = term_shift(new, key, delta, new.amplitude) if math.isfinite(delta) else (math.nan, math.nan)
+        df, dz = term_shift(new, key, mean, new.amplitude) if math.isfinite(mean) else (math.nan, math.nan)
         out.append(TermChange(key, term_name(key), mean, float(ref.std) if ref is not None else math.nan,
                               value, std, ti, pi, bool(sig), _status(share, key in new.terms, bool(sig)),
                               df, dz))
