@@ -6,6 +6,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy import stats
 
 __all__ = ["QUANTITIES", "Alarm", "Trend", "TrackResult"]
 
@@ -150,6 +151,7 @@ class TrackResult:
         self.tracks, self.slot, self.testable, self.amplitudes = tracks, slot, testable, amplitudes
         self.series, self.fits, self.t, self.p = series, tests[0], tests[1], tests[2]
         self.flags, self.alarms, self.trends, self.alpha = flags, alarms, trends, alpha
+        self.quantities = QUANTITIES
 
     @property
     def labels(self) -> list:
@@ -177,6 +179,19 @@ class TrackResult:
         """The reference's test-to-test scatter (standard deviation for a test of typical ±)."""
         fit = self.fits.get((quantity, mode))
         return float(fit.std) if fit is not None else math.nan
+
+    def limits(self, quantity: str, mode: int):
+        """``(mean, low, high)``: the reference's mean and the band outside which a new test of typical ±
+        raises an alarm (the Bonferroni threshold of a survey's family of tests); None when not tested."""
+        fit = self.fits.get((quantity, mode))
+        if fit is None:
+            return None
+        n_tests = max(int(np.isfinite(np.stack([self.p[q] for q in QUANTITIES], axis=2))[self.new].sum(
+            axis=(1, 2)).max()) if self.new.size else 0, 1)
+        k = int(fit.best)
+        dof = max(fit.n - (2 if fit.shares[k] > 0 else 1), 1)
+        half = stats.t.isf(self.alpha / (2 * n_tests), dof) * math.sqrt(fit.scales[k] * (1 + 1 / fit.sum_w[k]))
+        return float(fit.means[k]), float(fit.means[k] - half), float(fit.means[k] + half)
 
     def events(self) -> list[str]:
         """Modes that new surveys missed or that appeared in them, one line each."""
