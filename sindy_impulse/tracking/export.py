@@ -8,7 +8,7 @@ import numpy as np
 
 from .result import QUANTITIES
 
-__all__ = ["track_frame", "track_dict", "frame_rows"]
+__all__ = ["track_frame", "track_dict", "frame_rows", "row_note"]
 
 
 def _num(x):
@@ -16,7 +16,7 @@ def _num(x):
     return x if math.isfinite(x) else None
 
 
-def _note(result, s: int, j: int) -> str:
+def row_note(result, s: int, j: int) -> str:
     """Why a value of this row has no ± of its own (the reference scatter then carries it)."""
     if result.slot[s, j] < 0:
         return "mode not found in this survey"
@@ -60,7 +60,7 @@ def frame_rows(result) -> list[dict]:
             row["term"] = alarm.term.name if alarm and alarm.term is not None else ""
             row["term_significant"] = bool(alarm.term_significant) if alarm else False
             row["term_frequency_shift_hz"] = alarm.term.frequency_shift_hz if alarm and alarm.term else math.nan
-            row["note"] = _note(result, s, j)
+            row["note"] = row_note(result, s, j)
             rows.append(row)
     return rows
 

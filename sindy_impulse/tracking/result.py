@@ -210,6 +210,20 @@ class TrackResult:
                            f"{len(self.new)} new surveys, first in {self.labels[self.new[found][0]]}")
         return out
 
+    def notes(self) -> list[str]:
+        """What limits the tests, once per mode and kind: a mode not tested, a ± the fit did not give
+        (the reference scatter then carries the uncertainty)."""
+        from .export import row_note
+
+        notes = {}
+        for j, tr in enumerate(self.tracks):
+            for s in range(len(self.values)):
+                note = row_note(self, s, j)
+                if note and "not found" not in note:
+                    notes.setdefault((j, note), []).append(self.labels[s])
+        return [f"{self.tracks[j].label(j)}: {note} ({len(who)} survey(s), e.g. {who[0]})"
+                for (j, note), who in notes.items()]
+
     def lines(self) -> list[str]:
         """The report as lines: one per alarm, per significant trend, per event."""
         return ([a.text(self) for a in self.alarms] + [t.text(self) for t in self.trend_alarms]
