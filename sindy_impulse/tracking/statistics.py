@@ -216,13 +216,13 @@ def fit_scatter(x, s=None, proxy=None) -> Scatter | None:
     n = x.size
     if n < 2:
         return None
+    if np.all(x == x[0]):  # every value the same (a term no model has): a new one judged by its own ±
+        return _plain(x[0], 0.0, n, math.nan, True)
     stds, absolute = _stds(None if s is None else np.asarray(s, float)[ok], n), True
     if stds is None and proxy is not None:
         stds, absolute = _stds(np.asarray(proxy, float)[ok], n), False
     if stds is None:
         return _plain(x.mean(), x.var(ddof=1), n)
-    if np.all(x == x[0]):  # every value the same: no scatter to estimate
-        return _plain(x[0], 0.0, n, float(np.mean(stds**2)), absolute)
     return _single(_rows(x[None, :], (stds**2)[None, :], absolute))
 
 
