@@ -103,6 +103,18 @@ def test_the_equation_is_rewritten_whatever_split_the_fit_chose_between_its_two_
     assert term_powers("y y'^2") == (1, 2) and term_powers("(dy)' x|x|") is None
 
 
+def test_a_model_of_another_form_keeps_its_raw_nonlinear_terms_only():
+    """A delay-embedded model (four states of ``y``) is not rewritten; its linear terms are left to the
+    frequency and damping ratio, a quadratic one kept raw."""
+    model = _Model(1.0, 1.0, 1.0)
+    model.feature_names_ = ["y(t-2tau)", "y(t-1tau)", "y"]
+    model._names = ["y(t-2tau)", "y(t-1tau)", "y", "y^2"]
+    model._coef = np.array([[0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [-3.0, 2.0, -1.0, 0.4]])
+    values = survey_values(type("S", (), {"modes": [_SurveyMode(model, 100.0, 0.01)]})()).modes[0]
+    assert not values.canonical and sorted(values.terms) == ["(y)' y^2", "y", "y'"]
+    assert values.terms["(y)' y^2"][0] == pytest.approx(0.4)
+
+
 def test_values_of_a_real_survey_and_their_json_round_trip():
     rec = impact_record([120.0, 260.0], [0.01, 0.005], fs=4000, duration=1.0, snr_db=50, random_state=0)
     values = survey_values(identify_modes(rec.y, fs=rec.fs), label="hit 1")

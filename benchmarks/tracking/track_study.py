@@ -51,7 +51,14 @@ def _survey(records: list, n_jobs: int) -> list[dict]:
         warnings.simplefilter("ignore")
         surveys = survey_many([r.y for r in records], fs=[r.fs for r in records], n_jobs=n_jobs,
                               progress=False)
-    return [survey_values(s).to_dict() for s in surveys]
+    out = []
+    for i, survey in enumerate(surveys):
+        try:
+            out.append(survey_values(survey).to_dict())
+        except Exception as err:  # noqa: BLE001 - one survey's values must not lose the others
+            print(f"    survey {i}: its values could not be read: {type(err).__name__}: {err}", flush=True)
+            out.append({"label": "", "failed": f"values: {type(err).__name__}: {err}", "modes": []})
+    return out
 
 
 def cached_row(seed: int, row: str, cache: Path, n_jobs: int) -> dict:

@@ -45,7 +45,6 @@ _NAMES = {
     (1, 1): "stiffness-damping coupling (y y')",
     (1, 2): "velocity-dependent stiffness (y y'^2)",
 }
-_TOKEN = re.compile(r"^([A-Za-z_][\w.]*)(?:\^(\d+))?$")
 
 
 def _monomial_key(p: int, q: int) -> str:
@@ -213,47 +212,41 @@ def _linear_terms(f, f_std, zeta, zeta_std) -> dict:
     }
 
 
-def _powers(feature: str, states: list) -> tuple[int, int] | None:
-    """``(p, q)`` of a library feature that is a monomial of the two states, else None."""
+def _powers(feature: str, states: list) -> tuple | None:
+    """The power of each state in a library feature that is a monomial of the states (``"y^2 dy"``), else
+    None (a function of them, a term of another library)."""
+    powers = [0] * len(states)
     if feature.strip() == "1":
-        return (0, 0)
-    powers = [0, 0]
+        return tuple(powers)
     for token in feature.split() or ["?"]:
-        match = _TOKEN.match(token)
-        if match is None or match.group(1) not in states:
+        name, _, power = token.rpartition("^") if "^" in token else (token, "", "1")
+        if name not in states or not power.isdigit():
             return None
-        powers[states.index(match.group(1))] += int(match.group(2) or 1)
+        powers[states.index(name)] += int(power)
     return tuple(powers)
 
 
 def _model_terms(model, coordinate: int, std) -> tuple[dict, bool]:
-    """The model's nonlinear terms as ``key -> (value, std)`` and whether they are canonical."""
+    """The model's nonlinear terms as ``key -> (value, std)`` and whether they are canonical (module
+    docstring); a model of another form keeps its raw coefficients of degree other than one."""
     coef = np.asarray(model.coefficients(), float)
-    features = list(model.get_feature_names())
-    states = list(getattr(model, "feature_names_", ["y", "dy"]))[: coef.shape[0]]
+    features = list(model.get_feature_names())[: coef.shape[1]]
+    names = list(getattr(model, "feature_names_", []))
+    states = (names + [f"x{i}" for i in range(len(names), coef.shape[0])])[: coef.shape[0]]
     std = np.full(coef.shape, np.nan) if std is None else np.asarray(std, float)
-    first = [j for j in np.flatnonzero(coef[0]) if j < len(features)] if coef.shape[0] else []
-    canonical = (
-        coef.shape[0] == 2 and coordinate == 0 and len(first) == 1
-        and _powers(features[first[0]], states) == (0, 1)
-    )
+    powers = [_powers(f, states) for f in features]
+    first = np.flatnonzero(coef[0, : len(features)]) if coef.shape[0] else []
+    canonical = coef.shape[0] == 2 and coordinate == 0 and len(first) == 1 and powers[first[0]] == (0, 1)
     terms = {}
-    if canonical:
-        a = coef[0, first[0]]
-        for j in np.flatnonzero(coef[1]):
-            powers = _powers(features[j], states)
-            if powers in ((1, 0), (0, 1)):
-                continue
-            if powers is None:
-                terms[f"({states[1]})' {features[j]}"] = (float(coef[1, j]), float(std[1, j]))
-                continue
-            scale = a ** (1 - powers[1])
-            terms[_monomial_key(*powers)] = (float(-scale * coef[1, j]), float(abs(scale) * std[1, j]))
-        return terms, True
-    for i, j in zip(*np.nonzero(coef)):
-        if _powers(features[j], states) not in ((1, 0), (0, 1)):
+    for i, j in zip(*np.nonzero(coef[:, : len(features)])):
+        if powers[j] is not None and sum(powers[j]) == 1:
+            continue  # the linear part: the frequency and damping ratio say it
+        if canonical and i == 1 and powers[j] is not None:
+            scale = coef[0, first[0]] ** (1 - powers[j][1])
+            terms[_monomial_key(*powers[j])] = (float(-scale * coef[i, j]), float(abs(scale) * std[i, j]))
+        elif not canonical or i == 1:
             terms[f"({states[i]})' {features[j]}"] = (float(coef[i, j]), float(std[i, j]))
-    return terms, False
+    return terms, canonical
 
 
 def mode_values(mode) -> ModeValues:
