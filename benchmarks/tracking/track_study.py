@@ -90,6 +90,47 @@ def compute(seeds, rows, cache: Path, n_jobs: int) -> None:
                       flush=True)
 
 
+def speed(n_surveys: int = 200, repeats: int = 3) -> dict:
+    """Seconds of :func:`sindy_impulse.tracking.track` on 20 reference + 180 new surveys of 4 modes (their
+    values given: the surveys themselves are not timed), without change and with every new survey changed
+    (then every alarm's terms are tested too); median of ``repeats``, and of the table and JSON after."""
+    from sindy_impulse.tracking import track
+
+    from benchmarks.tracking.study_stats import _survey
+
+    rng = np.random.default_rng(3)
+    f0 = (90.0, 210.0, 340.0, 515.0)
+    same = [_survey(rng, f0, 1.0, False, 1 + 3e-4 * rng.standard_normal()) for _ in range(n_surveys)]
+    changed = same[:20] + [_survey(rng, (90.0, 209.0, 340.0, 515.0), 1.0, False, 1 + 3e-4 * rng.standard_normal())
+                           for _ in range(n_surveys - 20)]
+    out = {}
+    for name, surveys in (("no change", same), ("every new survey changed", changed)):
+        times, extra = [], []
+        for _ in range(repeats):
+            start = time.perf_counter()
+            result = track(surveys, reference=20)
+            times.append(time.perf_counter() - start)
+            start = time.perf_counter()
+            result.to_frame(), result.to_dict()
+            extra.append(time.perf_counter() - start)
+        out[name] = {"track_s": float(np.median(times)), "frame_and_json_s": float(np.median(extra)),
+                     "alarms": len(result.alarms)}
+    return out
+
+
+def _print_real(real: dict) -> None:
+    for name, v in real.items():
+        print(f"  {name}:")
+        for key, val in v.items():
+            if isinstance(val, dict) and "lines" in val:
+                print(f"    {key}: {val['changed']} of {val['new']} new surveys changed; modes tested "
+                      f"{val['tested_modes']}")
+                for line in val["lines"] + [f"note: {n}" for n in val["notes"]]:
+                    print(f"      {line}")
+            else:
+                print(f"    {key}: {json.dumps(val)[:2000]}")
+
+
 def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sequences", type=int, default=50)
@@ -97,14 +138,49 @@ def main(argv=None) -> dict:
     parser.add_argument("--rows", default=",".join(seqs.ROWS))
     parser.add_argument("--cache", type=Path, default=CACHE)
     parser.add_argument("--n-jobs", type=int, default=1)
-    parser.add_argument("--only", choices=("surveys", "sequences", "statistics", "real"), default=None)
-    parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--alpha", type=float, default=0.01)
+    parser.add_argument("--only", choices=("surveys", "sequences", "statistics", "real", "speed"), default=None)
+    parser.add_argument("--no-surveys", action="store_true", help="track only the sequences already cached")
+    parser.add_argument("--mirror", default=None, help="folder of bare git copies (real records)")
+    parser.add_argument("--quick", action="store_true", help="fewer draws in the statistics part")
     args = parser.parse_args(argv)
     rows = [r for r in args.rows.split(",") if r]
     seeds = range(args.first, args.first + args.sequences)
     results = {}
-    if args.only in (None, "surveys"):
+    if args.only in (None, "surveys") and not args.no_surveys:
         compute(seeds, rows, args.cache, args.n_jobs)
+    if args.only in (None, "sequences"):
+        from benchmarks.tracking import study_rows
+
+        results["sequences"] = study_rows.summary(study_rows.analyse(seeds, rows, args.cache, args.alpha))
+        print(f"synthetic sequences at a {100 * args.alpha:g} % false-alarm rate (95 % Wilson intervals):")
+        study_rows.print_summary(results["sequences"])
+    if args.only in (None, "statistics"):
+        from benchmarks.tracking import study_stats
+
+        reps = 20_000 if args.quick else 100_000
+        one = study_stats.one_test(reps)
+        whole = study_stats.whole_track(40 if args.quick else 200)
+        results["statistics"] = {"one_test": one, "track": whole}
+        print("the tests by simulation:")
+        study_stats.print_tables(one, whole)
+    if args.only in (None, "real"):
+        from benchmarks.tracking import study_real
+
+        mirror = study_real.mirror_folder(args.mirror)
+        if mirror is None:
+            print("real records: give --mirror DIR or set SINDY_IMPULSE_MIRROR (bare git copies)")
+        else:
+            results["real"] = {"pyFRF": study_real.pyfrf(mirror, args.cache),
+                               "Vibration-Tester beam": study_real.beam(mirror, args.cache)}
+            print("real records:")
+            _print_real(results["real"])
+    if args.only in (None, "speed"):
+        results["speed"] = speed()
+        print("speed of track() on 200 surveys of 4 modes (median of 3):")
+        for name, v in results["speed"].items():
+            print(f"  {name}: track {v['track_s']:.3f} s, then table and JSON {v['frame_and_json_s']:.3f} s "
+                  f"({v['alarms']} alarms)")
     return results
 
 

@@ -112,32 +112,35 @@ def _status(share_in_reference: float, in_new: bool, significant: bool) -> str:
     return "changed"
 
 
-def changed_terms(reference: ReferenceTerms, new, alpha: float) -> list[TermChange]:
-    """Every coefficient of the mode in ``new`` (a ModeValues) or in the reference, tested (module
-    docstring), most significant first."""
-    keys = list(dict.fromkeys(reference.keys + list(new.terms)))
-    fits, t, p = [], [], []
-    for key in keys:
-        ref, share = reference.fit(key)
-        value, std = new.terms.get(key, (0.0, math.nan))
-        if ref is None:
-            fits.append((None, share, value, std))
-            t.append(math.nan)
-            p.append(math.nan)
-            continue
-        ti, pi = prediction_test(ref, [value], [std])
-        fits.append((ref, share, value, std))
-        t.append(float(ti[0]))
-        p.append(float(pi[0]))
-    significant = holm(np.array([p]), alpha)[0]
+def changed_terms(reference: ReferenceTerms, news: list, alpha: float) -> list[list[TermChange]]:
+    """For each mode of ``news`` (ModeValues of new surveys), every coefficient it or the reference has,
+    tested (module docstring; Holm over one mode's terms), most significant first. The reference's fits
+    are shared: each term is tested for every new mode at once."""
+    keys = list(dict.fromkeys(reference.keys + [k for m in news for k in m.terms]))
+    absent = (0.0, math.nan)
+    value = np.array([[m.terms.get(k, absent)[0] for k in keys] for m in news]).reshape(len(news), len(keys))
+    std = np.array([[m.terms.get(k, absent)[1] for k in keys] for m in news]).reshape(value.shape)
+    asked = np.array([[k in reference.keys or k in m.terms for k in keys] for m in news]).reshape(value.shape)
+    t, p = np.full(value.shape, np.nan), np.full(value.shape, np.nan)
+    mean, scatter, share = np.full(len(keys), np.nan), np.full(len(keys), np.nan), np.zeros(len(keys))
+    for c, key in enumerate(keys):
+        ref, share[c] = reference.fit(key)
+        if ref is not None:
+            t[:, c], p[:, c] = prediction_test(ref, value[:, c], std[:, c])
+            mean[c], scatter[c] = float(ref.mean), float(ref.std)
+    p = np.where(asked, p, np.nan)
+    significant = holm(p, alpha)
     out = []
-    for key, (ref, share, value, std), ti, pi, sig in zip(keys, fits, t, p, significant):
-        mean = float(ref.mean) if ref is not None else math.nan
-        df, dz = term_shift(new, key, mean, new.amplitude) if math.isfinite(mean) else (math.nan, math.nan)
-        out.append(TermChange(key, term_name(key), mean, float(ref.std) if ref is not None else math.nan,
-                              value, std, ti, pi, bool(sig), _status(share, key in new.terms, bool(sig)),
-                              df, dz))
-    return sorted(out, key=lambda c: (np.inf if not math.isfinite(c.p) else c.p))
+    for i, new in enumerate(news):
+        changes = []
+        for c in np.flatnonzero(asked[i]):
+            key = keys[c]
+            shifts = term_shift(new, key, mean[c], new.amplitude) if math.isfinite(mean[c]) else (math.nan,) * 2
+            sig = bool(significant[i, c])
+            changes.append(TermChange(key, term_name(key), mean[c], scatter[c], value[i, c], std[i, c], t[i, c],
+                                      p[i, c], sig, _status(share[c], key in new.terms, sig), *shifts))
+        out.append(sorted(changes, key=lambda ch: np.inf if not math.isfinite(ch.p) else ch.p))
+    return out
 
 
 def named_term(changes: list[TermChange], quantity: str) -> tuple[TermChange | None, bool]:

@@ -111,25 +111,23 @@ def _theil_sen(x) -> float:
     return float(np.median((x[k[j]] - x[k[i]]) / (k[j] - k[i])))
 
 
-def _alarms(values, slot, tracks, series, tests, flags, new_idx, ref_idx, alpha) -> list:
-    """One :class:`Alarm` per changed (survey, mode), with the term that carries the change."""
+def _alarms(values, slot, series, tests, flags, new_idx, ref_idx, alpha) -> list:
+    """One :class:`Alarm` per changed (survey, mode), with the term that carries the change; the terms of
+    every changed survey of a mode tested together."""
     _, t, p = tests
-    reference_terms = {}
     out = []
-    for s in new_idx:
-        for j in np.flatnonzero(flags[s].any(axis=1)):
+    for j in np.flatnonzero(flags[new_idx].any(axis=(0, 2))):
+        changed = [s for s in new_idx if flags[s, j].any()]
+        reference = ReferenceTerms([values[r].modes[slot[r, j]] for r in ref_idx if slot[r, j] >= 0])
+        news = [values[s].modes[slot[s, j]] for s in changed]
+        for s, new, changes in zip(changed, news, changed_terms(reference, news, alpha)):
             hits = [q for k, q in enumerate(QUANTITIES) if flags[s, j, k]]
             lead = min(hits, key=lambda q: p[q][s, j])
-            if j not in reference_terms:
-                modes = [values[r].modes[slot[r, j]] for r in ref_idx if slot[r, j] >= 0]
-                reference_terms[j] = ReferenceTerms(modes)
-            new = values[s].modes[slot[s, j]]
-            changes = changed_terms(reference_terms[j], new, alpha)
             term, significant = named_term(changes, "damping" if "damping" in lead else "frequency")
-            out.append(Alarm(int(s), int(j), lead, hits, float(series["value"][lead][s, j]),
-                             float(t[lead][s, j]), float(p[lead][s, j]), changes, term, significant,
-                             new.frequency_hz, new.damping_ratio, new.amplitude))
-    return out
+            out.append(Alarm(int(s), int(j), lead, hits, float(series["value"][lead][s, j]), float(t[lead][s, j]),
+                             float(p[lead][s, j]), changes, term, significant, new.frequency_hz,
+                             new.damping_ratio, new.amplitude))
+    return sorted(out, key=lambda a: (a.survey, a.mode))
 
 
 def track(
@@ -216,7 +214,7 @@ def track(
     if new_idx.size:
         flat = holm(p[new_idx].reshape(new_idx.size, -1), alpha)
         flags[new_idx] = flat.reshape(new_idx.size, *p.shape[1:])
-    alarms = _alarms(values, slot, tracks, series, tests, flags, new_idx, ref_idx, alpha)
+    alarms = _alarms(values, slot, series, tests, flags, new_idx, ref_idx, alpha)
     trends = _trends(series, new_idx, testable, alpha)
     return TrackResult(values, ref_idx, new_idx, tracks, slot, testable, amplitudes, series, tests, flags,
                        alarms, trends, alpha)
