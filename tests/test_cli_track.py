@@ -1,4 +1,4 @@
-"""``sindy-impulse track REF_FILE ... --against FILE ...``: one line per alarm, JSON, CSV, HTML, exit codes."""
+"""``sindy-impulse track REF ... --against FILE ...``: one line per alarm, JSON, CSV, HTML, exit codes."""
 
 import csv
 import json
@@ -44,8 +44,24 @@ def _run(argv, capsys):
 def test_one_line_per_alarm_and_every_output(hits, tmp_path, capsys):
     ref, new = hits
     out = {k: str(tmp_path / f"track.{k}") for k in ("json", "csv", "html", "png")}
-    code, text, _ = _run(["track", *ref, "--against", *new, "--json", out["json"], "--csv", out["csv"],
-                          "--report", out["html"], "--plot", out["png"], "--no-progress"], capsys)
+    code, text, _ = _run(
+        [
+            "track",
+            *ref,
+            "--against",
+            *new,
+            "--json",
+            out["json"],
+            "--csv",
+            out["csv"],
+            "--report",
+            out["html"],
+            "--plot",
+            out["png"],
+            "--no-progress",
+        ],
+        capsys,
+    )
     assert code == 0
     alarms = [line for line in text.splitlines() if " changed: " in line]
     assert len(alarms) == 1 and alarms[0].strip().startswith(new[1]) and "linear stiffness" in alarms[0]

@@ -168,8 +168,17 @@ def test_averaging_agrees_with_the_simulated_backbone_of_a_fitted_duffing_mode()
 
     w0, a0 = 2 * np.pi * 50.0, 2e-3
     k3 = 4 / 3 * 0.02 * w0**2 / a0**2  # w^2 two per cent higher at the hit
-    rec = impact_record(50.0, 0.005, [a0], fs=1000.0, duration=3.0, sensor="displacement",
-                        cubic_stiffness=k3, snr_db=60, random_state=1)
+    rec = impact_record(
+        50.0,
+        0.005,
+        [a0],
+        fs=1000.0,
+        duration=3.0,
+        sensor="displacement",
+        cubic_stiffness=k3,
+        snr_db=60,
+        random_state=1,
+    )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         mode = identify_modes(rec.y, fs=rec.fs).modes[0]
@@ -195,10 +204,15 @@ def test_a_vanished_mode_and_an_appeared_one_are_reported_not_forced():
 
 def test_mode_shapes_keep_two_modes_at_one_frequency_apart():
     bend, twist = np.array([1.0, 1.0, 1.0]), np.array([1.0, -1.0, 0.0])
-    ref = [SurveyValues([ModeValues(100.0, 0, 0.01, 0, 1.0, shape=bend),
-                         ModeValues(100.5, 0, 0.01, 0, 1.0, shape=twist)]) for _ in range(2)]
-    swapped = SurveyValues([ModeValues(100.1, 0, 0.01, 0, 1.0, shape=twist),
-                            ModeValues(100.4, 0, 0.01, 0, 1.0, shape=bend)])
+    ref = [
+        SurveyValues(
+            [ModeValues(100.0, 0, 0.01, 0, 1.0, shape=bend), ModeValues(100.5, 0, 0.01, 0, 1.0, shape=twist)]
+        )
+        for _ in range(2)
+    ]
+    swapped = SurveyValues(
+        [ModeValues(100.1, 0, 0.01, 0, 1.0, shape=twist), ModeValues(100.4, 0, 0.01, 0, 1.0, shape=bend)]
+    )
     _, slot = match_modes(ref + [swapped], [0, 1])
     assert slot[2].tolist() == [1, 0]  # by shape, although each frequency is nearer the other mode
 
@@ -271,7 +285,9 @@ def test_a_stiffness_loss_is_named_the_linear_stiffness_of_the_right_mode():
     assert result.changed[20:].mean() > 0.9 and not result.changed[:20].any()
     assert {a.mode for a in result.alarms} == {1}
     assert all(a.term.key == "y" and a.term_significant for a in result.alarms)
-    assert all(a.term.frequency_shift_hz / a.frequency_hz == pytest.approx(-0.0025, abs=8e-4) for a in result.alarms)
+    assert all(
+        a.term.frequency_shift_hz / a.frequency_hz == pytest.approx(-0.0025, abs=8e-4) for a in result.alarms
+    )
 
 
 def test_more_damping_is_named_the_damping():

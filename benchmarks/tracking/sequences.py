@@ -41,8 +41,10 @@ CUBIC_SHIFT = 0.003
 
 
 def _separated(f, z, gap=0.03) -> bool:
-    return all(f[i + 1] / f[i] - 1 >= gap and f[i + 1] - f[i] > z[i] * f[i] + z[i + 1] * f[i + 1]
-               for i in range(len(f) - 1))
+    return all(
+        f[i + 1] / f[i] - 1 >= gap and f[i + 1] - f[i] > z[i] * f[i] + z[i + 1] * f[i + 1]
+        for i in range(len(f) - 1)
+    )
 
 
 def draw_sequence(seed: int) -> dict:
@@ -57,11 +59,19 @@ def draw_sequence(seed: int) -> dict:
         if _separated(f, z):
             break
     return dict(
-        seed=seed, fs=fs, duration=n_samples / fs, frequencies_hz=f.tolist(), damping_ratios=z.tolist(),
-        amplitudes=(10 ** (-rng.uniform(0, 20, n_modes) / 20)).tolist(), sensor=str(rng.choice(SENSORS)),
-        pre_trigger=float(rng.uniform(0.02, 0.1)), offset=float(rng.uniform(0, 2)),
-        snr_db=float(rng.uniform(36, 44)), tau=float(rng.uniform(2e-4, 5e-4)),
-        tau_damping=float(rng.uniform(0, 0.02)), target=int(rng.integers(n_modes)),
+        seed=seed,
+        fs=fs,
+        duration=n_samples / fs,
+        frequencies_hz=f.tolist(),
+        damping_ratios=z.tolist(),
+        amplitudes=(10 ** (-rng.uniform(0, 20, n_modes) / 20)).tolist(),
+        sensor=str(rng.choice(SENSORS)),
+        pre_trigger=float(rng.uniform(0.02, 0.1)),
+        offset=float(rng.uniform(0, 2)),
+        snr_db=float(rng.uniform(36, 44)),
+        tau=float(rng.uniform(2e-4, 5e-4)),
+        tau_damping=float(rng.uniform(0, 0.02)),
+        target=int(rng.integers(n_modes)),
     )
 
 
@@ -69,8 +79,10 @@ def cubic_target(seq: dict) -> tuple[int, float]:
     """The mode a cubic spring at mass 0 moves most, and the ``k3`` that raises its frequency 0.3 % at its
     amplitude at a nominal hit: per mode ``d(w^2) / w^2 = 3/4 m0 phi0^2 k3 a^2 / w^2`` (``a`` its
     displacement at mass 0, ``phi0`` its mass-normalised shape there); the other modes move less."""
-    linear = {k: seq[k] for k in ("frequencies_hz", "damping_ratios", "amplitudes", "fs", "duration",
-                                  "sensor", "pre_trigger")}
+    linear = {
+        k: seq[k]
+        for k in ("frequencies_hz", "damping_ratios", "amplitudes", "fs", "duration", "sensor", "pre_trigger")
+    }
     at_mass0 = impact_record(**linear, sensor_dof=0)
     omega = 2 * np.pi * np.asarray(seq["frequencies_hz"])
     a = np.abs(np.atleast_1d(at_mass0.modes.amplitude)) / omega ** SENSORS.index(seq["sensor"])
@@ -97,11 +109,18 @@ def test_config(seq: dict, row: str, k: int) -> tuple[dict, dict]:
     elif row == "drift":
         f[m] *= 1 - 0.0005 * (k + 1)
     config = dict(
-        frequencies_hz=f.tolist(), damping_ratios=z.tolist(),
-        amplitudes=(np.asarray(seq["amplitudes"]) * strength).tolist(), fs=seq["fs"],
-        duration=seq["duration"], sensor=seq["sensor"], pre_trigger=seq["pre_trigger"],
-        offset=seq["offset"], snr_db=seq["snr_db"] + 20 * np.log10(strength),
-        force_amplitude=100.0 * strength, random_state=int(rng.integers(2**31)), **extra,
+        frequencies_hz=f.tolist(),
+        damping_ratios=z.tolist(),
+        amplitudes=(np.asarray(seq["amplitudes"]) * strength).tolist(),
+        fs=seq["fs"],
+        duration=seq["duration"],
+        sensor=seq["sensor"],
+        pre_trigger=seq["pre_trigger"],
+        offset=seq["offset"],
+        snr_db=seq["snr_db"] + 20 * np.log10(strength),
+        force_amplitude=100.0 * strength,
+        random_state=int(rng.integers(2**31)),
+        **extra,
     )
     return config, {"strength": strength, "factor": float(factor)}
 

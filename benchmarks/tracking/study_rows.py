@@ -46,8 +46,11 @@ def load(cache: Path, seed: int, row: str):
     if not (ref_path.exists() and row_path.exists()):
         return None
     ref, new = json.loads(ref_path.read_text()), json.loads(row_path.read_text())
-    return (ref["sequence"], [SurveyValues.from_dict(d) for d in ref["surveys"]],
-            [SurveyValues.from_dict(d) for d in new["surveys"]])
+    return (
+        ref["sequence"],
+        [SurveyValues.from_dict(d) for d in ref["surveys"]],
+        [SurveyValues.from_dict(d) for d in new["surveys"]],
+    )
 
 
 def _target(seq: dict, row: str, tracks) -> int | None:
@@ -79,8 +82,12 @@ def sequence_row(seq, reference, new, row: str, alpha: float) -> dict:
     result = track(reference + new, reference=len(reference), alpha=alpha)
     j = _target(seq, row, result.tracks)
     flagged = result.changed[result.new]
-    out = {"n_new": int(flagged.size), "flagged": int(flagged.sum()), "target_tracked": j is not None,
-           "trend_any": bool(result.trend_alarms)}
+    out = {
+        "n_new": int(flagged.size),
+        "flagged": int(flagged.sum()),
+        "target_tracked": j is not None,
+        "trend_any": bool(result.trend_alarms),
+    }
     lead = {}
     for a in result.alarms:
         if a.survey not in lead or a.p < lead[a.survey].p:
@@ -88,12 +95,18 @@ def sequence_row(seq, reference, new, row: str, alpha: float) -> dict:
     on_target = {a.survey: a for a in result.alarms if a.mode == j}
     out["right_mode"] = sum(1 for s, a in lead.items() if a.mode == j)
     expected = EXPECTED_TERM.get(row)
-    out["term"] = sum(1 for a in on_target.values() if expected and a.term is not None and a.term.key == expected)
-    out["term_linear_stiffness"] = sum(1 for a in on_target.values() if a.term is not None and a.term.key == "y")
+    out["term"] = sum(
+        1 for a in on_target.values() if expected and a.term is not None and a.term.key == expected
+    )
+    out["term_linear_stiffness"] = sum(
+        1 for a in on_target.values() if a.term is not None and a.term.key == "y"
+    )
     if j is not None:
-        has_cubic = [result.slot[s, j] >= 0 and "y^3" in result.values[s].modes[result.slot[s, j]].terms
-                     for s in range(len(result.values))]
-        out["cubic_found_new"] = int(sum(has_cubic[len(reference):]))
+        has_cubic = [
+            result.slot[s, j] >= 0 and "y^3" in result.values[s].modes[result.slot[s, j]].terms
+            for s in range(len(result.values))
+        ]
+        out["cubic_found_new"] = int(sum(has_cubic[len(reference) :]))
         out["cubic_found_reference"] = int(sum(has_cubic[: len(reference)]))
         out["target_found_new"] = int((result.slot[result.new, j] >= 0).sum())
         out["trend_target"] = any(t.mode == j and t.quantity == "frequency_hz" for t in result.trend_alarms)
@@ -127,19 +140,28 @@ def summary(table: dict) -> dict:
         if not per:
             continue
         n_new, flagged = sum(p["n_new"] for p in per), sum(p["flagged"] for p in per)
-        s = {"sequences": len(per), "new_surveys": n_new, "flagged": flagged,
-             "flagged_rate": flagged / n_new if n_new else math.nan,
-             "right_mode": sum(p["right_mode"] for p in per), "term": sum(p["term"] for p in per),
-             "term_linear_stiffness": sum(p["term_linear_stiffness"] for p in per),
-             "trend_sequences": sum(p["trend_any"] for p in per),
-             "trend_target_sequences": sum(p.get("trend_target", False) for p in per),
-             "cubic_found_new": sum(p.get("cubic_found_new", 0) for p in per),
-             "cubic_found_reference": sum(p.get("cubic_found_reference", 0) for p in per),
-             "target_found_new": sum(p.get("target_found_new", 0) for p in per),
-             "target_untracked": sum(not p["target_tracked"] for p in per)}
+        s = {
+            "sequences": len(per),
+            "new_surveys": n_new,
+            "flagged": flagged,
+            "flagged_rate": flagged / n_new if n_new else math.nan,
+            "right_mode": sum(p["right_mode"] for p in per),
+            "term": sum(p["term"] for p in per),
+            "term_linear_stiffness": sum(p["term_linear_stiffness"] for p in per),
+            "trend_sequences": sum(p["trend_any"] for p in per),
+            "trend_target_sequences": sum(p.get("trend_target", False) for p in per),
+            "cubic_found_new": sum(p.get("cubic_found_new", 0) for p in per),
+            "cubic_found_reference": sum(p.get("cubic_found_reference", 0) for p in per),
+            "target_found_new": sum(p.get("target_found_new", 0) for p in per),
+            "target_untracked": sum(not p["target_tracked"] for p in per),
+        }
         if row == "drift":
-            s["first_trend_median"] = float(np.nanmedian([p.get("first_trend", np.nan) for p in per] or [np.nan]))
-            s["first_single_median"] = float(np.nanmedian([p.get("first_single", np.nan) for p in per] or [np.nan]))
+            s["first_trend_median"] = float(
+                np.nanmedian([p.get("first_trend", np.nan) for p in per] or [np.nan])
+            )
+            s["first_single_median"] = float(
+                np.nanmedian([p.get("first_single", np.nan) for p in per] or [np.nan])
+            )
         out[row] = s
     return out
 
@@ -151,12 +173,18 @@ def print_summary(s: dict) -> None:
         if row in EXPECTED_TERM:
             print(f"; right mode {_rate(v['right_mode'], f)}; term {_rate(v['term'], f)}", end="")
         if row == "cubic":
-            print(f"; linear stiffness named {_rate(v['term_linear_stiffness'], f)}; cubic coefficient in the "
-                  f"target's survey {_rate(v['cubic_found_new'], v['target_found_new'])}", end="")
+            print(
+                f"; linear stiffness named {_rate(v['term_linear_stiffness'], f)}; cubic coefficient in the "
+                f"target's survey {_rate(v['cubic_found_new'], v['target_found_new'])}",
+                end="",
+            )
         if row == "none":
             print(f"; trend in {v['trend_sequences']} of {v['sequences']} sequences", end="")
         if row == "drift":
-            print(f"; trend on the target {v['trend_target_sequences']} of {v['sequences']} sequences, first "
-                  f"at new survey {v['first_trend_median']:.0f} (median) vs first single alarm "
-                  f"{v['first_single_median']:.0f}", end="")
+            print(
+                f"; trend on the target {v['trend_target_sequences']} of {v['sequences']} sequences, first "
+                f"at new survey {v['first_trend_median']:.0f} (median) vs first single alarm "
+                f"{v['first_single_median']:.0f}",
+                end="",
+            )
         print(f"; target not tracked in {v['target_untracked']}")

@@ -48,7 +48,9 @@ def _p(x, s, given, n: int, shift=0.0):
     out = np.empty(x.shape[0])  # the stand-in proportional to the noise: one reference at a time
     for i in range(x.shape[0]):
         ref = fit_scatter(x[i, :n], np.full(n, np.nan), proxy=s[i, :n])
-        out[i] = prediction_test(ref, [x[i, n] + shift[i] if np.ndim(shift) else x[i, n] + shift], [s[i, n]])[1][0]
+        out[i] = prediction_test(ref, [x[i, n] + shift[i] if np.ndim(shift) else x[i, n] + shift], [s[i, n]])[
+            1
+        ][0]
     return out
 
 
@@ -63,8 +65,13 @@ def one_test(reps: int = 100_000, n: int = 20, seed: int = 0) -> dict:
         from sindy_impulse.tracking.statistics import fit_scatter_rows, prediction_test
 
         textbook = prediction_test(fit_scatter_rows(x[:, :n]), x[:, n] + 5 * sd)[1]
-        out[name] = {"reps": m, "fa_1pct": float(np.mean(p0 < 0.01)), "fa_tail": float(np.mean(p0 < 0.000625)),
-                     "power_5sd": float(np.mean(p5 < 0.000625)), "textbook_power_5sd": float(np.mean(textbook < 0.000625))}
+        out[name] = {
+            "reps": m,
+            "fa_1pct": float(np.mean(p0 < 0.01)),
+            "fa_tail": float(np.mean(p0 < 0.000625)),
+            "power_5sd": float(np.mean(p5 < 0.000625)),
+            "textbook_power_5sd": float(np.mean(textbook < 0.000625)),
+        }
     return out
 
 
@@ -89,25 +96,39 @@ def whole_track(n_sequences: int = 200, seed: int = 1) -> dict:
     rng = np.random.default_rng(seed)
     f0 = (90.0, 210.0, 340.0, 515.0)
     out = {}
-    for name, (calibration, missing) in {"± right": (1.0, False), "± missing": (1.0, True),
-                                        "± 3 x too small": (3.0, False), "± 3 x too large": (1 / 3, False)}.items():
+    for name, (calibration, missing) in {
+        "± right": (1.0, False),
+        "± missing": (1.0, True),
+        "± 3 x too small": (3.0, False),
+        "± 3 x too large": (1 / 3, False),
+    }.items():
         flagged, trends = [], 0
         for _ in range(n_sequences):
-            surveys = [_survey(rng, f0, calibration, missing, 1 + 3e-4 * rng.standard_normal()) for _ in range(60)]
+            surveys = [
+                _survey(rng, f0, calibration, missing, 1 + 3e-4 * rng.standard_normal()) for _ in range(60)
+            ]
             result = track(surveys, reference=20)
             flagged.append(result.changed[20:].mean())
             trends += bool(result.trend_alarms)
-        out[name] = {"sequences": n_sequences, "flagged": float(np.mean(flagged)), "trend": trends / n_sequences}
+        out[name] = {
+            "sequences": n_sequences,
+            "flagged": float(np.mean(flagged)),
+            "trend": trends / n_sequences,
+        }
     return out
 
 
 def print_tables(one: dict, whole: dict) -> None:
     print("  one test against 20 reference values (nominal 1 % and 0.0625 %):")
     for name, v in one.items():
-        print(f"    {name:45s} p<1 %: {100 * v['fa_1pct']:.2f} %   p<0.0625 %: {100 * v['fa_tail']:.3f} % "
-              f"({v['fa_tail'] / 0.000625:.2f} x)   flags a 5-sd shift: {100 * v['power_5sd']:.1f} % "
-              f"(textbook {100 * v['textbook_power_5sd']:.1f} %)  [{v['reps']} draws]")
+        print(
+            f"    {name:45s} p<1 %: {100 * v['fa_1pct']:.2f} %   p<0.0625 %: {100 * v['fa_tail']:.3f} % "
+            f"({v['fa_tail'] / 0.000625:.2f} x)   flags a 5-sd shift: {100 * v['power_5sd']:.1f} % "
+            f"(textbook {100 * v['textbook_power_5sd']:.1f} %)  [{v['reps']} draws]"
+        )
     print("  track() on 20 + 40 surveys of 4 modes (nominal 1 % per survey, 1 % per sequence for trends):")
     for name, v in whole.items():
-        print(f"    {name:20s} flagged {100 * v['flagged']:.2f} % of new surveys, trend in "
-              f"{100 * v['trend']:.1f} % of {v['sequences']} sequences")
+        print(
+            f"    {name:20s} flagged {100 * v['flagged']:.2f} % of new surveys, trend in "
+            f"{100 * v['trend']:.1f} % of {v['sequences']} sequences"
+        )

@@ -49,8 +49,9 @@ def _survey(records: list, n_jobs: int) -> list[dict]:
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        surveys = survey_many([r.y for r in records], fs=[r.fs for r in records], n_jobs=n_jobs,
-                              progress=False)
+        surveys = survey_many(
+            [r.y for r in records], fs=[r.fs for r in records], n_jobs=n_jobs, progress=False
+        )
     out = []
     for i, survey in enumerate(surveys):
         try:
@@ -71,8 +72,13 @@ def cached_row(seed: int, row: str, cache: Path, n_jobs: int) -> dict:
     records, truth = seqs.records(seq, row)
     start = time.perf_counter()
     surveys = _survey(records, n_jobs)
-    out = {"sequence": seq, "row": row, "truth": truth, "surveys": surveys,
-           "seconds": time.perf_counter() - start}
+    out = {
+        "sequence": seq,
+        "row": row,
+        "truth": truth,
+        "surveys": surveys,
+        "seconds": time.perf_counter() - start,
+    }
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(".tmp")
     tmp.write_text(json.dumps(out))
@@ -86,23 +92,26 @@ def compute(seeds, rows, cache: Path, n_jobs: int) -> None:
         for row in ("reference",) + tuple(rows):
             if not (cache / f"seq{seed:04d}" / f"{row}.json").exists():
                 got = cached_row(seed, row, cache, n_jobs)
-                print(f"  sequence {seed} {row}: {len(got['surveys'])} surveys in {got['seconds']:.0f} s",
-                      flush=True)
+                print(
+                    f"  sequence {seed} {row}: {len(got['surveys'])} surveys in {got['seconds']:.0f} s",
+                    flush=True,
+                )
 
 
 def speed(n_surveys: int = 200, repeats: int = 3) -> dict:
     """Seconds of :func:`sindy_impulse.tracking.track` on 20 reference + 180 new surveys of 4 modes (their
     values given: the surveys themselves are not timed), without change and with every new survey changed
     (then every alarm's terms are tested too); median of ``repeats``, and of the table and JSON after."""
-    from sindy_impulse.tracking import track
-
     from benchmarks.tracking.study_stats import _survey
+    from sindy_impulse.tracking import track
 
     rng = np.random.default_rng(3)
     f0 = (90.0, 210.0, 340.0, 515.0)
     same = [_survey(rng, f0, 1.0, False, 1 + 3e-4 * rng.standard_normal()) for _ in range(n_surveys)]
-    changed = same[:20] + [_survey(rng, (90.0, 209.0, 340.0, 515.0), 1.0, False, 1 + 3e-4 * rng.standard_normal())
-                           for _ in range(n_surveys - 20)]
+    changed = same[:20] + [
+        _survey(rng, (90.0, 209.0, 340.0, 515.0), 1.0, False, 1 + 3e-4 * rng.standard_normal())
+        for _ in range(n_surveys - 20)
+    ]
     out = {}
     for name, surveys in (("no change", same), ("every new survey changed", changed)):
         times, extra = [], []
@@ -113,8 +122,11 @@ def speed(n_surveys: int = 200, repeats: int = 3) -> dict:
             start = time.perf_counter()
             result.to_frame(), result.to_dict()
             extra.append(time.perf_counter() - start)
-        out[name] = {"track_s": float(np.median(times)), "frame_and_json_s": float(np.median(extra)),
-                     "alarms": len(result.alarms)}
+        out[name] = {
+            "track_s": float(np.median(times)),
+            "frame_and_json_s": float(np.median(extra)),
+            "alarms": len(result.alarms),
+        }
     return out
 
 
@@ -123,8 +135,10 @@ def _print_real(real: dict) -> None:
         print(f"  {name}:")
         for key, val in v.items():
             if isinstance(val, dict) and "lines" in val:
-                print(f"    {key}: {val['changed']} of {val['new']} new surveys changed; modes tested "
-                      f"{val['tested_modes']}")
+                print(
+                    f"    {key}: {val['changed']} of {val['new']} new surveys changed; modes tested "
+                    f"{val['tested_modes']}"
+                )
                 for line in val["lines"] + [f"note: {n}" for n in val["notes"]]:
                     print(f"      {line}")
             else:
@@ -139,7 +153,9 @@ def main(argv=None) -> dict:
     parser.add_argument("--cache", type=Path, default=CACHE)
     parser.add_argument("--n-jobs", type=int, default=1)
     parser.add_argument("--alpha", type=float, default=0.01)
-    parser.add_argument("--only", choices=("surveys", "sequences", "statistics", "real", "speed"), default=None)
+    parser.add_argument(
+        "--only", choices=("surveys", "sequences", "statistics", "real", "speed"), default=None
+    )
     parser.add_argument("--no-surveys", action="store_true", help="track only the sequences already cached")
     parser.add_argument("--mirror", default=None, help="folder of bare git copies (real records)")
     parser.add_argument("--quick", action="store_true", help="fewer draws in the statistics part")
@@ -171,16 +187,20 @@ def main(argv=None) -> dict:
         if mirror is None:
             print("real records: give --mirror DIR or set SINDY_IMPULSE_MIRROR (bare git copies)")
         else:
-            results["real"] = {"pyFRF": study_real.pyfrf(mirror, args.cache),
-                               "Vibration-Tester beam": study_real.beam(mirror, args.cache)}
+            results["real"] = {
+                "pyFRF": study_real.pyfrf(mirror, args.cache),
+                "Vibration-Tester beam": study_real.beam(mirror, args.cache),
+            }
             print("real records:")
             _print_real(results["real"])
     if args.only in (None, "speed"):
         results["speed"] = speed()
         print("speed of track() on 200 surveys of 4 modes (median of 3):")
         for name, v in results["speed"].items():
-            print(f"  {name}: track {v['track_s']:.3f} s, then table and JSON {v['frame_and_json_s']:.3f} s "
-                  f"({v['alarms']} alarms)")
+            print(
+                f"  {name}: track {v['track_s']:.3f} s, then table and JSON {v['frame_and_json_s']:.3f} s "
+                f"({v['alarms']} alarms)"
+            )
     return results
 
 

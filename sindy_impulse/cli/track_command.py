@@ -34,22 +34,38 @@ DESCRIPTION = (
 def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser("track", help=SUMMARY, description=DESCRIPTION)
     p.add_argument("reference", nargs="+", metavar="REF_FILE", help="the reference tests (at least 2)")
-    p.add_argument("--against", nargs="+", metavar="FILE", required=True,
-                   help="the new tests, in their order (a trend is looked for in this order)")
+    p.add_argument(
+        "--against",
+        nargs="+",
+        metavar="FILE",
+        required=True,
+        help="the new tests, in their order (a trend is looked for in this order)",
+    )
     add_input_options(p)
     p.add_argument("--force", metavar="NAME", help="column of the hammer's force (onset, double hits)")
-    p.add_argument("--alpha", type=real, default=0.01,
-                   help="false-alarm rate per survey and for the trends (default 0.01)")
-    p.add_argument("--amplitude", type=real, default=None,
-                   help="amplitude (sensor units) at which backbones are compared (default: per mode the "
-                        "median of the reference hits)")
+    p.add_argument(
+        "--alpha",
+        type=real,
+        default=0.01,
+        help="false-alarm rate per survey and for the trends (default 0.01)",
+    )
+    p.add_argument(
+        "--amplitude",
+        type=real,
+        default=None,
+        help="amplitude (sensor units) at which backbones are compared (default: per mode the "
+        "median of the reference hits)",
+    )
     p.add_argument("--json", metavar="OUT.json", help="also write the result as JSON")
     p.add_argument("--csv", metavar="OUT.csv", help="also write one row per survey and mode as CSV")
     p.add_argument("--report", metavar="OUT.html", help="also write a self-contained HTML report")
     p.add_argument("--plot", metavar="OUT.png", help="also write the control charts")
     p.add_argument("--overwrite", action="store_true", help="replace output files that exist")
-    p.add_argument("--fail-on-change", action="store_true",
-                   help="exit with status 3 when a survey changed or a trend was found")
+    p.add_argument(
+        "--fail-on-change",
+        action="store_true",
+        help="exit with status 3 when a survey changed or a trend was found",
+    )
     p.add_argument("--n-jobs", type=integer, default=None, help="parallel jobs (-1: all cores; default 1)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar (shown on a terminal)")
     p.set_defaults(func=run)
@@ -73,11 +89,18 @@ def _surveys(paths: list, args) -> list:
             tables.append(read_input(path, args))
         except CLIError as err:
             print(f"sindy-impulse: skipped: {' '.join(str(err).split())}", file=sys.stderr)
-    results = run_surveys(
-        [tab.data if tab.data.shape[1] > 1 else tab.data[:, 0] for tab in tables], t=[tab.t for tab in tables],
-        force=[(tab.extra or {}).get("force") for tab in tables], names=[tab.path for tab in tables],
-        n_jobs=args.n_jobs, progress=False if args.no_progress else None,
-    ) if tables else []
+    results = (
+        run_surveys(
+            [tab.data if tab.data.shape[1] > 1 else tab.data[:, 0] for tab in tables],
+            t=[tab.t for tab in tables],
+            force=[(tab.extra or {}).get("force") for tab in tables],
+            names=[tab.path for tab in tables],
+            n_jobs=args.n_jobs,
+            progress=False if args.no_progress else None,
+        )
+        if tables
+        else []
+    )
     out = []
     for table, (_, survey, _) in zip(tables, results):
         if isinstance(survey, FailedRecord):
@@ -94,7 +117,9 @@ def _write_csv(path: str, rows: list) -> None:
         writer = csv.DictWriter(fh, fieldnames=columns)
         writer.writeheader()
         for r in rows:
-            writer.writerow({k: ("" if isinstance(v, float) and not math.isfinite(v) else v) for k, v in r.items()})
+            writer.writerow(
+                {k: ("" if isinstance(v, float) and not math.isfinite(v) else v) for k, v in r.items()}
+            )
 
     atomic_write(path, render)
 
@@ -130,16 +155,25 @@ def run(args) -> int:
     if len(reference) < 2:
         raise CLIError(f"{len(reference)} reference file(s) could be surveyed; at least 2 are needed")
     files = [p for p, _ in reference + new]
-    result = track([s for _, s in reference + new], reference=len(reference), alpha=args.alpha,
-                   labels=files, amplitude=args.amplitude)
+    result = track(
+        [s for _, s in reference + new],
+        reference=len(reference),
+        alpha=args.alpha,
+        labels=files,
+        amplitude=args.amplitude,
+    )
     n_modes = sum(tr.in_reference for tr in result.tracks)
-    print(f"tracking: {len(reference)} reference and {len(new)} new surveys, {n_modes} mode(s) in the reference")
+    print(
+        f"tracking: {len(reference)} reference and {len(new)} new surveys, {n_modes} mode(s) in the reference"
+    )
     for line in result.lines():
         print("  " + line)
     for note in result.notes():
         print("  note: " + note)
-    print(f"{int(result.changed.sum())} of {len(new)} new surveys changed, {len(result.trend_alarms)} trend(s), "
-          f"at a {100 * args.alpha:g} % false-alarm rate")
+    print(
+        f"{int(result.changed.sum())} of {len(new)} new surveys changed, "
+        f"{len(result.trend_alarms)} trend(s), at a {100 * args.alpha:g} % false-alarm rate"
+    )
     written = _write(result, outputs, files)
     if written:
         print(f"written: {', '.join(written)}")

@@ -23,8 +23,8 @@ function                           figure of Stender, Oberst & Hoffmann (2019)
 =================================  ==============================================================
 
 The functions live in one module per family of figures (``filtering``, ``sweep``, ``embedding``,
-``complexity``, ``identification``, ``features``, ``backbone``, ``modes``, ``mac``, ``tracking``; shared helpers in
-``_common``); import them from here.
+``complexity``, ``identification``, ``features``, ``backbone``, ``modes``, ``mac``, ``tracking``; shared
+helpers in ``_common``); import them from here.
 matplotlib is imported only when a function is called. Bad input raises ``ValueError`` or ``TypeError``
 naming the argument (the array checks are the shared ones of :mod:`sindy_impulse._utils.validation`).
 """

@@ -31,7 +31,9 @@ def _check(result, quantities, modes):
     if not quantities or bad:
         raise ValueError(f"quantities must be among {list(_LABELS)}, got {bad or quantities}")
     if modes is None:
-        modes = [j for j in range(len(result.tracks)) if result.testable[j]] or list(range(len(result.tracks)))
+        modes = [j for j in range(len(result.tracks)) if result.testable[j]] or list(
+            range(len(result.tracks))
+        )
     modes = [int(j) for j in modes]
     if not modes or any(not 0 <= j < len(result.tracks) for j in modes):
         raise ValueError(f"modes must be indices of the {len(result.tracks)} tracked modes, got {modes}")
@@ -100,6 +102,6 @@ def plot_tracking(result, quantities=("frequency_hz", "damping_ratio"), modes=No
     for k, ax in enumerate(axes):
         _chart(ax, result, quantities[k % len(quantities)], modes[k // len(quantities)])
     axes[0].legend(fontsize=7, loc="best")
-    for ax in axes[-len(quantities):]:
+    for ax in axes[-len(quantities) :]:
         ax.set_xlabel("survey")
     return axes

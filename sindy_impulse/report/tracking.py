@@ -24,32 +24,67 @@ def _value(x: float, digits: int = 6) -> str:
 
 
 def _modes_table(result) -> str:
-    head = ["mode", "f_n [Hz]", "in reference", "tested", "reference f_n [Hz] (scatter)",
-            "reference damping [%] (scatter)", "backbone amplitude", "new surveys changed", "new surveys without it"]
+    head = [
+        "mode",
+        "f_n [Hz]",
+        "in reference",
+        "tested",
+        "reference f_n [Hz] (scatter)",
+        "reference damping [%] (scatter)",
+        "backbone amplitude",
+        "new surveys changed",
+        "new surveys without it",
+    ]
     rows = []
     changed = result.changed_modes
     for j, tr in enumerate(result.tracks):
         f, fs = result.reference_mean("frequency_hz", j), result.reference_std("frequency_hz", j)
         z, zs = result.reference_mean("damping_ratio", j), result.reference_std("damping_ratio", j)
-        cells = [str(j), _value(tr.frequency_hz), "yes" if tr.in_reference else "no",
-                 "yes" if result.testable[j] else "no", f"{_value(f)} ({_value(fs, 2)})",
-                 f"{_value(100 * z, 4)} ({_value(100 * zs, 2)})", _value(result.amplitudes[j], 4),
-                 str(int(changed[result.new, j].sum())), str(int((result.slot[result.new, j] < 0).sum()))]
+        cells = [
+            str(j),
+            _value(tr.frequency_hz),
+            "yes" if tr.in_reference else "no",
+            "yes" if result.testable[j] else "no",
+            f"{_value(f)} ({_value(fs, 2)})",
+            f"{_value(100 * z, 4)} ({_value(100 * zs, 2)})",
+            _value(result.amplitudes[j], 4),
+            str(int(changed[result.new, j].sum())),
+            str(int((result.slot[result.new, j] < 0).sum())),
+        ]
         rows.append("<tr>" + "".join(f"<td>{escape(c)}</td>" for c in cells) + "</tr>")
     header = "".join(f"<th>{escape(h)}</th>" for h in head)
     return f"<table><tr>{header}</tr>{''.join(rows)}</table>"
 
 
 def _terms_table(alarm, result) -> str:
-    head = ["term", "status", "reference (scatter)", "this survey (±)", "t", "p",
-            "frequency shift at the hit [%]", "damping shift at the hit [%]"]
+    head = [
+        "term",
+        "status",
+        "reference (scatter)",
+        "this survey (±)",
+        "t",
+        "p",
+        "frequency shift at the hit [%]",
+        "damping shift at the hit [%]",
+    ]
     rows = []
     for c in alarm.terms:
-        df = 100 * c.frequency_shift_hz / alarm.frequency_hz if math.isfinite(c.frequency_shift_hz) else math.nan
+        df = (
+            100 * c.frequency_shift_hz / alarm.frequency_hz
+            if math.isfinite(c.frequency_shift_hz)
+            else math.nan
+        )
         dz = 100 * c.damping_shift / alarm.damping_ratio if math.isfinite(c.damping_shift) else math.nan
-        cells = [f"{c.name} ({c.key})", c.status + (" *" if c is alarm.term else ""),
-                 f"{_value(c.reference, 5)} ({_value(c.reference_std, 2)})", f"{_value(c.value, 5)} ({_value(c.std, 2)})",
-                 _value(c.t, 3), _value(c.p, 2), _value(df, 3), _value(dz, 3)]
+        cells = [
+            f"{c.name} ({c.key})",
+            c.status + (" *" if c is alarm.term else ""),
+            f"{_value(c.reference, 5)} ({_value(c.reference_std, 2)})",
+            f"{_value(c.value, 5)} ({_value(c.std, 2)})",
+            _value(c.t, 3),
+            _value(c.p, 2),
+            _value(df, 3),
+            _value(dz, 3),
+        ]
         rows.append("<tr>" + "".join(f'<td class="text">{escape(x)}</td>' for x in cells) + "</tr>")
     header = "".join(f"<th>{escape(h)}</th>" for h in head)
     return f"<table><tr>{header}</tr>{''.join(rows)}</table>"
@@ -74,19 +109,31 @@ def tracking_section(result, source: str | None = None) -> str:
     n_new = len(result.new)
     facts = [
         ("surveys", f"{len(result.values)}: {len(result.reference)} reference, {n_new} new"),
-        ("false-alarm rate", f"{100 * result.alpha:g} % per survey (every mode and quantity together), "
-                             "and per sequence for the trends"),
+        (
+            "false-alarm rate",
+            f"{100 * result.alpha:g} % per survey (every mode and quantity together), "
+            "and per sequence for the trends",
+        ),
         ("changed", f"{int(result.changed.sum())} of {n_new} new surveys"),
         ("trends", f"{len(result.trend_alarms)} significant"),
     ]
     if source:
         facts.insert(0, ("source", source))
-    parts = ['<section id="tracking"><h2>Tracking</h2>', _facts(facts), "<h3>Modes</h3>", _modes_table(result)]
+    parts = [
+        '<section id="tracking"><h2>Tracking</h2>',
+        _facts(facts),
+        "<h3>Modes</h3>",
+        _modes_table(result),
+    ]
     lines = [a.text(result) for a in result.alarms]
     parts.append(f"<h3>Alarms ({len(lines)})</h3>")
     if lines:
         items = "".join(f"<li>{escape(t)}</li>" for t in lines[:MAX_LINES])
-        more = f"<p>... and {len(lines) - MAX_LINES} more (in the JSON and CSV outputs).</p>" if len(lines) > MAX_LINES else ""
+        more = (
+            f"<p>... and {len(lines) - MAX_LINES} more (in the JSON and CSV outputs).</p>"
+            if len(lines) > MAX_LINES
+            else ""
+        )
         parts.append(f"<ul>{items}</ul>{more}")
     else:
         parts.append("<p>No survey changed beyond the false-alarm rate.</p>")
@@ -94,13 +141,19 @@ def tracking_section(result, source: str | None = None) -> str:
     for a in result.alarms:
         first.setdefault(a.mode, a)
     for j, a in first.items():
-        parts.append(f"<h3>Which term: {escape(result.tracks[j].label(j))}, first alarm "
-                     f"({escape(result.labels[a.survey])})</h3>{_terms_table(a, result)}")
+        parts.append(
+            f"<h3>Which term: {escape(result.tracks[j].label(j))}, first alarm "
+            f"({escape(result.labels[a.survey])})</h3>{_terms_table(a, result)}"
+        )
     trends = [t.text(result) for t in result.trend_alarms] or ["No trend over the new surveys."]
     parts.append("<h3>Trends</h3><ul>" + "".join(f"<li>{escape(t)}</li>" for t in trends) + "</ul>")
     events = result.events()
     if events:
-        parts.append("<h3>Modes missed or appeared</h3><ul>" + "".join(f"<li>{escape(e)}</li>" for e in events) + "</ul>")
+        parts.append(
+            "<h3>Modes missed or appeared</h3><ul>"
+            + "".join(f"<li>{escape(e)}</li>" for e in events)
+            + "</ul>"
+        )
     notes = result.notes()
     if notes:
         parts.append("<h3>Notes</h3><ul>" + "".join(f"<li>{escape(n)}</li>" for n in notes) + "</ul>")
@@ -127,8 +180,14 @@ def track_html(result, *, source: str | None = None) -> str:
     from .._version import __version__
 
     title = f"Tracking of {source}" if source else "Tracking of repeated tests"
-    body = [f"<h1>{escape(title)}</h1>", tracking_section(result, source),
-            f'<p class="muted">Made by sindy-impulse {escape(__version__)}.</p>']
-    return ('<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
-            f"<title>{escape(title)}</title><style>{_STYLE}</style></head>\n<body>\n" + "\n".join(body)
-            + f"\n<script>{_MARKER}</script>\n</body></html>\n")
+    body = [
+        f"<h1>{escape(title)}</h1>",
+        tracking_section(result, source),
+        f'<p class="muted">Made by sindy-impulse {escape(__version__)}.</p>',
+    ]
+    return (
+        '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
+        f"<title>{escape(title)}</title><style>{_STYLE}</style></head>\n<body>\n"
+        + "\n".join(body)
+        + f"\n<script>{_MARKER}</script>\n</body></html>\n"
+    )

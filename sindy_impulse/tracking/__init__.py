@@ -22,5 +22,13 @@ from .result import QUANTITIES, Alarm, TrackResult, Trend
 from .track import track
 from .values import ModeValues, SurveyValues, survey_values
 
-__all__ = ["QUANTITIES", "Alarm", "ModeValues", "SurveyValues", "TrackResult", "Trend", "survey_values",
-           "track"]
+__all__ = [
+    "QUANTITIES",
+    "Alarm",
+    "ModeValues",
+    "SurveyValues",
+    "TrackResult",
+    "Trend",
+    "survey_values",
+    "track",
+]

@@ -135,10 +135,14 @@ def backbone_at(values, amplitude: float) -> BackbonePoint:
         f_var += (dk / (4 * math.pi * w) * std) ** 2 if dk else 0.0
         z_var += (dc / (2 * w) * std) ** 2 if dc else 0.0
     return BackbonePoint(
-        f, zeta,
+        f,
+        zeta,
         math.sqrt(f_var + (ratio * values.frequency_std_hz) ** 2),
         math.sqrt(z_var + (ratio * values.damping_ratio_std) ** 2),
-        f - w0 / (2 * math.pi), zeta - zeta0, math.sqrt(f_var), math.sqrt(z_var),
+        f - w0 / (2 * math.pi),
+        zeta - zeta0,
+        math.sqrt(f_var),
+        math.sqrt(z_var),
     )
 
 
@@ -170,7 +174,9 @@ def term_shift(values, key: str, reference: float, amplitude: float) -> tuple[fl
         powers = term_powers(key)
         if powers is None or powers == (0, 0):
             return math.nan, math.nan
-        terms = [t for t in terms if (t[0], t[1]) != powers] + ([(*powers, reference, math.nan)] if reference else [])
+        terms = [t for t in terms if (t[0], t[1]) != powers] + (
+            [(*powers, reference, math.nan)] if reference else []
+        )
     w_ref, c_ref, _ = _equivalent(w2, c, terms, amplitude)
     if not (w > 0 and w_ref > 0):
         return math.nan, math.nan

@@ -66,7 +66,9 @@ def _assign(modes: list, tracks: list, tolerance: float, min_mac: float) -> dict
             mac = _mac(m.shape, tr.shape)
             if rel > tolerance or (np.isfinite(mac) and mac < min_mac):
                 continue
-            cost[i, j] = rel / tolerance + (0.0 if not np.isfinite(mac) else (1 - mac) / max(1 - min_mac, 1e-9))
+            cost[i, j] = rel / tolerance + (
+                0.0 if not np.isfinite(mac) else (1 - mac) / max(1 - min_mac, 1e-9)
+            )
     rows, cols = linear_sum_assignment(cost)
     return {int(i): int(j) for i, j in zip(rows, cols) if cost[i, j] < _NO}
 
@@ -124,10 +126,12 @@ def match_modes(values: list, reference, tolerance: float = 0.03, min_mac: float
     """
     reference = [int(i) for i in reference]
     seeds: list = []  # the tracks, seeded by the richest survey, then at their median frequencies
-    _fill(values, sorted(reference, key=lambda s: -len(values[s].modes)), seeds, {}, tolerance, min_mac,
-          False)
-    tracks = sorted((ModeTrack(float(np.median(t.members)), True, t.shape) for t in seeds),
-                    key=lambda t: t.frequency_hz)
+    _fill(
+        values, sorted(reference, key=lambda s: -len(values[s].modes)), seeds, {}, tolerance, min_mac, False
+    )
+    tracks = sorted(
+        (ModeTrack(float(np.median(t.members)), True, t.shape) for t in seeds), key=lambda t: t.frequency_hz
+    )
     slots: dict = {}
     _fill(values, reference, tracks, slots, tolerance, min_mac, True)
     new = [s for s in range(len(values)) if s not in set(reference)]

@@ -69,9 +69,10 @@ class Alarm:
             return f"frequency {_pct(self.value / ref - 1)}"
         if self.quantity == "damping_ratio":
             return f"damping ratio {_pct(self.value / ref - 1)}"
+        at = f"at amplitude {result.amplitudes[self.mode]:.3g}"
         if self.quantity == "backbone_frequency_shift_hz":
-            return f"frequency at amplitude {result.amplitudes[self.mode]:.3g} {_pct((self.value - ref) / self.frequency_hz)} beyond the linear"
-        return f"damping ratio at amplitude {result.amplitudes[self.mode]:.3g} {_pct((self.value - ref) / self.damping_ratio)} beyond the linear"
+            return f"frequency {at} {_pct((self.value - ref) / self.frequency_hz)} beyond the linear"
+        return f"damping ratio {at} {_pct((self.value - ref) / self.damping_ratio)} beyond the linear"
 
     def text(self, result) -> str:
         """One line: the survey, the mode, what changed, and which term of its equation carries it."""
@@ -83,10 +84,15 @@ class Alarm:
         words = self.term.describe(self.frequency_hz, self.damping_ratio)
         if not self.term_significant:
             words += " - the most likely term, not significant on its own"
-        others = [c.describe(self.frequency_hz, self.damping_ratio) for c in self.terms
-                  if c is not self.term and c.significant]
+        others = [
+            c.describe(self.frequency_hz, self.damping_ratio)
+            for c in self.terms
+            if c is not self.term and c.significant
+        ]
         unchanged = [c.name for c in self.terms if not c.significant and c.key in ("y", "y'")]
-        tail = "; ".join([words] + others + ([f"the {' and '.join(unchanged)} unchanged"] if unchanged else []))
+        tail = "; ".join(
+            [words] + others + ([f"the {' and '.join(unchanged)} unchanged"] if unchanged else [])
+        )
         return f"{head}; {tail}"
 
 
@@ -118,8 +124,10 @@ class Trend:
         ref = result.reference_mean(self.quantity, self.mode)
         per = self.slope / ref if self.quantity in ("frequency_hz", "damping_ratio") and ref else math.nan
         rate = f"{_pct(per)} per survey" if math.isfinite(per) else f"{self.slope:+.3g} per survey"
-        return (f"trend: {result.tracks[self.mode].label(self.mode)} {WORDS[self.quantity]} {rate} over the "
-                f"{len(result.new)} new surveys (Mann-Kendall z = {self.z:.3g}, p = {self.p:.2g})")
+        return (
+            f"trend: {result.tracks[self.mode].label(self.mode)} {WORDS[self.quantity]} {rate} over the "
+            f"{len(result.new)} new surveys (Mann-Kendall z = {self.z:.3g}, p = {self.p:.2g})"
+        )
 
 
 class TrackResult:
@@ -145,8 +153,22 @@ class TrackResult:
         The false-alarm rate asked.
     """
 
-    def __init__(self, values, reference, new, tracks, slot, testable, amplitudes, series, tests, flags,
-                 alarms, trends, alpha):
+    def __init__(
+        self,
+        values,
+        reference,
+        new,
+        tracks,
+        slot,
+        testable,
+        amplitudes,
+        series,
+        tests,
+        flags,
+        alarms,
+        trends,
+        alpha,
+    ):
         self.values, self.reference, self.new = values, reference, new
         self.tracks, self.slot, self.testable, self.amplitudes = tracks, slot, testable, amplitudes
         self.series, self.fits, self.t, self.p = series, tests[0], tests[1], tests[2]
@@ -186,11 +208,21 @@ class TrackResult:
         fit = self.fits.get((quantity, mode))
         if fit is None:
             return None
-        n_tests = max(int(np.isfinite(np.stack([self.p[q] for q in QUANTITIES], axis=2))[self.new].sum(
-            axis=(1, 2)).max()) if self.new.size else 0, 1)
+        n_tests = max(
+            int(
+                np.isfinite(np.stack([self.p[q] for q in QUANTITIES], axis=2))[self.new]
+                .sum(axis=(1, 2))
+                .max()
+            )
+            if self.new.size
+            else 0,
+            1,
+        )
         k = int(fit.best)
         dof = max(fit.n - (2 if fit.shares[k] > 0 else 1), 1)
-        half = stats.t.isf(self.alpha / (2 * n_tests), dof) * math.sqrt(fit.scales[k] * (1 + 1 / fit.sum_w[k]))
+        half = stats.t.isf(self.alpha / (2 * n_tests), dof) * math.sqrt(
+            fit.scales[k] * (1 + 1 / fit.sum_w[k])
+        )
         return float(fit.means[k]), float(fit.means[k] - half), float(fit.means[k] + half)
 
     def events(self) -> list[str]:
@@ -202,12 +234,16 @@ class TrackResult:
                 missing = [self.labels[s] for s, f in zip(self.new, found) if not f]
                 if missing:
                     share = np.mean(self.slot[self.reference, j] >= 0)
-                    out.append(f"{tr.label(j)} not found in {len(missing)} of {len(self.new)} new surveys "
-                               f"(found in {100 * share:.0f} % of the reference): {', '.join(missing[:5])}"
-                               + (" ..." if len(missing) > 5 else ""))
+                    out.append(
+                        f"{tr.label(j)} not found in {len(missing)} of {len(self.new)} new surveys "
+                        f"(found in {100 * share:.0f} % of the reference): {', '.join(missing[:5])}"
+                        + (" ..." if len(missing) > 5 else "")
+                    )
             elif found.any():
-                out.append(f"{tr.label(j)} appeared: not in the reference, found in {int(found.sum())} of "
-                           f"{len(self.new)} new surveys, first in {self.labels[self.new[found][0]]}")
+                out.append(
+                    f"{tr.label(j)} appeared: not in the reference, found in {int(found.sum())} of "
+                    f"{len(self.new)} new surveys, first in {self.labels[self.new[found][0]]}"
+                )
         return out
 
     def notes(self) -> list[str]:
@@ -216,24 +252,27 @@ class TrackResult:
         from .export import row_note
 
         notes = {}
-        for j, tr in enumerate(self.tracks):
+        for j in range(len(self.tracks)):
             for s in range(len(self.values)):
                 note = row_note(self, s, j)
                 if note and "not found" not in note:
                     notes.setdefault((j, note), []).append(self.labels[s])
-        return [f"{self.tracks[j].label(j)}: {note} ({len(who)} survey(s), e.g. {who[0]})"
-                for (j, note), who in notes.items()]
+        return [
+            f"{self.tracks[j].label(j)}: {note} ({len(who)} survey(s), e.g. {who[0]})"
+            for (j, note), who in notes.items()
+        ]
 
     def lines(self) -> list[str]:
         """The report as lines: one per alarm, per significant trend, per event."""
-        return ([a.text(self) for a in self.alarms] + [t.text(self) for t in self.trend_alarms]
-                + self.events())
+        return [a.text(self) for a in self.alarms] + [t.text(self) for t in self.trend_alarms] + self.events()
 
     def __repr__(self) -> str:
         n_new = len(self.new)
-        head = (f"TrackResult({len(self.values)} surveys: {len(self.reference)} reference, {n_new} new; "
-                f"{len(self.tracks)} mode(s); {int(self.changed.sum())} of {n_new} new surveys changed at the "
-                f"{100 * self.alpha:g} % false-alarm rate; {len(self.trend_alarms)} trend(s))")
+        head = (
+            f"TrackResult({len(self.values)} surveys: {len(self.reference)} reference, {n_new} new; "
+            f"{len(self.tracks)} mode(s); {int(self.changed.sum())} of {n_new} new surveys changed at the "
+            f"{100 * self.alpha:g} % false-alarm rate; {len(self.trend_alarms)} trend(s))"
+        )
         lines = self.lines()
         return "\n".join([head] + ["  " + ln for ln in lines[:20]] + (["  ..."] if len(lines) > 20 else []))
 

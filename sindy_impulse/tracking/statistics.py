@@ -29,9 +29,10 @@ them is at most :data:`MAX_UNDERESTIMATE` squared times their own variance (the 
 whose test-to-test scatter is fifty times the fit's ± are then tested as by the textbook prediction
 interval, which is exact for a scatter the same for every test). A value is never judged more precise
 than its own ± (the variance is at least ``s_0^2``), unless the reference shows the ± too large (then at
-least ``s_0^2`` times the largest calibration ``lam sigma^2 / mean(s^2)`` not ruled out). Where the fit gives no ± the reference scatter
-carries the uncertainty, shared out between the tests by a stand-in proportional to the noise the fit saw
-(``10^(-SNR / 20)`` of the band, when the caller gives it: a light hit is noisier). When every reference
+least ``s_0^2`` times the largest calibration ``lam sigma^2 / mean(s^2)`` not ruled out). Where the fit
+gives no ± the reference scatter carries the uncertainty, shared out between the tests by a stand-in
+proportional to the noise the fit saw (``10^(-SNR / 20)`` of the band, when the caller gives it: a light
+hit is noisier). When every reference
 value is the same (a term no reference model has: all zeros), a new value is judged by its own ± alone.
 Simulated with 20 reference values, the false-alarm rate holds at 1 % and in the tail at 0.06 % with
 the ± right, missing, three and ten times too small (or too large: then it falls below), with or without
@@ -55,8 +56,15 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
-__all__ = ["Scatter", "fit_scatter", "fit_scatter_rows", "prediction_test", "holm", "mann_kendall",
-           "running_trend"]
+__all__ = [
+    "Scatter",
+    "fit_scatter",
+    "fit_scatter_rows",
+    "prediction_test",
+    "holm",
+    "mann_kendall",
+    "running_trend",
+]
 
 #: The shares of the fit's ± in the variance tried.
 LAMBDA_GRID = np.linspace(0.0, 1.0, 41)
@@ -185,9 +193,17 @@ def _plain(mean, var, n: int, mean_s2=math.nan, absolute: bool = False) -> Scatt
 
 def _single(scatter: Scatter) -> Scatter:
     """Row 0 of a :class:`Scatter` of rows."""
-    return Scatter(scatter.shares, scatter.means[0], scatter.scales[0], scatter.sum_w[0],
-                   scatter.allowed[0], int(scatter.best[0]), float(scatter.mean_s2[0]), scatter.n,
-                   scatter.absolute)
+    return Scatter(
+        scatter.shares,
+        scatter.means[0],
+        scatter.scales[0],
+        scatter.sum_w[0],
+        scatter.allowed[0],
+        int(scatter.best[0]),
+        float(scatter.mean_s2[0]),
+        scatter.n,
+        scatter.absolute,
+    )
 
 
 def fit_scatter(x, s=None, proxy=None) -> Scatter | None:

@@ -79,7 +79,9 @@ class TermChange:
             effect.append(f"{100 * self.frequency_shift_hz / frequency_hz:+.3g} % frequency")
         if damping and math.isfinite(self.damping_shift) and self.damping_shift and zeta:
             effect.append(f"{100 * self.damping_shift / zeta:+.3g} % damping ratio")
-        verb = {"appeared": "appeared", "vanished": "vanished", "changed": "changed"}.get(self.status, "is unchanged")
+        verb = {"appeared": "appeared", "vanished": "vanished", "changed": "changed"}.get(
+            self.status, "is unchanged"
+        )
         text = f"the {self.name} {verb} ({what})"
         return text + (f": {', '.join(effect)} at the hit's amplitude" if effect and self.significant else "")
 
@@ -135,10 +137,25 @@ def changed_terms(reference: ReferenceTerms, news: list, alpha: float) -> list[l
         changes = []
         for c in np.flatnonzero(asked[i]):
             key = keys[c]
-            shifts = term_shift(new, key, mean[c], new.amplitude) if math.isfinite(mean[c]) else (math.nan,) * 2
+            shifts = (
+                term_shift(new, key, mean[c], new.amplitude) if math.isfinite(mean[c]) else (math.nan,) * 2
+            )
             sig = bool(significant[i, c])
-            changes.append(TermChange(key, term_name(key), mean[c], scatter[c], value[i, c], std[i, c], t[i, c],
-                                      p[i, c], sig, _status(share[c], key in new.terms, sig), *shifts))
+            changes.append(
+                TermChange(
+                    key,
+                    term_name(key),
+                    mean[c],
+                    scatter[c],
+                    value[i, c],
+                    std[i, c],
+                    t[i, c],
+                    p[i, c],
+                    sig,
+                    _status(share[c], key in new.terms, sig),
+                    *shifts,
+                )
+            )
         out.append(sorted(changes, key=lambda ch: np.inf if not math.isfinite(ch.p) else ch.p))
     return out
 
@@ -146,7 +163,9 @@ def changed_terms(reference: ReferenceTerms, news: list, alpha: float) -> list[l
 def named_term(changes: list[TermChange], quantity: str) -> tuple[TermChange | None, bool]:
     """The term that carries a change of ``quantity`` (``"frequency"`` or ``"damping"``): the significant
     one with the largest shift of it, else the most significant one; and whether it is significant."""
-    shift = (lambda c: abs(c.damping_shift)) if quantity == "damping" else (lambda c: abs(c.frequency_shift_hz))
+    shift = (
+        (lambda c: abs(c.damping_shift)) if quantity == "damping" else (lambda c: abs(c.frequency_shift_hz))
+    )
     significant = [c for c in changes if c.significant and math.isfinite(shift(c))]
     if significant:
         return max(significant, key=shift), True

@@ -45,7 +45,9 @@ def _reference_indices(reference, n: int) -> np.ndarray:
         raise ValueError("reference must name at least 2 surveys by their integer indices")
     idx = np.where(idx < 0, idx + n, idx)
     if idx.min() < 0 or idx.max() >= n or np.unique(idx).size != idx.size:
-        raise ValueError(f"reference indices must be distinct and within the {n} surveys, got {list(reference)}")
+        raise ValueError(
+            f"reference indices must be distinct and within the {n} surveys, got {list(reference)}"
+        )
     return np.sort(idx)
 
 
@@ -124,9 +126,23 @@ def _alarms(values, slot, series, tests, flags, new_idx, ref_idx, alpha) -> list
             hits = [q for k, q in enumerate(QUANTITIES) if flags[s, j, k]]
             lead = min(hits, key=lambda q: p[q][s, j])
             term, significant = named_term(changes, "damping" if "damping" in lead else "frequency")
-            out.append(Alarm(int(s), int(j), lead, hits, float(series["value"][lead][s, j]), float(t[lead][s, j]),
-                             float(p[lead][s, j]), changes, term, significant, new.frequency_hz,
-                             new.damping_ratio, new.amplitude))
+            out.append(
+                Alarm(
+                    int(s),
+                    int(j),
+                    lead,
+                    hits,
+                    float(series["value"][lead][s, j]),
+                    float(t[lead][s, j]),
+                    float(p[lead][s, j]),
+                    changes,
+                    term,
+                    significant,
+                    new.frequency_hz,
+                    new.damping_ratio,
+                    new.amplitude,
+                )
+            )
     return sorted(out, key=lambda a: (a.survey, a.mode))
 
 
@@ -216,8 +232,21 @@ def track(
         flags[new_idx] = flat.reshape(new_idx.size, *p.shape[1:])
     alarms = _alarms(values, slot, series, tests, flags, new_idx, ref_idx, alpha)
     trends = _trends(series, new_idx, testable, alpha)
-    return TrackResult(values, ref_idx, new_idx, tracks, slot, testable, amplitudes, series, tests, flags,
-                       alarms, trends, alpha)
+    return TrackResult(
+        values,
+        ref_idx,
+        new_idx,
+        tracks,
+        slot,
+        testable,
+        amplitudes,
+        series,
+        tests,
+        flags,
+        alarms,
+        trends,
+        alpha,
+    )
 
 
 def _common_amplitudes(values, slot, ref_idx, amplitude) -> np.ndarray:

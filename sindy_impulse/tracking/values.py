@@ -126,8 +126,12 @@ class ModeValues:
 
     def __post_init__(self):
         if not all(k in self.terms for k in LINEAR_TERMS):  # the linear part from the modal values
-            self.terms = {**_linear_terms(self.frequency_hz, self.frequency_std_hz, self.damping_ratio,
-                                          self.damping_ratio_std), **self.terms}
+            self.terms = {
+                **_linear_terms(
+                    self.frequency_hz, self.frequency_std_hz, self.damping_ratio, self.damping_ratio_std
+                ),
+                **self.terms,
+            }
 
     @property
     def nonlinear_terms(self) -> dict:
@@ -155,8 +159,16 @@ class ModeValues:
         """The inverse of :meth:`to_dict`."""
         shape = d.get("shape")
         return cls(
-            *(_float(d[k]) for k in ("frequency_hz", "frequency_std_hz", "damping_ratio",
-                                     "damping_ratio_std", "amplitude")),
+            *(
+                _float(d[k])
+                for k in (
+                    "frequency_hz",
+                    "frequency_std_hz",
+                    "damping_ratio",
+                    "damping_ratio_std",
+                    "amplitude",
+                )
+            ),
             snr_db=_float(d.get("snr_db")),
             shape=None if shape is None else np.array([complex(a, b) for a, b in shape]),
             terms={k: (_float(v), _float(s)) for k, (v, s) in d.get("terms", {}).items()},
@@ -190,8 +202,9 @@ class SurveyValues:
     @classmethod
     def from_dict(cls, d: dict) -> SurveyValues:
         """The inverse of :meth:`to_dict`."""
-        return cls([ModeValues.from_dict(m) for m in d["modes"]], str(d.get("label", "")),
-                   str(d.get("failed", "")))
+        return cls(
+            [ModeValues.from_dict(m) for m in d["modes"]], str(d.get("label", "")), str(d.get("failed", ""))
+        )
 
 
 def _num(x):
@@ -259,14 +272,23 @@ def mode_values(mode) -> ModeValues:
     canonical = True
     model = getattr(mode, "model", None)
     if model is not None and hasattr(model, "coefficients"):
-        extra, canonical = _model_terms(model, getattr(mode, "coordinate_", 0),
-                                        getattr(mode, "coefficients_std", None))
+        extra, canonical = _model_terms(
+            model, getattr(mode, "coordinate_", 0), getattr(mode, "coefficients_std", None)
+        )
         terms.update(extra)
     shape = getattr(mode, "shape", None)
-    return ModeValues(f, f_std, zeta, zeta_std, float(getattr(mode, "amplitude", math.nan)),
-                      float(getattr(mode, "snr_db", math.nan)),
-                      None if shape is None else np.asarray(shape, complex), terms, canonical,
-                      str(getattr(mode, "uncertainty_note", "")))
+    return ModeValues(
+        f,
+        f_std,
+        zeta,
+        zeta_std,
+        float(getattr(mode, "amplitude", math.nan)),
+        float(getattr(mode, "snr_db", math.nan)),
+        None if shape is None else np.asarray(shape, complex),
+        terms,
+        canonical,
+        str(getattr(mode, "uncertainty_note", "")),
+    )
 
 
 def survey_values(survey, label: str = "") -> SurveyValues:
