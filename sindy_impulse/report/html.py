@@ -16,7 +16,7 @@ from html import escape
 from .figures import backbone_figure, decay_figure, mode_backbones, record_figure, spectrum_figure
 from .text import nonlinearity_words, plus_minus, problem_lines, uncertainty
 
-__all__ = ["survey_html", "write_html"]
+__all__ = ["html_page", "survey_html", "write_html"]
 
 _STYLE = """
 body { font-family: system-ui, sans-serif; max-width: 60rem; margin: 1rem auto; padding: 0 1rem;
@@ -237,6 +237,12 @@ def survey_html(survey, *, source: str | None = None, nonlinearity: bool = True)
         *(_mode_section(k, m, nonlinearity) for k, m in enumerate(survey.modes)),
         f'<p class="muted">Made by sindy-impulse {escape(__version__)}.</p>',
     ]
+    return html_page(title, body)
+
+
+def html_page(title: str, body: list) -> str:
+    """A self-contained page: the title, the style sheet, the sections ``body`` (HTML, escaped by their
+    makers) and the load marker."""
     return (
         '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
         f"<title>{escape(title)}</title><style>{_STYLE}</style></head>\n<body>\n"

@@ -11,7 +11,7 @@ import math
 from html import escape
 
 from .figures import _figure, png_uri
-from .html import _MARKER, _STYLE, _facts, _img
+from .html import _facts, _img, html_page
 
 __all__ = ["tracking_section", "track_html"]
 
@@ -185,9 +185,4 @@ def track_html(result, *, source: str | None = None) -> str:
         tracking_section(result, source),
         f'<p class="muted">Made by sindy-impulse {escape(__version__)}.</p>',
     ]
-    return (
-        '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
-        f"<title>{escape(title)}</title><style>{_STYLE}</style></head>\n<body>\n"
-        + "\n".join(body)
-        + f"\n<script>{_MARKER}</script>\n</body></html>\n"
-    )
+    return html_page(title, body)
