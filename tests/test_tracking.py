@@ -146,6 +146,14 @@ def test_averaging_gives_the_duffing_and_the_amplitude_dependent_damper():
     assert point.frequency_shift_std_hz > 0 and backbone_at(_mode(), 1.0).frequency_shift_std_hz == 0
 
 
+def test_a_cubic_springs_plus_minus_reaches_the_damping_ratio_at_amplitude_too():
+    """zeta_eq = c_eq / (2 w_eq): a cubic spring lowers it through the frequency, and its ± with it (a
+    damping shift without one would be judged infinitely precise)."""
+    point = backbone_at(_mode(**{"y^3": (0.04 * W**2 / 0.75, 0.01 * W**2 / 0.75)}), 1.0)
+    assert point.damping_shift < 0
+    assert point.damping_shift_std == pytest.approx(abs(point.damping_shift) / 4, rel=0.05)
+
+
 def test_a_quadratic_spring_softens_at_second_order():
     k2 = 0.1 * W**2
     point = backbone_at(_mode(**{"y^2": (k2, 1.0)}), 1.0)
@@ -240,6 +248,16 @@ def test_the_false_alarm_rate_holds_whatever_the_fits_plus_minus_says(calibratio
     _, p = prediction_test(fit_scatter_rows(x[:, :20], s[:, :20]), x[:, 20], s[:, 20])
     assert np.mean(p < 0.01) < 0.013
     assert np.mean(p < 0.001) < 0.0016  # the tail, where a family of tests puts each threshold
+
+
+def test_a_value_is_never_judged_more_precise_than_its_own_plus_minus():
+    rng = np.random.default_rng(4)
+    ref = fit_scatter(1e-3 * rng.standard_normal(20), np.full(20, 1e-12))  # ± far below the scatter
+    t, _ = prediction_test(ref, [1.0], [1.0])
+    assert abs(t[0]) < 1.01
+    over = fit_scatter(0.1 * rng.standard_normal(20), np.full(20, 1.0))  # ± ten times too large
+    t, _ = prediction_test(over, [1.0], [1.0])
+    assert abs(t[0]) > 5  # the reference shows the ± too large: the scatter judges
 
 
 def test_without_plus_minus_the_reference_scatter_carries_the_uncertainty():

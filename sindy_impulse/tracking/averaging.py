@@ -131,9 +131,9 @@ def backbone_at(values, amplitude: float) -> BackbonePoint:
     zeta = c_eq / (2 * w) if w > 0 else math.nan
     ratio = w0 / w if w > 0 else math.nan
     f_var = z_var = 0.0
-    for (_, _, _, std), (dk, dc) in zip(terms, units):
+    for (_, _, _, std), (dk, dc) in zip(terms, units):  # zeta_eq = c_eq / (2 w_eq): both move it
         f_var += (dk / (4 * math.pi * w) * std) ** 2 if dk else 0.0
-        z_var += (dc / (2 * w) * std) ** 2 if dc else 0.0
+        z_var += ((dc - zeta * dk / w) / (2 * w) * std) ** 2 if dk or dc else 0.0
     return BackbonePoint(
         f,
         zeta,

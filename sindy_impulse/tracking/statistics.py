@@ -28,8 +28,8 @@ unit) of the best. The share is further bounded by what the fit's ± can explain
 them is at most :data:`MAX_UNDERESTIMATE` squared times their own variance (the frequencies of a structure
 whose test-to-test scatter is fifty times the fit's ± are then tested as by the textbook prediction
 interval, which is exact for a scatter the same for every test). A value is never judged more precise
-than its own ± (the variance is at least ``s_0^2``), unless the reference shows the ± too large (then at
-least ``s_0^2`` times the largest calibration ``lam sigma^2 / mean(s^2)`` not ruled out). Where the fit
+than its own ± (the variance is at least ``s_0^2``), unless the reference shows the ± too large: its
+values scatter less than their ± say (then at least ``s_0^2`` times that ratio of variances). Where the fit
 gives no ± the reference scatter carries the uncertainty, shared out between the tests by a stand-in
 proportional to the noise the fit saw (``10^(-SNR / 20)`` of the band, when the caller gives it: a light
 hit is noisier). When every reference
@@ -281,8 +281,8 @@ def prediction_test(ref: Scatter, x, s=None) -> tuple[np.ndarray, np.ndarray]:
     d0 = (1 - ref.shares) + ref.shares * typical
     var = ref.scales * (d0 + 1 / ref.sum_w)
     if ref.absolute:  # never more precise than its own ±, unless the reference shows them too large
-        with np.errstate(invalid="ignore", divide="ignore"):
-            kappa2 = np.max(np.where(ref.allowed, ref.shares * ref.scales, 0.0), axis=-1) / ref.mean_s2
+        with np.errstate(invalid="ignore", divide="ignore"):  # the reference's scatter over its ±
+            kappa2 = ref.scales[..., 0] / ref.mean_s2
         kappa2 = np.where(np.isfinite(kappa2), kappa2, 1.0)
         floor = np.where(np.isfinite(s), s**2, 0.0) * np.minimum(kappa2, 1.0)
         var = np.maximum(var, floor[..., None])
