@@ -179,9 +179,14 @@ def _tracked(surveys: list, n_ref: int, **kw) -> dict:
     from sindy_impulse.tracking import SurveyValues, track
 
     result = track([SurveyValues.from_dict(d) for d in surveys], reference=n_ref, **kw)
+    p = np.stack([result.p[q] for q in result.quantities], axis=2)[result.new].reshape(len(result.new), -1)
+    tests = np.isfinite(p).sum(axis=1)
+    closest = [float(np.nanmin(row) * n) if n else None for row, n in zip(p, tests)]  # Bonferroni's min p
     return {
         "changed": int(result.changed.sum()),
         "new": len(result.new),
+        "tests_per_survey": tests.tolist(),
+        "smallest_p_times_tests": closest,
         "lines": result.lines(),
         "notes": result.notes(),
         "tested_modes": [round(t.frequency_hz, 4) for j, t in enumerate(result.tracks) if result.testable[j]],
