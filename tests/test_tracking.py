@@ -360,7 +360,19 @@ def test_a_mode_missing_from_new_surveys_is_an_event_not_an_alarm():
         s.modes = s.modes[:1]
     result = track(surveys, reference=20)
     assert not result.changed[21:23].any()
-    assert any("not found in 2 of 4 new surveys" in e for e in result.events())
+    (event,) = result.mode_events
+    assert (event.kind, event.found_new, event.n_new, event.significant) == ("vanished", 2, 4, False)
+    assert "found in 20 of 20 reference and 2 of 4 new surveys" in result.events()[0]
+
+
+def test_a_mode_gone_from_every_new_survey_and_a_new_one_are_beyond_chance():
+    surveys = _sequence(np.random.default_rng(14), n_new=10)
+    for s in surveys[20:]:
+        s.modes = s.modes[:1] + [_mode(180.0)]  # the 250 Hz mode moved far: gone, and a new one
+    result = track(surveys, reference=20)
+    kinds = {(e.kind, round(result.tracks[e.mode].frequency_hz)) for e in result.event_alarms}
+    assert kinds == {("vanished", 250), ("appeared", 180)}
+    assert "1 mode(s)" not in repr(result) and "2 mode(s) vanished or appeared" in repr(result)
 
 
 def test_reference_by_indices_labels_and_bad_arguments():

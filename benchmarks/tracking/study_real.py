@@ -211,8 +211,8 @@ def beam(mirror: Path, cache: Path) -> dict:
     out = {
         "box": {
             "tracked": _tracked(box["empty"] + box["sand"], len(box["empty"])),
-            "tracked, modes followed up to a factor 2": _tracked(
-                box["empty"] + box["sand"], len(box["empty"]), frequency_tolerance=0.7
+            "tracked, modes followed up to a factor e": _tracked(
+                box["empty"] + box["sand"], len(box["empty"]), frequency_tolerance=1.0
             ),
             "states": {k: _state(v, 3.9 if k == "empty" else 2.0) for k, v in box.items()},
             "authors_beta": BOX_AUTHORS_BETA,
@@ -221,8 +221,8 @@ def beam(mirror: Path, cache: Path) -> dict:
     sequence = lengths["50 cm"] + lengths["40 cm"] + lengths["60 cm"]
     out["lengths"] = {
         "tracked": _tracked(sequence, len(lengths["50 cm"])),
-        "tracked, modes followed up to a factor 2": _tracked(
-            sequence, len(lengths["50 cm"]), frequency_tolerance=0.7
+        "tracked, modes followed up to a factor e": _tracked(
+            sequence, len(lengths["50 cm"]), frequency_tolerance=1.0
         ),
         "states": {
             k: {"first": _state(v, LENGTH_AUTHORS_HZ[k][0]), "second": _state(v, LENGTH_AUTHORS_HZ[k][1])}

@@ -48,9 +48,8 @@ def _p(x, s, given, n: int, shift=0.0):
     out = np.empty(x.shape[0])  # the stand-in proportional to the noise: one reference at a time
     for i in range(x.shape[0]):
         ref = fit_scatter(x[i, :n], np.full(n, np.nan), proxy=s[i, :n])
-        out[i] = prediction_test(ref, [x[i, n] + shift[i] if np.ndim(shift) else x[i, n] + shift], [s[i, n]])[
-            1
-        ][0]
+        new = x[i, n] + (shift[i] if np.ndim(shift) else shift)
+        out[i] = prediction_test(ref, [new], [np.nan], [s[i, n]])[1][0]
     return out
 
 

@@ -130,19 +130,20 @@ def speed(n_surveys: int = 200, repeats: int = 3) -> dict:
     return out
 
 
-def _print_real(real: dict) -> None:
-    for name, v in real.items():
-        print(f"  {name}:")
-        for key, val in v.items():
-            if isinstance(val, dict) and "lines" in val:
-                print(
-                    f"    {key}: {val['changed']} of {val['new']} new surveys changed; modes tested "
-                    f"{val['tested_modes']}"
-                )
-                for line in val["lines"] + [f"note: {n}" for n in val["notes"]]:
-                    print(f"      {line}")
-            else:
-                print(f"    {key}: {json.dumps(val)[:2000]}")
+def _print_real(real: dict, indent: str = "  ") -> None:
+    for key, val in real.items():
+        if isinstance(val, dict) and "lines" in val:
+            closest = [round(c, 3) if c else c for c in val["smallest_p_times_tests"]]
+            print(f"{indent}{key}: {val['changed']} of {val['new']} new surveys changed "
+                  f"({val['tests_per_survey']} tests; smallest p x tests {closest}: an alarm needs it "
+                  f"below the rate); modes tested {val['tested_modes']}")
+            for line in val["lines"] + [f"note: {n}" for n in val["notes"]]:
+                print(f"{indent}  {line}")
+        elif isinstance(val, dict):
+            print(f"{indent}{key}:")
+            _print_real(val, indent + "  ")
+        else:
+            print(f"{indent}{key}: {json.dumps(val)[:3000]}")
 
 
 def main(argv=None) -> dict:

@@ -172,11 +172,12 @@ def run(args) -> int:
         print("  note: " + note)
     print(
         f"{int(result.changed.sum())} of {len(new)} new surveys changed, "
-        f"{len(result.trend_alarms)} trend(s), at a {100 * args.alpha:g} % false-alarm rate"
+        f"{len(result.trend_alarms)} trend(s), {len(result.event_alarms)} mode(s) vanished or appeared, "
+        f"at a {100 * args.alpha:g} % false-alarm rate"
     )
     written = _write(result, outputs, files)
     if written:
         print(f"written: {', '.join(written)}")
-    if args.fail_on_change and (result.changed.any() or result.trend_alarms):
+    if args.fail_on_change and (result.changed.any() or result.trend_alarms or result.event_alarms):
         return 3
     return 1 if skipped else 0

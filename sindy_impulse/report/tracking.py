@@ -116,6 +116,7 @@ def tracking_section(result, source: str | None = None) -> str:
         ),
         ("changed", f"{int(result.changed.sum())} of {n_new} new surveys"),
         ("trends", f"{len(result.trend_alarms)} significant"),
+        ("modes vanished or appeared", f"{len(result.event_alarms)} beyond chance"),
     ]
     if source:
         facts.insert(0, ("source", source))

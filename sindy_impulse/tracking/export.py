@@ -126,5 +126,7 @@ def track_dict(result) -> dict:
         "trends": [{"mode": tr.mode, "quantity": tr.quantity, "z": _num(tr.z), "p": _num(tr.p),
                     "significant": tr.significant, "slope_per_survey": _num(tr.slope),
                     "text": tr.text(result)} for tr in result.trends],
-        "events": result.events(),
+        "events": [{"mode": e.mode, "kind": e.kind, "found_reference": e.found_reference,
+                    "n_reference": e.n_reference, "found_new": e.found_new, "n_new": e.n_new, "p": _num(e.p),
+                    "significant": e.significant, "text": e.text(result)} for e in result.mode_events],
     }

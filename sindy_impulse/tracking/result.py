@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import stats
 
-__all__ = ["QUANTITIES", "Alarm", "Trend", "TrackResult"]
+__all__ = ["QUANTITIES", "Alarm", "ModeEvent", "Trend", "TrackResult"]
 
 #: The quantities of each mode that are tested: its linear frequency and damping ratio, and how far its
 #: backbone departs from them at the common amplitude (the nonlinear terms' share).
@@ -130,6 +130,43 @@ class Trend:
         )
 
 
+@dataclass(frozen=True)
+class ModeEvent:
+    """A mode found less often in the new surveys than in the reference (``"vanished"``), or found in
+    new surveys and in no reference one (``"appeared"``), and whether that is beyond chance: Fisher's exact
+    test of the share of surveys that found it (one-sided), Holm-corrected over the modes.
+
+    Attributes
+    ----------
+    mode : int
+    kind : str
+        ``"vanished"`` or ``"appeared"``.
+    found_reference, n_reference, found_new, n_new : int
+        In how many surveys of each group the mode was found.
+    p : float
+    significant : bool
+    """
+
+    mode: int
+    kind: str
+    found_reference: int
+    n_reference: int
+    found_new: int
+    n_new: int
+    p: float
+    significant: bool
+
+    def text(self, result) -> str:
+        """One line."""
+        missed = [result.labels[s] for s in result.new if result.slot[s, self.mode] < 0]
+        where = (f": {', '.join(missed[:5])}{' ...' if len(missed) > 5 else ''}" if self.kind == "vanished"
+                 and missed else "")
+        verdict = "" if self.significant else "; within chance"
+        label = result.tracks[self.mode].label(self.mode)
+        return (f"{label} {self.kind}: found in {self.found_reference} of {self.n_reference} reference and "
+                f"{self.found_new} of {self.n_new} new surveys (Fisher p = {self.p:.2g}{verdict}){where}")
+
+
 class TrackResult:
     """The result of :func:`~sindy_impulse.tracking.track`.
 
@@ -141,6 +178,9 @@ class TrackResult:
         One per changed mode of a new survey, in survey order.
     trends : list of Trend
         Every mode and quantity's trend over the new surveys; ``trend_alarms`` the significant ones.
+    mode_events : list of ModeEvent
+        Modes the new surveys found less often than the reference, or that appeared; ``event_alarms`` those
+        beyond chance (a survey that lacks a mode is not ``changed``: one miss proves nothing).
     tracks : list of ModeTrack
         The modes followed (reference ones first, then any that appeared).
     labels : list of str
@@ -168,11 +208,13 @@ class TrackResult:
         alarms,
         trends,
         alpha,
+        mode_events=(),
     ):
         self.values, self.reference, self.new = values, reference, new
         self.tracks, self.slot, self.testable, self.amplitudes = tracks, slot, testable, amplitudes
         self.series, self.fits, self.t, self.p = series, tests[0], tests[1], tests[2]
         self.flags, self.alarms, self.trends, self.alpha = flags, alarms, trends, alpha
+        self.mode_events = list(mode_events)
         self.quantities = QUANTITIES
 
     @property
@@ -225,26 +267,14 @@ class TrackResult:
         )
         return float(fit.means[k]), float(fit.means[k] - half), float(fit.means[k] + half)
 
+    @property
+    def event_alarms(self) -> list:
+        """The modes that vanished or appeared beyond chance."""
+        return [e for e in self.mode_events if e.significant]
+
     def events(self) -> list[str]:
-        """Modes that new surveys missed or that appeared in them, one line each."""
-        out = []
-        for j, tr in enumerate(self.tracks):
-            found = self.slot[self.new, j] >= 0
-            if tr.in_reference:
-                missing = [self.labels[s] for s, f in zip(self.new, found) if not f]
-                if missing:
-                    share = np.mean(self.slot[self.reference, j] >= 0)
-                    out.append(
-                        f"{tr.label(j)} not found in {len(missing)} of {len(self.new)} new surveys "
-                        f"(found in {100 * share:.0f} % of the reference): {', '.join(missing[:5])}"
-                        + (" ..." if len(missing) > 5 else "")
-                    )
-            elif found.any():
-                out.append(
-                    f"{tr.label(j)} appeared: not in the reference, found in {int(found.sum())} of "
-                    f"{len(self.new)} new surveys, first in {self.labels[self.new[found][0]]}"
-                )
-        return out
+        """Modes that new surveys missed or that appeared in them, one line each (significant first)."""
+        return [e.text(self) for e in sorted(self.mode_events, key=lambda e: not e.significant)]
 
     def notes(self) -> list[str]:
         """What limits the tests, once per mode and kind: a mode not tested, a ± the fit did not give
@@ -271,7 +301,8 @@ class TrackResult:
         head = (
             f"TrackResult({len(self.values)} surveys: {len(self.reference)} reference, {n_new} new; "
             f"{len(self.tracks)} mode(s); {int(self.changed.sum())} of {n_new} new surveys changed at the "
-            f"{100 * self.alpha:g} % false-alarm rate; {len(self.trend_alarms)} trend(s))"
+            f"{100 * self.alpha:g} % false-alarm rate; {len(self.trend_alarms)} trend(s); "
+            f"{len(self.event_alarms)} mode(s) vanished or appeared)"
         )
         lines = self.lines()
         return "\n".join([head] + ["  " + ln for ln in lines[:20]] + (["  ..."] if len(lines) > 20 else []))

@@ -252,7 +252,7 @@ def fit_scatter_rows(x, s=None) -> Scatter:
     return _rows(x, np.asarray(s, float) ** 2, True)
 
 
-def prediction_test(ref: Scatter, x, s=None) -> tuple[np.ndarray, np.ndarray]:
+def prediction_test(ref: Scatter, x, s=None, proxy=None) -> tuple[np.ndarray, np.ndarray]:
     """The statistic ``T`` and two-sided p-value of new values against the reference, the least
     significant over the shares not ruled out (module docstring).
 
@@ -261,9 +261,10 @@ def prediction_test(ref: Scatter, x, s=None) -> tuple[np.ndarray, np.ndarray]:
     ref : Scatter
         From :func:`fit_scatter` (or :func:`fit_scatter_rows`: one new value per row).
     x, s : array-like
-        New values and their ± (NaN ± allowed; a stand-in when the reference used one). A NaN value
-        gives NaN (not tested), and so does a value that differs from a reference without any scatter
-        when it has no ± of its own.
+        New values and their ± from the fit (NaN allowed). A NaN value gives NaN (not tested), and so
+        does a value that differs from a reference without any scatter when it has no ± of its own.
+    proxy : array-like, optional
+        The stand-in of each new value where the reference used one (:func:`fit_scatter`).
 
     Examples
     --------
@@ -274,18 +275,18 @@ def prediction_test(ref: Scatter, x, s=None) -> tuple[np.ndarray, np.ndarray]:
     """
     x = np.atleast_1d(np.asarray(x, float))
     s = np.full(x.shape, np.nan) if s is None else np.broadcast_to(np.asarray(s, float), x.shape)
+    scaled = s if ref.absolute else np.full(x.shape, np.nan) if proxy is None else np.broadcast_to(
+        np.asarray(proxy, float), x.shape)
     mean_s2 = np.expand_dims(np.asarray(ref.mean_s2, float), -1) if np.ndim(ref.mean_s2) else ref.mean_s2
     with np.errstate(invalid="ignore", divide="ignore"):
-        typical = np.where(np.isfinite(s), s**2, np.nan)[..., None] / mean_s2
+        typical = np.where(np.isfinite(scaled), scaled**2, np.nan)[..., None] / mean_s2
+        kappa2 = ref.scales[..., 0] / ref.mean_s2 if ref.absolute else np.nan  # scatter over the ±
     typical = np.where(np.isfinite(typical), typical, 1.0)
     d0 = (1 - ref.shares) + ref.shares * typical
     var = ref.scales * (d0 + 1 / ref.sum_w)
-    if ref.absolute:  # never more precise than its own ±, unless the reference shows them too large
-        with np.errstate(invalid="ignore", divide="ignore"):  # the reference's scatter over its ±
-            kappa2 = ref.scales[..., 0] / ref.mean_s2
-        kappa2 = np.where(np.isfinite(kappa2), kappa2, 1.0)
-        floor = np.where(np.isfinite(s), s**2, 0.0) * np.minimum(kappa2, 1.0)
-        var = np.maximum(var, floor[..., None])
+    # never more precise than its own ±, unless the reference shows its ± too large
+    floor = np.where(np.isfinite(s), s**2, 0.0) * np.minimum(np.where(np.isfinite(kappa2), kappa2, 1.0), 1.0)
+    var = np.maximum(var, floor[..., None])
     diff = x[..., None] - ref.means
     with np.errstate(divide="ignore", invalid="ignore"):
         t = np.where(var > 0, diff / np.sqrt(var), np.where(diff == 0, 0.0, np.nan))

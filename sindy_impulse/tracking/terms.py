@@ -124,11 +124,12 @@ def changed_terms(reference: ReferenceTerms, news: list, alpha: float) -> list[l
     std = np.array([[m.terms.get(k, absent)[1] for k in keys] for m in news]).reshape(value.shape)
     asked = np.array([[k in reference.keys or k in m.terms for k in keys] for m in news]).reshape(value.shape)
     t, p = np.full(value.shape, np.nan), np.full(value.shape, np.nan)
+    proxy = np.array([10 ** (-m.snr_db / 20) for m in news])
     mean, scatter, share = np.full(len(keys), np.nan), np.full(len(keys), np.nan), np.zeros(len(keys))
     for c, key in enumerate(keys):
         ref, share[c] = reference.fit(key)
         if ref is not None:
-            t[:, c], p[:, c] = prediction_test(ref, value[:, c], std[:, c])
+            t[:, c], p[:, c] = prediction_test(ref, value[:, c], std[:, c], proxy)
             mean[c], scatter[c] = float(ref.mean), float(ref.std)
     p = np.where(asked, p, np.nan)
     significant = holm(p, alpha)

@@ -13,11 +13,12 @@ import math
 from numbers import Integral, Real
 
 import numpy as np
+from scipy import stats
 
 from .._utils.params import Interval, check_param
 from .averaging import backbone_at
 from .matching import match_modes
-from .result import QUANTITIES, Alarm, TrackResult, Trend
+from .result import QUANTITIES, Alarm, ModeEvent, TrackResult, Trend
 from .statistics import fit_scatter, holm, mann_kendall, prediction_test
 from .terms import ReferenceTerms, changed_terms, named_term
 from .values import survey_values
@@ -87,8 +88,7 @@ def _tests(series: dict, ref_idx, testable) -> tuple:
             fits[q, j] = ref
             if ref is None:
                 continue
-            s = std[q][:, j] if ref.absolute else proxy[:, j]
-            t[q][:, j], p[q][:, j] = prediction_test(ref, value[q][:, j], s)
+            t[q][:, j], p[q][:, j] = prediction_test(ref, value[q][:, j], std[q][:, j], proxy[:, j])
     return fits, t, p
 
 
@@ -102,6 +102,22 @@ def _trends(series: dict, new_idx, testable, alpha: float) -> list:
             rows.append((int(j), q, z, p, _theil_sen(x)))
     flags = holm(np.array([[r[3] for r in rows]]), alpha)[0] if rows else []
     return [Trend(j, q, z, p, bool(f), slope) for (j, q, z, p, slope), f in zip(rows, flags)]
+
+
+def _mode_events(tracks, slot, ref_idx, new_idx, alpha: float) -> list:
+    """Modes found less often in the new surveys than in the reference (those the reference found in at
+    least half its surveys), or appeared: Fisher's exact test, one-sided, Holm over them."""
+    rows = []
+    for j, tr in enumerate(tracks):
+        a, c = int((slot[ref_idx, j] >= 0).sum()), int((slot[new_idx, j] >= 0).sum())
+        n, m = len(ref_idx), len(new_idx)
+        if m and tr.in_reference and 2 * a >= n and c * n < a * m:
+            rows.append((j, "vanished", a, c, stats.fisher_exact([[a, n - a], [c, m - c]], "greater")[1]))
+        elif m and not tr.in_reference and c:
+            rows.append((j, "appeared", a, c, stats.fisher_exact([[a, n - a], [c, m - c]], "less")[1]))
+    flags = holm(np.array([[r[4] for r in rows]]), alpha)[0] if rows else []
+    return [ModeEvent(j, kind, a, len(ref_idx), c, len(new_idx), float(p), bool(f))
+            for (j, kind, a, c, p), f in zip(rows, flags)]
 
 
 def _theil_sen(x) -> float:
@@ -232,21 +248,9 @@ def track(
         flags[new_idx] = flat.reshape(new_idx.size, *p.shape[1:])
     alarms = _alarms(values, slot, series, tests, flags, new_idx, ref_idx, alpha)
     trends = _trends(series, new_idx, testable, alpha)
-    return TrackResult(
-        values,
-        ref_idx,
-        new_idx,
-        tracks,
-        slot,
-        testable,
-        amplitudes,
-        series,
-        tests,
-        flags,
-        alarms,
-        trends,
-        alpha,
-    )
+    events = _mode_events(tracks, slot, ref_idx, new_idx, alpha)
+    return TrackResult(values, ref_idx, new_idx, tracks, slot, testable, amplitudes, series, tests, flags,
+                       alarms, trends, alpha, events)
 
 
 def _common_amplitudes(values, slot, ref_idx, amplitude) -> np.ndarray:
