@@ -69,12 +69,7 @@ def _terms_table(alarm, result) -> str:
     ]
     rows = []
     for c in alarm.terms:
-        df = (
-            100 * c.frequency_shift_hz / alarm.frequency_hz
-            if math.isfinite(c.frequency_shift_hz)
-            else math.nan
-        )
-        dz = 100 * c.damping_shift / alarm.damping_ratio if math.isfinite(c.damping_shift) else math.nan
+        df, dz = 100 * c.relative_frequency_shift, 100 * c.relative_damping_shift
         cells = [
             f"{c.name} ({c.key})",
             c.status + (" *" if c is alarm.term else ""),

@@ -81,11 +81,11 @@ class Alarm:
         head += f"(t = {self.t:.3g}, p = {self.p:.2g})"
         if self.term is None:
             return head + "; no term of its equation could be tested"
-        words = self.term.describe(self.frequency_hz, self.damping_ratio)
+        words = self.term.describe()
         if not self.term_significant:
             words += " - the most likely term, not significant on its own"
         others = [
-            c.describe(self.frequency_hz, self.damping_ratio)
+            c.describe()
             for c in self.terms
             if c is not self.term and c.significant
         ]

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .averaging import term_shift
+from .averaging import backbone_at, term_shift
 from .statistics import fit_scatter, holm, prediction_test
 from .values import LINEAR_TERMS, term_name, term_powers
 
@@ -47,6 +47,9 @@ class TermChange:
     frequency_shift_hz, damping_shift : float
         What the change of this coefficient alone does to the mode's frequency and damping ratio at the
         new survey's hit amplitude.
+    base_frequency_hz, base_damping_ratio : float
+        The mode's frequency and damping ratio at that amplitude with this coefficient at the reference's
+        value (what the shifts are relative to).
     """
 
     key: str
@@ -61,8 +64,20 @@ class TermChange:
     status: str
     frequency_shift_hz: float
     damping_shift: float
+    base_frequency_hz: float = math.nan
+    base_damping_ratio: float = math.nan
 
-    def describe(self, frequency_hz: float, zeta: float) -> str:
+    @property
+    def relative_frequency_shift(self) -> float:
+        """``frequency_shift_hz / base_frequency_hz``."""
+        return self.frequency_shift_hz / self.base_frequency_hz if self.base_frequency_hz else math.nan
+
+    @property
+    def relative_damping_shift(self) -> float:
+        """``damping_shift / base_damping_ratio``."""
+        return self.damping_shift / self.base_damping_ratio if self.base_damping_ratio else math.nan
+
+    def describe(self) -> str:
         """One phrase: ``"the cubic stiffness appeared (+2.25e+03 ± 63): +0.30 % frequency at the hit"``."""
         if self.key in LINEAR_TERMS and self.reference:
             change = 100 * (self.value / self.reference - 1)
@@ -75,10 +90,10 @@ class TermChange:
         effect = []
         powers = term_powers(self.key)
         damping = powers is not None and powers[1] % 2 == 1  # odd in y': it dissipates
-        if not damping and math.isfinite(self.frequency_shift_hz) and self.frequency_shift_hz:
-            effect.append(f"{100 * self.frequency_shift_hz / frequency_hz:+.3g} % frequency")
-        if damping and math.isfinite(self.damping_shift) and self.damping_shift and zeta:
-            effect.append(f"{100 * self.damping_shift / zeta:+.3g} % damping ratio")
+        if not damping and math.isfinite(self.relative_frequency_shift) and self.frequency_shift_hz:
+            effect.append(f"{100 * self.relative_frequency_shift:+.3g} % frequency")
+        if damping and math.isfinite(self.relative_damping_shift) and self.damping_shift:
+            effect.append(f"{100 * self.relative_damping_shift:+.3g} % damping ratio")
         verb = {"appeared": "appeared", "vanished": "vanished", "changed": "changed"}.get(
             self.status, "is unchanged"
         )
@@ -136,27 +151,14 @@ def changed_terms(reference: ReferenceTerms, news: list, alpha: float) -> list[l
     out = []
     for i, new in enumerate(news):
         changes = []
+        at_hit = backbone_at(new, new.amplitude)
         for c in np.flatnonzero(asked[i]):
-            key = keys[c]
-            shifts = (
-                term_shift(new, key, mean[c], new.amplitude) if math.isfinite(mean[c]) else (math.nan,) * 2
-            )
-            sig = bool(significant[i, c])
-            changes.append(
-                TermChange(
-                    key,
-                    term_name(key),
-                    mean[c],
-                    scatter[c],
-                    value[i, c],
-                    std[i, c],
-                    t[i, c],
-                    p[i, c],
-                    sig,
-                    _status(share[c], key in new.terms, sig),
-                    *shifts,
-                )
-            )
+            key, sig = keys[c], bool(significant[i, c])
+            df, dz = term_shift(new, key, mean[c], new.amplitude) if math.isfinite(mean[c]) else (np.nan,) * 2
+            status = _status(share[c], key in new.terms, sig)
+            changes.append(TermChange(key, term_name(key), mean[c], scatter[c], value[i, c], std[i, c],
+                                      t[i, c], p[i, c], sig, status, df, dz, at_hit.frequency_hz - df,
+                                      at_hit.damping_ratio - dz))
         out.append(sorted(changes, key=lambda ch: np.inf if not math.isfinite(ch.p) else ch.p))
     return out
 

@@ -194,7 +194,8 @@ def track(
         The amplitude (sensor units) at which the backbones are compared; default per mode the median
         of its reference hits' amplitudes.
     frequency_tolerance : float, default=0.03
-        Largest relative frequency difference of two modes matched as the same mode.
+        Largest relative frequency difference of two modes matched as the same mode (``|ln(f1 / f2)|``:
+        0.03 is 3 %; 1.0 follows a mode whose frequency moved by up to a factor e).
     min_mac : float, default=0.8
         Smallest MAC of two modes matched as the same, where both have a shape.
     min_reference : int, default=5
@@ -224,7 +225,7 @@ def track(
     unchanged
     """
     check_param("alpha", alpha, [Interval(Real, 0, 0.5, "neither")], "track")
-    check_param("frequency_tolerance", frequency_tolerance, [Interval(Real, 0, 1, "neither")], "track")
+    check_param("frequency_tolerance", frequency_tolerance, [Interval(Real, 0, None, "neither")], "track")
     check_param("min_mac", min_mac, [Interval(Real, 0, 1, "both")], "track")
     check_param("min_reference", min_reference, [Interval(Integral, 2, None, "left")], "track")
     check_param("amplitude", amplitude, [None, Interval(Real, 0, None, "neither")], "track")
