@@ -33,9 +33,12 @@ _STEPS = 4
 
 
 def _unit(p: int, q: int, amplitude: float, w: float) -> tuple[float, float]:
-    """Equivalent stiffness and damping of the monomial ``y^p y'^q`` (coefficient 1) at ``amplitude``."""
+    """Equivalent stiffness and damping of the monomial ``y^p y'^q`` (coefficient 1) at ``amplitude``: an
+    odd power of ``y'`` only dissipates, an even one only stiffens (the other integral is exactly 0)."""
     m = (amplitude * _COS) ** p * (-amplitude * w * _SIN) ** q
-    return 2 * float(np.mean(m * _COS)) / amplitude, -2 * float(np.mean(m * _SIN)) / (amplitude * w)
+    k = 2 * float(np.mean(m * _COS)) / amplitude if q % 2 == 0 else 0.0
+    c = -2 * float(np.mean(m * _SIN)) / (amplitude * w) if q % 2 == 1 else 0.0
+    return k, c
 
 
 def _polynomial(values) -> list:
@@ -79,7 +82,9 @@ class BackbonePoint:
         Their standard deviations: those of the linear values and of each nonlinear coefficient combined
         as if independent (NaN when one of them is unknown).
     frequency_shift_hz, damping_shift : float
-        How far the nonlinear terms move them from the linear values (0 for a linear equation).
+        How far the nonlinear terms move them from the linear values (0 for a linear equation): the
+        frequency, and the damping ratio by dissipation (``(c_eq - c) / (2 w_eq)``; a spring that raises
+        the frequency lowers the damping ratio too, which is not counted here).
     frequency_shift_std_hz, damping_shift_std : float
         Their standard deviations, from the nonlinear coefficients' alone (0 for a linear equation).
     """
@@ -130,25 +135,28 @@ def backbone_at(values, amplitude: float) -> BackbonePoint:
     f = w / (2 * math.pi)
     zeta = c_eq / (2 * w) if w > 0 else math.nan
     ratio = w0 / w if w > 0 else math.nan
-    f_var = z_var = 0.0
+    f_var = z_var = shift_var = 0.0
     for (_, _, _, std), (dk, dc) in zip(terms, units):  # zeta_eq = c_eq / (2 w_eq): both move it
         f_var += (dk / (4 * math.pi * w) * std) ** 2 if dk else 0.0
         z_var += ((dc - zeta * dk / w) / (2 * w) * std) ** 2 if dk or dc else 0.0
+        shift_var += (dc / (2 * w) * std) ** 2 if dc else 0.0
     return BackbonePoint(
         f,
         zeta,
         math.sqrt(f_var + (ratio * values.frequency_std_hz) ** 2),
         math.sqrt(z_var + (ratio * values.damping_ratio_std) ** 2),
         f - w0 / (2 * math.pi),
-        zeta - zeta0,
+        (c_eq - c) / (2 * w) if w > 0 else math.nan,
         math.sqrt(f_var),
-        math.sqrt(z_var),
+        math.sqrt(shift_var),
     )
 
 
 def term_shift(values, key: str, reference: float, amplitude: float) -> tuple[float, float]:
     """How much the mode's frequency (Hz) and damping ratio at ``amplitude`` moved because the coefficient
-    ``key`` moved from ``reference`` to its value in ``values`` (the other coefficients as they are).
+    ``key`` moved from ``reference`` to its value in ``values`` (the other coefficients as they are); the
+    damping ratio by dissipation: the change of the equivalent damping over ``2 w`` (a spring moves only
+    the frequency).
 
     Examples
     --------
@@ -156,8 +164,8 @@ def term_shift(values, key: str, reference: float, amplitude: float) -> tuple[fl
     >>> w2 = (2 * math.pi * 50.0) ** 2
     >>> m = ModeValues(50.0, 0.01, 0.01, 1e-4, 1.0)  # the linear stiffness 1 % lower than w2 / 0.99:
     >>> df, dz = term_shift(m, "y", w2 / 0.99, 1.0)
-    >>> round(df / 50.0, 5), dz > 0
-    (-0.00504, True)
+    >>> round(df / 50.0, 5), dz
+    (-0.00504, 0.0)
     >>> m.terms["y^3"] = (0.008 * w2 / 0.75, 1.0)  # a cubic spring that appeared: +0.8 % of w^2 at A = 1
     >>> df, _ = term_shift(m, "y^3", 0.0, 1.0)
     >>> round(df / 50.0, 4)
@@ -180,4 +188,4 @@ def term_shift(values, key: str, reference: float, amplitude: float) -> tuple[fl
     w_ref, c_ref, _ = _equivalent(w2, c, terms, amplitude)
     if not (w > 0 and w_ref > 0):
         return math.nan, math.nan
-    return (w - w_ref) / (2 * math.pi), c_eq / (2 * w) - c_ref / (2 * w_ref)
+    return (w - w_ref) / (2 * math.pi), (c_eq - c_ref) / (2 * w)
