@@ -41,7 +41,8 @@ def wilson(k: int, n: int) -> tuple[float, float]:
 
 
 def load(cache: Path, seed: int, row: str):
-    """``(sequence, reference surveys, new surveys)`` from the cache, or None when not computed."""
+    """``(sequence, reference surveys, new surveys, truth of the new tests)`` from the cache, or None when
+    not computed."""
     from sindy_impulse.tracking import SurveyValues
 
     ref_path, row_path = cache / f"seq{seed:04d}" / "reference.json", cache / f"seq{seed:04d}" / f"{row}.json"
@@ -52,6 +53,7 @@ def load(cache: Path, seed: int, row: str):
         ref["sequence"],
         [SurveyValues.from_dict(d) for d in ref["surveys"]],
         [SurveyValues.from_dict(d) for d in new["surveys"]],
+        new["truth"],
     )
 
 
@@ -77,7 +79,7 @@ def _drift_timing(result, j: int, alpha: float) -> tuple[float, float]:
     return _first(running_trend(x) < alpha / n_tests), _first(result.changed_modes[result.new, j])
 
 
-def sequence_row(seq, reference, new, row: str, alpha: float) -> dict:
+def sequence_row(seq, reference, new, truth, row: str, alpha: float) -> dict:
     """The counts of one sequence's row."""
     from sindy_impulse.tracking import track
 
@@ -111,6 +113,12 @@ def sequence_row(seq, reference, new, row: str, alpha: float) -> dict:
             for s in range(len(result.values))
         ]
         out["cubic_found_new"] = int(sum(has_cubic[len(reference) :]))
+        # per new survey found with its mode: the cubic spring's shift at that hit (0.3 % x strength^2)
+        out["cubic_by_shift"] = [
+            (seqs.CUBIC_SHIFT * t["strength"] ** 2, bool(h))
+            for t, h, s in zip(truth, has_cubic[len(reference) :], result.new)
+            if result.slot[s, j] >= 0
+        ]
         out["cubic_found_reference"] = int(sum(has_cubic[: len(reference)]))
         out["target_found_new"] = int((result.slot[result.new, j] >= 0).sum())
         out["trend_target"] = any(t.mode == j and t.quantity == "frequency_hz" for t in result.trend_alarms)
@@ -160,6 +168,18 @@ def summary(table: dict) -> dict:
             "target_found_new": sum(p.get("target_found_new", 0) for p in per),
             "target_untracked": sum(not p["target_tracked"] for p in per),
         }
+        if row == "cubic":
+            pairs = [pair for p in per for pair in p.get("cubic_by_shift", [])]
+            edges = (0.0, 0.0015, 0.003, 0.006, 0.013)
+            s["cubic_found_by_shift"] = [
+                {
+                    "shift_from": lo,
+                    "shift_to": hi,
+                    "surveys": sum(lo <= x < hi for x, _ in pairs),
+                    "found": sum(lo <= x < hi and f for x, f in pairs),
+                }
+                for lo, hi in zip(edges, edges[1:])
+            ]
         if row == "drift":
             s["first_trend_median"] = float(
                 np.nanmedian([p.get("first_trend", np.nan) for p in per] or [np.nan])
@@ -178,10 +198,19 @@ def print_summary(s: dict) -> None:
         if row in EXPECTED_TERM:
             print(f"; right mode {_rate(v['right_mode'], f)}; term {_rate(v['term'], f)}", end="")
         if row == "cubic":
-            print(f"; cubic named on any mode {_rate(v['term_any_mode'], f)}; linear stiffness named and no "
-                  f"cubic {_rate(v['term_linear_stiffness'], f)}; cubic coefficient in the target's survey "
-                  f"{_rate(v['cubic_found_new'], v['target_found_new'])}, in its reference "
-                  f"{v['cubic_found_reference']}", end="")
+            print(
+                f"; cubic named on any mode {_rate(v['term_any_mode'], f)}; linear stiffness named and no "
+                f"cubic {_rate(v['term_linear_stiffness'], f)}; cubic coefficient in the target's survey "
+                f"{_rate(v['cubic_found_new'], v['target_found_new'])}, in its reference "
+                f"{v['cubic_found_reference']}",
+                end="",
+            )
+        if row == "cubic":
+            bins = ", ".join(
+                f"{100 * b['shift_from']:.2g}-{100 * b['shift_to']:.2g} %: {b['found']}/{b['surveys']}"
+                for b in v["cubic_found_by_shift"]
+            )
+            print(f"; cubic coefficient found by the shift at the hit: {bins}", end="")
         if row == "none":
             print(f"; trend in {v['trend_sequences']} of {v['sequences']} sequences", end="")
         if row == "drift":
