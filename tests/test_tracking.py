@@ -377,6 +377,16 @@ def test_a_mode_gone_from_every_new_survey_and_a_new_one_are_beyond_chance():
     assert "1 mode(s)" not in repr(result) and "2 mode(s) vanished or appeared" in repr(result)
 
 
+def test_a_small_reference_is_warned_about_and_a_failed_survey_noted():
+    from sindy_impulse.exceptions import DataWarning
+
+    surveys = _sequence(np.random.default_rng(15), n_ref=5, n_new=2)
+    surveys[6] = SurveyValues([], "hit7.csv", "ValueError: too short")
+    with pytest.warns(DataWarning, match="the reference has 5 surveys"):
+        result = track(surveys, reference=5)
+    assert not result.changed[6] and result.notes()[0].startswith("hit7.csv: its survey failed")
+
+
 def test_reference_by_indices_labels_and_bad_arguments():
     surveys = _sequence(np.random.default_rng(12), n_ref=10, n_new=4)
     result = track(surveys, reference=list(range(4, 14)), labels=[f"hit{i}.csv" for i in range(14)])

@@ -131,7 +131,6 @@ def backbone_at(values, amplitude: float) -> BackbonePoint:
     terms = _polynomial(values)
     w, c_eq, units = _equivalent(w2, c, terms, amplitude)
     w0 = math.sqrt(max(w2, 0.0))
-    zeta0 = c / (2 * w0) if w0 > 0 else math.nan
     f = w / (2 * math.pi)
     zeta = c_eq / (2 * w) if w > 0 else math.nan
     ratio = w0 / w if w > 0 else math.nan

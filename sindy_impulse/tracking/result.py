@@ -277,8 +277,8 @@ class TrackResult:
         return [e.text(self) for e in sorted(self.mode_events, key=lambda e: not e.significant)]
 
     def notes(self) -> list[str]:
-        """What limits the tests, once per mode and kind: a mode not tested, a ± the fit did not give
-        (the reference scatter then carries the uncertainty)."""
+        """What limits the tests, once per mode and kind: a survey that failed, a mode not tested, a ± the fit
+        did not give (the reference scatter then carries the uncertainty)."""
         from .export import row_note
 
         notes = {}
@@ -287,7 +287,9 @@ class TrackResult:
                 note = row_note(self, s, j)
                 if note and "not found" not in note:
                     notes.setdefault((j, note), []).append(self.labels[s])
-        return [
+        failed = [f"{v.label}: its survey failed ({v.failed}); it counts as a survey without modes"
+                  for v in self.values if v.failed]
+        return failed + [
             f"{self.tracks[j].label(j)}: {note} ({len(who)} survey(s), e.g. {who[0]})"
             for (j, note), who in notes.items()
         ]

@@ -10,12 +10,14 @@ each changed mode the term of its equation that carries the change (:mod:`.terms
 from __future__ import annotations
 
 import math
+import warnings
 from numbers import Integral, Real
 
 import numpy as np
 from scipy import stats
 
 from .._utils.params import Interval, check_param
+from ..exceptions import DataWarning
 from .averaging import backbone_at
 from .matching import match_modes
 from .result import QUANTITIES, Alarm, ModeEvent, TrackResult, Trend
@@ -25,6 +27,8 @@ from .values import survey_values
 
 __all__ = ["track"]
 
+#: Fewer reference surveys than this give a warning (the t law's tail is wide with few degrees of freedom).
+FEW_REFERENCE = 10
 #: The series of each mode besides the quantities tested (the backbone itself at the common amplitude).
 SERIES = ("backbone_frequency_hz", "backbone_damping_ratio", "amplitude")
 
@@ -235,6 +239,8 @@ def track(
     values = [survey_values(s, str(labels[i]) if labels is not None else "") for i, s in enumerate(surveys)]
     values = [v if v.label else type(v)(v.modes, f"survey {i}", v.failed) for i, v in enumerate(values)]
     ref_idx = _reference_indices(reference, len(values))
+    if ref_idx.size < FEW_REFERENCE:
+        _warn_few(ref_idx.size)
     new_idx = np.array([i for i in range(len(values)) if i not in set(ref_idx.tolist())], dtype=int)
     tracks, slot = match_modes(values, ref_idx, frequency_tolerance, min_mac)
     in_ref = (slot[ref_idx] >= 0).sum(axis=0)
@@ -252,6 +258,16 @@ def track(
     events = _mode_events(tracks, slot, ref_idx, new_idx, alpha)
     return TrackResult(values, ref_idx, new_idx, tracks, slot, testable, amplitudes, series, tests, flags,
                        alarms, trends, alpha, events)
+
+
+def _warn_few(n: int) -> None:
+    warnings.warn(
+        f"the reference has {n} surveys: its scatter is estimated with {n - 1} degrees of freedom, so a "
+        "change is flagged only when it is several times that scatter; 10-20 reference surveys make the "
+        "tests much more sensitive",
+        DataWarning,
+        stacklevel=3,
+    )
 
 
 def _common_amplitudes(values, slot, ref_idx, amplitude) -> np.ndarray:
