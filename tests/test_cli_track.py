@@ -94,3 +94,4 @@ def test_too_few_reference_files_and_a_bad_rate(hits, tmp_path, capsys):
     missing = str(tmp_path / "nope.csv")
     code, text, err = _run(["track", *ref, "--against", new[0], missing, "--no-progress"], capsys)
     assert code == 1 and "skipped" in err and "1 new surveys" in text
+    assert "note: the reference has 5 surveys" in text

@@ -16,6 +16,7 @@ import argparse
 import csv
 import math
 import sys
+import warnings
 
 from ._options import add_input_options, integer, real
 from .files import CLIError, atomic_write, check_outputs, write_figure, write_json
@@ -155,21 +156,18 @@ def run(args) -> int:
     if len(reference) < 2:
         raise CLIError(f"{len(reference)} reference file(s) could be surveyed; at least 2 are needed")
     files = [p for p, _ in reference + new]
-    result = track(
-        [s for _, s in reference + new],
-        reference=len(reference),
-        alpha=args.alpha,
-        labels=files,
-        amplitude=args.amplitude,
-    )
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = track([s for _, s in reference + new], reference=len(reference), alpha=args.alpha,
+                       labels=files, amplitude=args.amplitude)
     n_modes = sum(tr.in_reference for tr in result.tracks)
     print(
         f"tracking: {len(reference)} reference and {len(new)} new surveys, {n_modes} mode(s) in the reference"
     )
     for line in result.lines():
         print("  " + line)
-    for note in result.notes():
-        print("  note: " + note)
+    for note in [str(w.message) for w in caught] + result.notes():
+        print("  note: " + " ".join(note.split()))
     print(
         f"{int(result.changed.sum())} of {len(new)} new surveys changed, "
         f"{len(result.trend_alarms)} trend(s), {len(result.event_alarms)} mode(s) vanished or appeared, "
