@@ -91,6 +91,7 @@ def sequence_row(seq, reference, new, truth, row: str, alpha: float) -> dict:
         "flagged": int(flagged.sum()),
         "target_tracked": j is not None,
         "trend_any": bool(result.trend_alarms),
+        "events_any": bool(result.event_alarms),
     }
     lead = {}
     for a in result.alarms:
@@ -162,6 +163,7 @@ def summary(table: dict) -> dict:
             "term_any_mode": sum(p["term_any_mode"] for p in per),
             "term_linear_stiffness": sum(p["term_linear_stiffness"] for p in per),
             "trend_sequences": sum(p["trend_any"] for p in per),
+            "event_sequences": sum(p["events_any"] for p in per),
             "trend_target_sequences": sum(p.get("trend_target", False) for p in per),
             "cubic_found_new": sum(p.get("cubic_found_new", 0) for p in per),
             "cubic_found_reference": sum(p.get("cubic_found_reference", 0) for p in per),
@@ -212,7 +214,8 @@ def print_summary(s: dict) -> None:
             )
             print(f"; cubic coefficient found by the shift at the hit: {bins}", end="")
         if row == "none":
-            print(f"; trend in {v['trend_sequences']} of {v['sequences']} sequences", end="")
+            print(f"; trend in {v['trend_sequences']} of {v['sequences']} sequences; a mode gone or new beyond "
+                  f"chance in {v['event_sequences']}", end="")
         if row == "drift":
             print(
                 f"; trend on the target {v['trend_target_sequences']} of {v['sequences']} sequences, first "
