@@ -214,8 +214,11 @@ def print_summary(s: dict) -> None:
             )
             print(f"; cubic coefficient found by the shift at the hit: {bins}", end="")
         if row == "none":
-            print(f"; trend in {v['trend_sequences']} of {v['sequences']} sequences; a mode gone or new beyond "
-                  f"chance in {v['event_sequences']}", end="")
+            print(
+                f"; trend in {v['trend_sequences']} of {v['sequences']} sequences; a mode gone or new beyond "
+                f"chance in {v['event_sequences']}",
+                end="",
+            )
         if row == "drift":
             print(
                 f"; trend on the target {v['trend_target_sequences']} of {v['sequences']} sequences, first "
