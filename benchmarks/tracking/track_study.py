@@ -160,6 +160,7 @@ def main(argv=None) -> dict:
     parser.add_argument("--no-surveys", action="store_true", help="track only the sequences already cached")
     parser.add_argument("--mirror", default=None, help="folder of bare git copies (real records)")
     parser.add_argument("--quick", action="store_true", help="fewer draws in the statistics part")
+    parser.add_argument("--json", type=Path, default=None, help="also write the results as JSON there")
     args = parser.parse_args(argv)
     rows = [r for r in args.rows.split(",") if r]
     seeds = range(args.first, args.first + args.sequences)
@@ -202,6 +203,8 @@ def main(argv=None) -> dict:
                 f"  {name}: track {v['track_s']:.3f} s, then table and JSON {v['frame_and_json_s']:.3f} s "
                 f"({v['alarms']} alarms)"
             )
+    if args.json is not None:
+        args.json.write_text(json.dumps(results, indent=1, default=float))
     return results
 
 
