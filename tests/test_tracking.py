@@ -387,6 +387,16 @@ def test_a_small_reference_is_warned_about_and_a_failed_survey_noted():
     assert not result.changed[6] and result.notes()[0].startswith("hit7.csv: its survey failed")
 
 
+def test_surveys_without_modes_and_a_reference_without_new_surveys():
+    empty = track([SurveyValues([])] * 5, reference=3)
+    assert not empty.changed.any() and empty.to_frame().empty and "0 mode(s)" in repr(empty)
+    with pytest.raises(ValueError, match="no mode to plot"):
+        empty.plot()
+    only = track(_sequence(np.random.default_rng(16), n_ref=12, n_new=0), reference=12)
+    assert only.new.size == 0 and not only.alarms and not only.trends
+    assert 'id="tracking"' in only.to_html()
+
+
 def test_reference_by_indices_labels_and_bad_arguments():
     surveys = _sequence(np.random.default_rng(12), n_ref=10, n_new=4)
     result = track(surveys, reference=list(range(4, 14)), labels=[f"hit{i}.csv" for i in range(14)])

@@ -30,6 +30,8 @@ def _check(result, quantities, modes):
     bad = [q for q in quantities if q not in _LABELS]
     if not quantities or bad:
         raise ValueError(f"quantities must be among {list(_LABELS)}, got {bad or quantities}")
+    if not result.tracks:
+        raise ValueError("the result has no mode to plot: no survey found one")
     if modes is None:
         modes = [j for j in range(len(result.tracks)) if result.testable[j]] or list(
             range(len(result.tracks))

@@ -244,7 +244,7 @@ def track(
     new_idx = np.array([i for i in range(len(values)) if i not in set(ref_idx.tolist())], dtype=int)
     tracks, slot = match_modes(values, ref_idx, frequency_tolerance, min_mac)
     in_ref = (slot[ref_idx] >= 0).sum(axis=0)
-    testable = np.array([tr.in_reference for tr in tracks]) & (in_ref >= min_reference)
+    testable = np.array([tr.in_reference for tr in tracks], dtype=bool) & (in_ref >= min_reference)
     amplitudes = _common_amplitudes(values, slot, ref_idx, amplitude)
     series = _series(values, slot, amplitudes)
     tests = _tests(series, ref_idx, testable)
