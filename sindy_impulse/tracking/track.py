@@ -27,6 +27,8 @@ from .values import survey_values
 
 __all__ = ["track"]
 
+#: The fewest new surveys a trend is looked for in (Mann-Kendall's normal law needs a few).
+MIN_TREND = 4
 #: Fewer reference surveys than this give a warning (the t law's tail is wide with few degrees of freedom).
 FEW_REFERENCE = 10
 #: The series of each mode besides the quantities tested (the backbone itself at the common amplitude).
@@ -98,6 +100,8 @@ def _tests(series: dict, ref_idx, testable) -> tuple:
 
 def _trends(series: dict, new_idx, testable, alpha: float) -> list:
     """Mann-Kendall over the new surveys per track and quantity, Holm-corrected over them all."""
+    if len(new_idx) < MIN_TREND:
+        return []
     rows = []
     for j in np.flatnonzero(testable):
         for q in QUANTITIES:
