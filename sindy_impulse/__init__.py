@@ -31,6 +31,8 @@ _PUBLIC = {
     "impact_record": "sindy_impulse.datasets",
     "identify_modes": "sindy_impulse.modes",
     "survey_many": "sindy_impulse.modes",
+    "track": "sindy_impulse.tracking",
+    "tracking": "sindy_impulse.tracking",
     "analysis": "sindy_impulse.analysis",
     "preprocessing": "sindy_impulse.preprocessing",
     "preprocess": "sindy_impulse.preprocessing",

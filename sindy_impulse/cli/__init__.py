@@ -1,9 +1,10 @@
-"""Command line: ``sindy-impulse demo | fit | modes | features``.
+"""Command line: ``sindy-impulse demo | fit | modes | features | track``.
 
 ``demo`` runs the paper's oscillator case end to end. ``fit`` reconstructs the equations of one measured
 ring-down stored as a CSV file and reports Gamma, the nonlinearity test and the modal parameters. ``modes``
 finds the modes of raw hammer-test records (a modal table per record, one equation per mode). ``features``
-turns many CSV files into one table of SINDy coefficient features (paper section 3.4).
+turns many CSV files into one table of SINDy coefficient features (paper section 3.4). ``track`` tests many
+records of one structure against reference ones: which mode, quantity and term of its equation changed.
 
 One module per command (:mod:`.demo_command`, :mod:`.fit_command`, :mod:`.modes_command`,
 :mod:`.features_command`: each ``add_parser(sub)`` and
@@ -26,13 +27,14 @@ from . import demo_command as demo
 from . import features_command as features
 from . import fit_command as fit
 from . import modes_command as modes
+from . import track_command as track
 from ._options import Parser
 from .files import CLIError, Table, read_csv
 
 __all__ = ["CLIError", "Table", "build_parser", "main", "read_csv"]
 
 #: The commands, in the order of ``--help``.
-COMMANDS = (demo, fit, modes, features)
+COMMANDS = (demo, fit, modes, features, track)
 
 
 def build_parser() -> argparse.ArgumentParser:

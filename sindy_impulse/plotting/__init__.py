@@ -19,11 +19,12 @@ function                           figure of Stender, Oberst & Hoffmann (2019)
 :func:`plot_modes`                 beyond the paper: a hammer-test record's spectrum and its modes
 :func:`plot_mode_decay`            beyond the paper: one mode against its model, whole decay and zoom
 :func:`plot_mac`                   beyond the paper: the Modal Assurance Criterion of mode shapes
+:func:`plot_tracking`              beyond the paper: control charts of many tests of one structure
 =================================  ==============================================================
 
 The functions live in one module per family of figures (``filtering``, ``sweep``, ``embedding``,
-``complexity``, ``identification``, ``features``, ``backbone``, ``modes``, ``mac``; shared helpers in
-``_common``); import them from here.
+``complexity``, ``identification``, ``features``, ``backbone``, ``modes``, ``mac``, ``tracking``; shared
+helpers in ``_common``); import them from here.
 matplotlib is imported only when a function is called. Bad input raises ``ValueError`` or ``TypeError``
 naming the argument (the array checks are the shared ones of :mod:`sindy_impulse._utils.validation`).
 """
@@ -38,6 +39,7 @@ from .mac import plot_mac
 from .modes import plot_mode_decay, plot_modes
 from .stabilisation import plot_stabilisation
 from .sweep import plot_reconstruction, plot_refinement, plot_sweep
+from .tracking import plot_tracking
 
 __all__ = [
     "plot_alpha_curve",
@@ -56,4 +58,5 @@ __all__ = [
     "plot_refinement",
     "plot_stabilisation",
     "plot_sweep",
+    "plot_tracking",
 ]

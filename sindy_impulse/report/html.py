@@ -18,7 +18,7 @@ from .figures import backbone_figure, decay_figure, mode_backbones, record_figur
 from .summary import FIT_ERROR_MEANING, default_channel_names, mode_account, phase_text
 from .text import plus_minus, uncertainty
 
-__all__ = ["survey_html", "write_html"]
+__all__ = ["html_page", "survey_html", "write_html"]
 
 _STYLE = """
 body { font-family: system-ui, sans-serif; max-width: 60rem; margin: 1rem auto; padding: 0 1rem;
@@ -320,6 +320,12 @@ def survey_html(survey, *, source: str | None = None, nonlinearity: bool = True,
         ),
         f'<p class="muted">Made by sindy-impulse {escape(__version__)}.</p>',
     ]
+    return html_page(title, body)
+
+
+def html_page(title: str, body: list) -> str:
+    """A self-contained page: the title, the style sheet, the sections ``body`` (HTML, escaped by their
+    makers) and the load marker."""
     return (
         '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
         f"<title>{escape(title)}</title><style>{_STYLE}</style></head>\n<body>\n"
