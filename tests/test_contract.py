@@ -891,7 +891,7 @@ def test_optimizer_failure_keeps_the_unrefined_model(monkeypatch):
 
 
 def test_work_budget_bounds_a_fit(monkeypatch):
-    monkeypatch.setattr(budget_module, "WORK_BUDGET", 2e5)
+    monkeypatch.setattr(budget_module, "WORK_BUDGET", 1e5)
     t, x, _ = damped_oscillator(snr_db=30, random_state=0)
     model = ImpulseSINDy().fit(x, t=t)
     # the work stops at the budget (overdrawn by one simulation at most), not after it; the diagnostics say

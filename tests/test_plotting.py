@@ -117,8 +117,8 @@ def _n_figures() -> int:
 # module
 # ------------------------------------------------------------------------------------------------------
 def test_all_lists_one_function_per_figure():
-    assert len(plotting.__all__) == 16  # 11 figures of the paper, backbone curves, modal survey and one
-    # mode's decay, MAC, stabilisation chart
+    assert len(plotting.__all__) == 17  # 11 figures of the paper, backbone curves, modal survey and one
+    # mode's decay, MAC, stabilisation chart, tracking's control charts
     for name in plotting.__all__:
         func = getattr(plotting, name)
         assert callable(func)

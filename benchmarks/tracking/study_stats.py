@@ -76,7 +76,7 @@ def one_test(reps: int = 100_000, n: int = 20, seed: int = 0) -> dict:
     return out
 
 
-def _survey(rng, f0, calibration, missing, factor, drift=0.0):
+def synthetic_survey(rng, f0, calibration, missing, factor, drift=0.0):
     from sindy_impulse.tracking import ModeValues, SurveyValues
 
     strength = np.exp(rng.uniform(np.log(0.5), np.log(2)))
@@ -107,7 +107,7 @@ def whole_track(n_sequences: int = 200, seed: int = 1) -> dict:
         flagged, trends = [], 0
         for _ in range(n_sequences):
             surveys = [
-                _survey(rng, f0, calibration, missing, 1 + 3e-4 * rng.standard_normal(),
+                synthetic_survey(rng, f0, calibration, missing, 1 + 3e-4 * rng.standard_normal(),
                         rate * max(k - 19, 0)) for k in range(60)
             ]
             result = track(surveys, reference=20)

@@ -102,14 +102,14 @@ def speed(n_surveys: int = 200, repeats: int = 3) -> dict:
     """Seconds of :func:`sindy_impulse.tracking.track` on 20 reference + 180 new surveys of 4 modes (their
     values given: the surveys themselves are not timed), without change and with every new survey changed
     (then every alarm's terms are tested too); median of ``repeats``, and of the table and JSON after."""
-    from benchmarks.tracking.study_stats import _survey
+    from benchmarks.tracking.study_stats import synthetic_survey
     from sindy_impulse.tracking import track
 
     rng = np.random.default_rng(3)
     f0 = (90.0, 210.0, 340.0, 515.0)
-    same = [_survey(rng, f0, 1.0, False, 1 + 3e-4 * rng.standard_normal()) for _ in range(n_surveys)]
+    same = [synthetic_survey(rng, f0, 1.0, False, 1 + 3e-4 * rng.standard_normal()) for _ in range(n_surveys)]
     changed = same[:20] + [
-        _survey(rng, (90.0, 209.0, 340.0, 515.0), 1.0, False, 1 + 3e-4 * rng.standard_normal())
+        synthetic_survey(rng, (90.0, 209.0, 340.0, 515.0), 1.0, False, 1 + 3e-4 * rng.standard_normal())
         for _ in range(n_surveys - 20)
     ]
     from sindy_impulse import identify_modes, impact_record
