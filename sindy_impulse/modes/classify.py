@@ -28,10 +28,12 @@ The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence;
 from __future__ import annotations
 
 import numpy as np
+from scipy.fft import next_fast_len
 
+from ..preprocessing.filters import transient_samples
 from ..preprocessing.partition import _TOP, peak_bands, resolved
 from ._envelope import amplitude_dependence
-from ._harmonics import NEAR, ORDERS, _evidence
+from ._harmonics import NEAR, ORDERS, RATIO_TOL, _evidence
 from .candidates import MISFIT_REACH, MISFIT_SHARE
 from .kinds import Kind
 from .signals import _members, analytic, deflated
@@ -114,6 +116,16 @@ def _pair_bands(state, i: int, j: int, order: int) -> tuple:
             (max(f2 - half, middle), min(f2 + half, _TOP * fs)))
 
 
+def _heard(cand, noise: float, fs: float, bands) -> int:
+    """Samples of the free decay the harmonic test needs: until the candidate's fitted envelope falls to its
+    band's noise, and both filters' transients after that (the test reads nothing under the noise)."""
+    amplitude = float(np.abs(cand.amplitude[0]))
+    if not (cand.decay_rate > 0 and amplitude > noise > 0):
+        return None
+    seconds = np.log(amplitude / noise) / cand.decay_rate
+    return next_fast_len(int(seconds * fs) + 2 * max(transient_samples(fs, b) for b in bands) + 16)
+
+
 def _own(state, k: int, band) -> tuple:
     """Candidate ``k``'s own signal from the decay's start (the other components removed) and its noise
     in ``band``."""
@@ -136,12 +148,17 @@ def _harmonics(state) -> None:
             if parent.kind is Kind.HARMONIC:
                 continue
             ratio = cand.damped_frequency_hz / parent.damped_frequency_hz
-            near = NEAR + cand.damping_ratio  # a broad component's frequency is known to its half-width
+            # a broad component's frequency is known to its half-width; a parent the linear decay explains
+            # keeps its frequency, and its harmonic lies at n times it (within the phase test's tolerance)
+            steady = parent.explained and parent.kind is Kind.LINEAR
+            near = (RATIO_TOL if steady else NEAR) + cand.damping_ratio
             order = next((n for n in ORDERS if abs(ratio / n - 1) <= near), None)
             if order is None or _energy(cand) > order**4 * _energy(parent):  # stronger than a harmonic can be
                 continue
             band1, band2 = _pair_bands(state, i, j, order)
             (y1, noise1), (y2, noise2) = _own(state, i, band1), _own(state, j, band2)
+            stop = _heard(cand, noise2, state.pre.fs, (band1, band2))
+            y1, y2 = y1[:stop], y2[:stop]
             try:
                 e = _evidence(state.pre, None, None, i, parent, band2, noise2, order, cand,
                               nonlinear=not parent.explained, own=(y1, y2, band1, noise1))

@@ -56,13 +56,11 @@ def deflated(state, k: int) -> np.ndarray:
     pre, start = state.pre, state.start
     n = pre.y.size - start
     if "_all_components" not in state.cache:
-        state.cache["_all_components"] = [component(c, n, pre.fs) for c in state.candidates]
-    parts = state.cache["_all_components"]
-    mine = set(_members(state, k))
+        parts = [component(c, n, pre.fs) for c in state.candidates]
+        state.cache["_all_components"] = parts, (np.sum(parts, axis=0) if parts else np.zeros(n))
+    parts, total = state.cache["_all_components"]
     out = pre.y.copy()
-    others = [p for j, p in enumerate(parts) if j not in mine]
-    if others:
-        out[start:] -= np.sum(others, axis=0)
+    out[start:] -= total - sum((parts[j] for j in set(_members(state, k))), np.zeros(n))
     return out
 
 
