@@ -323,3 +323,28 @@ def test_a_linear_mode_gets_no_harmonic_from_the_spectrum():
     survey = identify_modes(rec.y, fs=rec.fs)
     assert [round(m.frequency_hz) for m in survey.modes] == [122]
     assert not any("harmonic" in r.reason for r in survey.rejected)
+
+
+def test_a_change_with_amplitude_between_two_and_three_standard_errors_is_doubtful_not_nonlinear():
+    from sindy_impulse.modes._envelope import AmplitudeDependence
+
+    e = AmplitudeDependence(frequency_change=-0.0037, frequency_change_std=0.0013, decay_change=-0.04,
+                            decay_change_std=0.09, amplitude=(0.05, 0.003), misfit=0.7)
+    assert e.doubtful and not e.nonlinear
+    assert not AmplitudeDependence(0.0037, 0.0013, 0.0, 0.01, (0.05, 0.003), misfit=4.0).doubtful  # beating
+    assert not AmplitudeDependence(0.0009, 0.0001, 0.0, 0.01, (0.05, 0.003)).doubtful  # under 0.1 %
+
+
+def test_a_softening_mode_whose_change_the_noise_leaves_doubtful_gets_its_equation():
+    """A softening cubic spring at 31 dB: the frequency changes 0.37 % +- 0.13 % over the decay (2.9
+    standard errors), so the linear decay's frequency, an average over the amplitudes, is 0.46 % low; the
+    mode's equation gives the small-amplitude one."""
+    rec = impact_record([203.08546566290377, 307.75929387826324],
+                        [0.01329539210283537, 0.010308346396021316],
+                        [0.11678375638014189, 0.5183278700786125], fs=5000.0, duration=2.2186,
+                        sensor="velocity", pre_trigger=0.0620321731801078, offset=2.7680187882164247,
+                        snr_db=31.287631416095575, random_state=1151655009,
+                        cubic_stiffness=-27906555013101.5)
+    found = _survey(rec)
+    low = min(found.modes, key=lambda m: m.frequency_hz)
+    assert low.source == "equation" and low.frequency_hz == pytest.approx(203.085, rel=3e-3)

@@ -36,6 +36,8 @@ __all__ = ["AmplitudeDependence", "amplitude_dependence", "envelope_decay", "FRE
 #: periods of the mode, from an envelope whose residual about the averaged equations is at most
 #: ``ENVELOPE_MISFIT`` times the noise's.
 FREQUENCY_CHANGE, DECAY_CHANGE, CHANGE_SIGMAS, MIN_PERIODS, ENVELOPE_MISFIT = 1e-3, 0.1, 3.0, 10.0, 3.0
+#: A change beyond its threshold at this many standard errors is doubtful: the mode's equation decides.
+DOUBT_SIGMAS = 2.0
 
 
 @dataclass(frozen=True)
@@ -62,9 +64,19 @@ class AmplitudeDependence:
         and :data:`CHANGE_SIGMAS` standard errors, read off an envelope the averaged equations describe
         (``misfit`` at most :data:`ENVELOPE_MISFIT`: not a beating with an unresolved neighbour, nor a
         decay that is not a function of the amplitude)."""
+        return self._exceeds(CHANGE_SIGMAS)
+
+    @property
+    def doubtful(self) -> bool:
+        """Whether either change exceeds its threshold and :data:`DOUBT_SIGMAS` standard errors (not yet
+        :attr:`nonlinear`): a linear decay's values may be biased by it, so the survey fits the mode's
+        equation, which then decides."""
+        return self._exceeds(DOUBT_SIGMAS)
+
+    def _exceeds(self, sigmas: float) -> bool:
         if not self.misfit <= ENVELOPE_MISFIT:
             return False
-        return any(abs(c) > max(limit, CHANGE_SIGMAS * std) for c, std, limit in (
+        return any(abs(c) > max(limit, sigmas * std) for c, std, limit in (
             (self.frequency_change, self.frequency_change_std, FREQUENCY_CHANGE),
             (self.decay_change, self.decay_change_std, DECAY_CHANGE)))
 

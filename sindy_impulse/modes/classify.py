@@ -175,10 +175,11 @@ def _harmonics(state) -> None:
 
 
 def _amplitude_dependent(state) -> None:
-    """Candidates the linear decay does not explain whose frequency or decay rate changes with amplitude
-    beyond what a modal table reads (:func:`~._envelope.amplitude_dependence`): nonlinear."""
+    """Candidates whose frequency or decay rate changes with amplitude beyond what a modal table reads
+    (:func:`~._envelope.amplitude_dependence`; a linear decay within the noise does not exclude it when the
+    mode is strongly damped or the noise high): nonlinear, or doubtful (the mode's equation decides)."""
     cands, fs = state.candidates, state.pre.fs
-    misfit = [k for k, c in enumerate(cands) if c.kind is Kind.LINEAR and not c.explained]
+    misfit = [k for k, c in enumerate(cands) if c.kind is Kind.LINEAR]
     for k in misfit:
         c = cands[k]
         c.evidence["lack_of_fit"] = (c.lack_of_fit, c.lack_of_fit_p)
@@ -193,7 +194,7 @@ def _amplitude_dependent(state) -> None:
         width = band[1] - band[0]
         e = amplitude_dependence(z, fs, width, noise, frequency_hz=c.frequency_hz) if z.size else None
         c.evidence["amplitude_dependence"] = e
-        if e is not None and e.nonlinear:
+        if e is not None and (e.nonlinear or e.doubtful):
             c.kind = Kind.NONLINEAR
 
 
