@@ -333,6 +333,7 @@ def test_a_change_with_amplitude_between_two_and_three_standard_errors_is_doubtf
     assert e.doubtful and not e.nonlinear
     assert not AmplitudeDependence(0.0037, 0.0013, 0.0, 0.01, (0.05, 0.003), misfit=4.0).doubtful  # beating
     assert not AmplitudeDependence(0.0009, 0.0001, 0.0, 0.01, (0.05, 0.003)).doubtful  # under 0.1 %
+    assert not AmplitudeDependence(0.0, 0.001, 0.3, 0.15, (0.05, 0.003)).doubtful  # the decay rate's: noisy
 
 
 def test_a_softening_mode_whose_change_the_noise_leaves_doubtful_gets_its_equation():
