@@ -171,7 +171,23 @@ def _harmonics(state) -> None:
                 parent.evidence["makes_harmonic"] = order
                 if parent.kind is Kind.LINEAR:
                     parent.kind = Kind.NONLINEAR
+                _sweep_pieces(state, i, j, order)
                 break
+
+
+def _sweep_pieces(state, i: int, j: int, order: int) -> None:
+    """The other pieces of harmonic ``j`` of mode ``i``: unconfirmed candidates within ``order`` times the
+    frequencies the mode's pieces span (and ``order`` half-power half-widths beyond them), merged into it (a
+    hardening mode's third harmonic sweeps three times the mode's span and is fitted as a run of pieces the
+    overlap rule may cut in two)."""
+    cands = state.candidates
+    f = [cands[m].damped_frequency_hz for m in _members(state, i)]
+    reach = order * cands[i].decay_rate / (2 * np.pi)
+    lo, hi = order * min(f) - reach, order * max(f) + reach
+    for m, c in enumerate(cands):
+        if m != j and c.kind in (Kind.LINEAR, Kind.NONLINEAR) and not c.stable and lo <= c.frequency_hz <= hi:
+            for piece in [m, *(k for k, d in enumerate(cands) if d.kind is Kind.MERGED and d.parent == m)]:
+                cands[piece].kind, cands[piece].parent = Kind.MERGED, j
 
 
 def _amplitude_dependent(state) -> None:
