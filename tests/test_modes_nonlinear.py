@@ -358,7 +358,8 @@ def test_a_third_harmonic_fitted_as_a_run_of_pieces_is_one_harmonic_not_a_mode()
     harmonic was reported as a mode at 483.5 Hz."""
     rec = impact_record([154.0839079533741], [0.0010546513600182756], [1.0], fs=5000.0, duration=3.0996,
                         sensor="acceleration", pre_trigger=0.07544668076086938, offset=3.759264654097139,
-                        snr_db=51.72060207700578, random_state=706211402, cubic_stiffness=1.772872223037748e17)
+                        snr_db=51.72060207700578, random_state=706211402,
+                        cubic_stiffness=1.772872223037748e17)
     found = _survey(rec)
     assert [round(m.frequency_hz) for m in found.modes] == [154]
     assert any("harmonic 3" in r.reason for r in found.rejected)

@@ -176,16 +176,19 @@ def _harmonics(state) -> None:
 
 
 def _sweep_pieces(state, i: int, j: int, order: int) -> None:
-    """The other pieces of harmonic ``j`` of mode ``i``: unconfirmed candidates within ``order`` times the
+    """The other pieces of harmonic ``j`` of mode ``i``: the candidates within ``order`` times the
     frequencies the mode's pieces span (and ``order`` half-power half-widths beyond them), merged into it (a
     hardening mode's third harmonic sweeps three times the mode's span and is fitted as a run of pieces the
-    overlap rule may cut in two)."""
+    overlap rule may cut in two; each piece a linear decay explains, some confirmed by a pole of the
+    diagram). Of a mode in one piece (its frequency steady), only the unconfirmed ones."""
     cands = state.candidates
-    f = [cands[m].damped_frequency_hz for m in _members(state, i)]
+    members = _members(state, i)
+    f = [cands[m].damped_frequency_hz for m in members]
     reach = order * cands[i].decay_rate / (2 * np.pi)
     lo, hi = order * min(f) - reach, order * max(f) + reach
     for m, c in enumerate(cands):
-        if m != j and c.kind in (Kind.LINEAR, Kind.NONLINEAR) and not c.stable and lo <= c.frequency_hz <= hi:
+        piece_like = len(members) > 1 or not c.stable
+        if m != j and c.kind in (Kind.LINEAR, Kind.NONLINEAR) and piece_like and lo <= c.frequency_hz <= hi:
             for piece in [m, *(k for k, d in enumerate(cands) if d.kind is Kind.MERGED and d.parent == m)]:
                 cands[piece].kind, cands[piece].parent = Kind.MERGED, j
 
