@@ -213,7 +213,9 @@ def _amplitude_dependent(state) -> None:
         width = band[1] - band[0]
         e = amplitude_dependence(z, fs, width, noise, frequency_hz=c.frequency_hz) if z.size else None
         c.evidence["amplitude_dependence"] = e
-        if e is not None and (e.nonlinear or e.doubtful):
+        # of a candidate the linear decay explains, only the frequency's change counts (the decay rate's,
+        # from a weak mode's noisy envelope, strays beyond its standard errors)
+        if e is not None and (e.doubtful or (e.nonlinear and not c.explained)):
             c.kind = Kind.NONLINEAR
 
 
