@@ -434,3 +434,17 @@ def test_frame_json_plot_and_page():
     page = result.to_html(source="beam")
     assert 'id="tracking"' in page and "linear stiffness" in page and page.count("<img") == 1
     assert "2 of 4 new surveys changed" in repr(result)
+
+
+def test_a_mode_event_says_when_only_holms_correction_makes_it_chance():
+    from types import SimpleNamespace
+
+    from sindy_impulse.tracking.result import ModeEvent
+
+    track = SimpleNamespace(label=lambda k: f"mode {k} (3.9 Hz)")
+    result = SimpleNamespace(labels=["a", "b"], new=[1], slot=np.array([[0], [-1]]), tracks=[track],
+                             alpha=0.01)
+    line = ModeEvent(0, "vanished", 5, 5, 0, 6, 0.0022, False).text(result)
+    assert "Fisher p = 0.0022; within chance after Holm's correction over the modes" in line
+    assert "p = 0.4; within chance)" in ModeEvent(0, "vanished", 5, 5, 4, 6, 0.4, False).text(result)
+    assert "within chance" not in ModeEvent(0, "vanished", 5, 5, 0, 6, 0.0001, True).text(result)

@@ -161,7 +161,9 @@ class ModeEvent:
         missed = [result.labels[s] for s in result.new if result.slot[s, self.mode] < 0]
         where = (f": {', '.join(missed[:5])}{' ...' if len(missed) > 5 else ''}" if self.kind == "vanished"
                  and missed else "")
-        verdict = "" if self.significant else "; within chance"
+        verdict = "" if self.significant else (
+            "; within chance after Holm's correction over the modes" if self.p < result.alpha
+            else "; within chance")
         label = result.tracks[self.mode].label(self.mode)
         return (f"{label} {self.kind}: found in {self.found_reference} of {self.n_reference} reference and "
                 f"{self.found_new} of {self.n_new} new surveys (Fisher p = {self.p:.2g}{verdict}){where}")
