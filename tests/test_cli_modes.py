@@ -11,23 +11,13 @@ from html import unescape
 
 import numpy as np
 import pytest
+from cli_helpers import run_cli as _run
 
 from sindy_impulse import impact_record
 from sindy_impulse.cli import main
 
 FS = 2048.0
 FREQUENCIES = [60.0, 150.0, 320.0]
-
-
-def _run(argv, capsys):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        try:
-            code = main(argv)
-        except SystemExit as stop:
-            code = stop.code
-    out = capsys.readouterr()
-    return code, out.out, out.err
 
 
 @pytest.fixture(scope="module")

@@ -2,13 +2,12 @@
 
 import json
 import re
-import warnings
 
 import numpy as np
 import pytest
+from cli_helpers import run_cli as _run
 
 from sindy_impulse import impact_record
-from sindy_impulse.cli import main
 
 FS = 5000.0
 
@@ -23,17 +22,6 @@ def _write(path, seed, f=(120.0, 240.0)):
 def hits(tmp_path_factory):
     folder = tmp_path_factory.mktemp("hits")
     return [_write(folder / "hit1.csv", 0), _write(folder / "hit2.csv", 1, (150.0, 330.0))]
-
-
-def _run(argv, capsys):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        try:
-            code = main(argv)
-        except SystemExit as stop:
-            code = stop.code
-    out = capsys.readouterr()
-    return code, out.out, out.err
 
 
 def test_out_dir_writes_each_kind_per_input_named_after_it(hits, tmp_path, capsys):

@@ -2,13 +2,12 @@
 
 import csv
 import json
-import warnings
 
 import numpy as np
 import pytest
+from cli_helpers import run_cli as _run
 
 from sindy_impulse import impact_record
-from sindy_impulse.cli import main
 
 FS = 2000.0
 
@@ -28,17 +27,6 @@ def hits(tmp_path_factory):
     same = _write(folder / "new0.csv", 10, 150.0 * (1 + 3e-4 * rng.standard_normal()))
     lower = _write(folder / "new1.csv", 11, 150.0 * 0.99)
     return ref, [same, lower]
-
-
-def _run(argv, capsys):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        try:
-            code = main(argv)
-        except SystemExit as stop:
-            code = stop.code
-    out = capsys.readouterr()
-    return code, out.out, out.err
 
 
 def test_one_line_per_alarm_and_every_output(hits, tmp_path, capsys):

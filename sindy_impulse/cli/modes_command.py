@@ -286,7 +286,7 @@ def survey_report(table, survey, caught, nonlinear: bool, damping_unit: str = DE
     return {
         "file": table.path,
         "channels": table.names,
-        "force_column": getattr(table, "force_column", None),
+        "force_column": table.force_column,
         "nonlinearity_tested": nonlinear,
         **account,
         "notes": list(dict.fromkeys(for_the_command_line(m) for m in messages)),

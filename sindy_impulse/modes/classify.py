@@ -116,9 +116,10 @@ def _pair_bands(state, i: int, j: int, order: int) -> tuple:
             (max(f2 - half, middle), min(f2 + half, _TOP * fs)))
 
 
-def _heard(cand, noise: float, fs: float, bands) -> int:
+def _heard(cand, noise: float, fs: float, bands) -> int | None:
     """Samples of the free decay the harmonic test needs: until the candidate's fitted envelope falls to its
-    band's noise, and both filters' transients after that (the test reads nothing under the noise)."""
+    band's noise, and both filters' transients after that (the test reads nothing under the noise); None
+    (all of it) without a decay to go by."""
     amplitude = float(np.abs(cand.amplitude[0]))
     if not (cand.decay_rate > 0 and amplitude > noise > 0):
         return None
