@@ -1,14 +1,17 @@
 """The decay envelope of one mode: how its frequency and decay rate change with its amplitude.
 
-- :func:`amplitude_dependence`, the cheap evidence the survey classifies candidates on: the mode's own
-  analytic signal ``z = A exp(i phi)`` read against the averaged (first-order) equations of a weakly
+- :func:`decay_dependence`, the cheap evidence the survey classifies candidates on: the mode's free decay
+  (other modes removed, no band-pass) read against the averaged (first-order) equations of a weakly
   nonlinear oscillator, ``d ln A / dt = -(sigma_0 + sigma_2 A^2)`` and ``d phi / dt = omega_0 + omega_2
   A^2`` (a cubic spring moves the frequency, an ``x^2 x'`` damper the decay rate, both with the squared
-  amplitude). Integrated, both are straight lines in ``t`` and ``I(t) = int A^2 dt``, fitted by weighted
-  least squares (weights ``A^2``: the noise on ``ln A`` and ``phi`` goes as ``1 / A``); the changes of the
-  frequency and of the decay rate over the amplitudes seen, with their standard errors (one independent
-  sample per reciprocal bandwidth), say whether the mode is nonlinear enough to matter
-  (:data:`FREQUENCY_CHANGE`, :data:`DECAY_CHANGE`).
+  amplitude), fitted from the linear decay's values by Gauss-Newton; the changes of the frequency and of
+  the decay rate over the amplitudes seen, with their standard errors, say whether the mode is nonlinear
+  enough to matter (:data:`FREQUENCY_CHANGE`, :data:`DECAY_CHANGE`), and the fitted equations are the
+  mode's equation where the paper's fit misses that dependence (:func:`~.linear.envelope_mode`). Where
+  something else is in the free decay (a hit's tail, a neighbour's misfit: the fit's residual stands out
+  of the noise), :func:`amplitude_dependence` reads the same equations off the mode's analytic signal in
+  its band, the filter's transients trimmed: integrated, both are straight lines in ``t`` and ``I(t) =
+  int A^2 dt``, fitted by weighted least squares (weights ``A^2``).
 - :func:`_missing_damping`: the small-amplitude damping ratio of a nonlinear mode whose equation lacks the
   amplitude-dependent damping its decay shows (the threshold sweep may drop that term: the segment-wise
   error measure of a long band hardly sees a slow change of the decay rate, and the linear damping then
@@ -26,8 +29,8 @@ import numpy as np
 
 from ..feature_library.terms import term_table
 
-__all__ = ["AmplitudeDependence", "amplitude_dependence", "envelope_decay", "FREQUENCY_CHANGE",
-           "DECAY_CHANGE"]
+__all__ = ["AmplitudeDependence", "decay_dependence", "amplitude_dependence", "envelope_decay",
+           "FREQUENCY_CHANGE", "DECAY_CHANGE"]
 
 #: A mode is nonlinear for the survey when its frequency changes by more than ``FREQUENCY_CHANGE``
 #: (relative) over the amplitudes of its decay (a modal table's frequencies are read to about 0.1 %) or its
@@ -43,7 +46,7 @@ DOUBT_SIGMAS = 2.0
 @dataclass(frozen=True)
 class AmplitudeDependence:
     """How a mode's frequency and decay rate change over the amplitudes of its decay
-    (:func:`amplitude_dependence`): relative changes from its smallest amplitude analysed to its largest,
+    (:func:`decay_dependence`): relative changes from its smallest amplitude analysed to its largest,
     with their standard errors, the amplitudes, the averaged equations' ``(omega_0, omega_2, sigma_0,
     sigma_2)`` (damped angular frequency and decay rate at zero amplitude and their slopes in ``A^2``)
     with their standard errors, and ``misfit``: the RMS residual of ``A ln A`` and ``A phi`` about them over
@@ -75,13 +78,16 @@ class AmplitudeDependence:
         more often than the normal law says.)"""
         return self._exceeds(DOUBT_SIGMAS, decay=False)
 
-    def _exceeds(self, sigmas: float, decay: bool = True) -> bool:
-        if not self.misfit <= ENVELOPE_MISFIT:
-            return False
-        changes = [(self.frequency_change, self.frequency_change_std, FREQUENCY_CHANGE)]
+    def changes(self, sigmas: float, decay: bool = True, frequency: bool = True) -> bool:
+        """Whether the frequency's (with ``frequency``) or the decay rate's (with ``decay``) change exceeds
+        its threshold and ``sigmas`` standard errors, whatever the envelope's misfit."""
+        changes = [(self.frequency_change, self.frequency_change_std, FREQUENCY_CHANGE)] if frequency else []
         if decay:
             changes.append((self.decay_change, self.decay_change_std, DECAY_CHANGE))
         return any(abs(c) > max(limit, sigmas * std) for c, std, limit in changes)
+
+    def _exceeds(self, sigmas: float, decay: bool = True) -> bool:
+        return self.misfit <= ENVELOPE_MISFIT and self.changes(sigmas, decay)
 
 
 def amplitude_dependence(z: np.ndarray, fs: float, bandwidth_hz: float, noise_rms: float,
@@ -241,3 +247,93 @@ def _missing_damping(mode):
             or abs(change) < MIN_CHANGE * s0 or abs(model_change) >= MODEL_SHARE * abs(change)):
         return None
     return s0 / omega, se0 / omega, change / s0, model_change / s0
+
+
+#: Gauss-Newton iterations of :func:`decay_dependence` at most (it starts at the decay fit's values).
+_ITERATIONS = 6
+#: ... stopping when a step lowers the squared residual by less than this share, or when after a step the
+#: residual is still this many times the noise (something else is in the decay: its misfit says so).
+_TOLERANCE, _HOPELESS = 1e-6, 10 * ENVELOPE_MISFIT
+#: ... on every m-th sample of the free decay: at least this many per period, and about this many in all.
+_PER_PERIOD, _SAMPLES = 4, 2048
+
+
+def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: float, frequency_hz: float,
+                     noise_std: float) -> AmplitudeDependence | None:
+    """The changes of a mode's frequency and decay rate with its amplitude from its free decay ``y`` itself
+    (no band-pass: a filter's transient hides the start of the decay, where the amplitude is largest),
+    other modes removed, starting at its linear decay's complex ``amplitude``, ``decay_rate`` (1/s) and
+    damped ``frequency_hz``.
+
+    The averaged equations of the module, to first order in ``omega_2`` and ``sigma_2``: ``y(t) = Re[c
+    exp(-sigma_0 t - sigma_2 I(t) + i (omega_0 t + omega_2 I(t)))]`` with ``I(t) = |a|^2 (1 - exp(-2
+    sigma t)) / (2 sigma)`` the integral of the linear decay's squared amplitude, fitted by Gauss-Newton
+    from the linear decay; the standard errors from the Jacobian and the residual's variance (white
+    noise). Returns an :class:`AmplitudeDependence` (``misfit`` the residual's RMS over ``noise_std``),
+    or None when fewer than :data:`MIN_PERIODS` periods remain or the iteration does not converge.
+
+    Examples
+    --------
+    A cubic spring (frequency up 0.3 % at the largest amplitude) in noise at 40 dB:
+
+    >>> fs, t = 2000.0, np.arange(4000) / 2000.0
+    >>> a, s, w = 1.0, 2.0, 2 * np.pi * 50
+    >>> integral = a**2 * (1 - np.exp(-2 * s * t)) / (2 * s)
+    >>> y = np.real(a * np.exp(-s * t + 1j * (w * t + 0.003 * w * integral)))
+    >>> y = y + 0.01 * np.random.default_rng(0).standard_normal(t.size)
+    >>> e = decay_dependence(y, fs, a, s, 50.0, 0.01)
+    >>> round(e.frequency_change, 4), e.nonlinear
+    (0.003, True)
+    """
+    y = np.asarray(y, float)
+    short = y.size / fs * frequency_hz < MIN_PERIODS
+    if short or not (decay_rate > 0 and frequency_hz > 0 and abs(amplitude) > 0):
+        return None
+    # every m-th sample, at least _PER_PERIOD per period, at most about _SAMPLES of them: a parametric fit
+    # in time needs no band limit (its start is within a fraction of the alias spacing), and the standard
+    # errors say what the samples left out cost
+    step = max(1, min(int(fs / (_PER_PERIOD * frequency_hz)), -(-y.size // _SAMPLES)))
+    t_end = (y.size - 1) / fs
+    y = y[::step]
+    t = np.arange(y.size) * step / fs
+    a2 = abs(amplitude) ** 2
+    integral = a2 * -np.expm1(-2 * decay_rate * t) / (2 * decay_rate)
+    x = np.array([amplitude.real, amplitude.imag, decay_rate, 2 * np.pi * frequency_hz, 0.0, 0.0])
+    cost = np.inf
+    for _ in range(_ITERATIONS):
+        e = np.exp((-x[2] + 1j * x[3]) * t + (-x[5] + 1j * x[4]) * integral)
+        ce = (x[0] + 1j * x[1]) * e
+        residual = y - ce.real
+        jac = np.column_stack([e.real, -e.imag, -t * ce.real, -t * ce.imag, -integral * ce.imag,
+                               -integral * ce.real])
+        new_cost = float(residual @ residual)
+        if not np.isfinite(new_cost) or new_cost > cost * (1 - _TOLERANCE):
+            break  # (the last step no longer lowered the misfit: keep its start's values)
+        cost, best = new_cost, (x, residual, jac)
+        if cost < np.inf and np.sqrt(cost / y.size) > _HOPELESS * noise_std and _ > 0:
+            break  # something else is in the decay: the misfit says so without converging
+        scale = np.sqrt(np.einsum("ij,ij->j", jac, jac))
+        scale[scale == 0] = 1.0
+        normal = (jac / scale).T @ (jac / scale)
+        try:
+            step = np.linalg.solve(normal, (jac / scale).T @ residual) / scale
+        except np.linalg.LinAlgError:
+            return None
+        x = x + step
+    x, residual, jac = best
+    if not (x[2] > 0 and x[3] > 0):
+        return None
+    variance = float(residual @ residual) / max(y.size - x.size, 1)
+    scale = np.sqrt(np.einsum("ij,ij->j", jac, jac))
+    scale[scale == 0] = 1.0
+    cov = np.linalg.pinv((jac / scale).T @ (jac / scale)) / np.outer(scale, scale) * variance
+    sigma0, omega0, omega2, sigma2 = x[2], x[3], x[4], x[5]
+    largest, smallest = abs(amplitude), abs(amplitude) * np.exp(-decay_rate * t_end)
+    span = largest**2 - smallest**2
+    std = lambda i: float(np.sqrt(max(cov[i, i], 0.0)))  # noqa: E731
+    misfit = float(np.sqrt(np.mean(residual**2))) / max(noise_std, 1e-300)
+    return AmplitudeDependence(float(omega2 * span / omega0), std(4) * span / float(omega0),
+                               float(sigma2 * span / sigma0), std(5) * span / float(sigma0),
+                               (float(largest), float(smallest)),
+                               (float(omega0), float(omega2), float(sigma0), float(sigma2)),
+                               (std(3), std(4), std(2), std(5)), misfit)

@@ -13,15 +13,20 @@ The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence;
 - **harmonic** (:attr:`Kind.HARMONIC`): a component near 2 or 3 times a lower one that is phase-locked to it
   and whose amplitude goes as a whole power of the lower one's (:func:`~._harmonics.harmonic_evidence`): a
   product of the lower mode's nonlinearity, which is then nonlinear too.
-- **nonlinear** (:attr:`Kind.NONLINEAR`): a component the linear decay does not explain (its residual stands
-  out of the noise: :attr:`~.candidates.Candidate.explained`) whose frequency or decay rate changes with
-  its amplitude by more than a modal table reads (:func:`~._envelope.amplitude_dependence` on its own
-  signal, :func:`~.signals.analytic`), or that makes a harmonic. The paper's sweep and refinement identify
-  its equation. (A significant misfit alone is common on real records at 60-70 dB: a structure is never
-  exactly a sum of damped sinusoids.) Components closer than the wider one's half-power half-width
-  (:func:`~sindy_impulse.preprocessing.partition.resolved`) are pieces of one such mode (no record tells
-  such modes apart; a sum of close damped sinusoids is how a linear fit follows a chirp or a decay rate
-  that changes): the strongest stands for them, the others are :attr:`Kind.MERGED` into it.
+- **nonlinear** (:attr:`Kind.NONLINEAR`): a component whose frequency or decay rate changes with its
+  amplitude by more than a modal table reads (:func:`~._envelope.decay_dependence` on its own free decay,
+  or where something else is in it, :func:`~._envelope.amplitude_dependence` on its band's analytic signal;
+  read where the averaged equations describe it): beyond 3 standard errors where
+  the linear decay does not explain it (its residual stands out of the noise:
+  :attr:`~.candidates.Candidate.explained`), the frequency beyond 2 where it does;
+  or that makes a harmonic. The paper's sweep and refinement identify its equation (and where they miss
+  the dependence its free decay shows, the averaged equations fitted there stand:
+  :func:`~.linear.envelope_mode`). (A significant misfit alone is common on real records at 60-70 dB: a
+  structure is never exactly a sum of damped sinusoids.) Components closer than the wider one's
+  half-power half-width (:func:`~sindy_impulse.preprocessing.partition.resolved`) are pieces of one such
+  mode (no record tells such modes apart; a sum of close damped sinusoids is how a linear fit follows a
+  chirp or a decay rate that changes): the strongest stands for them, the others are
+  :attr:`Kind.MERGED` into it.
 - **linear** (:attr:`Kind.LINEAR`): everything else; its equation comes from its poles.
 """
 
@@ -32,7 +37,7 @@ from scipy.fft import next_fast_len
 
 from ..preprocessing.filters import transient_samples
 from ..preprocessing.partition import _TOP, peak_bands, resolved
-from ._envelope import amplitude_dependence
+from ._envelope import ENVELOPE_MISFIT, amplitude_dependence, decay_dependence
 from ._harmonics import NEAR, ORDERS, RATIO_TOL, _evidence
 from .candidates import MISFIT_REACH, MISFIT_SHARE
 from .kinds import Kind
@@ -194,28 +199,55 @@ def _sweep_pieces(state, i: int, j: int, order: int) -> None:
                 cands[piece].kind, cands[piece].parent = Kind.MERGED, j
 
 
+#: The amplitude dependence is read on a free decay until its envelope falls this far (dB) under its start
+#: (its squared amplitude, which the dependence goes with, to 1e-3 of its start).
+_DEPENDENCE_DB = 30.0
+
+
+def _audible(cand, fs: float) -> int | None:
+    """Samples of a candidate's free decay until its linear envelope falls :data:`_DEPENDENCE_DB` under its
+    start or to the noise in a band of :data:`_REACH` half-power half-widths either side of it (a fit to
+    the whole signal reads it that far); None (all of it) without a decay to go by."""
+    noise = cand.noise_std * np.sqrt(2 * 2 * _REACH * cand.decay_rate / (2 * np.pi) / fs)
+    amplitude = float(np.abs(cand.amplitude[0]))
+    if not (cand.decay_rate > 0 and amplitude > noise > 0):
+        return None
+    fall = min(np.log(amplitude / noise), _DEPENDENCE_DB / 20 * np.log(10))
+    return int(fall / cand.decay_rate * fs) + 1
+
+
+def _band_dependence(state, k: int, modes: list):
+    """:func:`~._envelope.amplitude_dependence` of candidate ``k`` on its analytic signal in its band (cut
+    among the candidates ``modes``), or None."""
+    cands, fs = state.candidates, state.pre.fs
+    others = [j for j in modes if j != k]
+    f = np.array([cands[j].damped_frequency_hz for j in [k, *others]])
+    band = peak_bands(f, np.array([cands[j].decay_rate / np.pi for j in [k, *others]]), fs)[0]
+    try:
+        z, _ = analytic(state, k, band)
+    except ValueError:
+        return None
+    noise = cands[k].noise_std * np.sqrt(2 * (band[1] - band[0]) / fs)
+    return amplitude_dependence(z, fs, band[1] - band[0], noise, frequency_hz=cands[k].frequency_hz) \
+        if z.size else None
+
+
 def _amplitude_dependent(state) -> None:
     """Candidates whose frequency or decay rate changes with amplitude beyond what a modal table reads
-    (:func:`~._envelope.amplitude_dependence`; a linear decay within the noise does not exclude it when the
+    (:func:`~._envelope.decay_dependence`; a linear decay within the noise does not exclude it when the
     mode is strongly damped or the noise high): nonlinear, or doubtful (the mode's equation decides)."""
     cands, fs = state.candidates, state.pre.fs
-    misfit = [k for k, c in enumerate(cands) if c.kind is Kind.LINEAR]
-    for k in misfit:
+    linear = [k for k, c in enumerate(cands) if c.kind is Kind.LINEAR]
+    for k in linear:
         c = cands[k]
         c.evidence["lack_of_fit"] = (c.lack_of_fit, c.lack_of_fit_p)
-        others = [j for j in misfit if j != k]
-        f = np.array([cands[j].damped_frequency_hz for j in [k, *others]])
-        band = peak_bands(f, np.array([cands[j].decay_rate / np.pi for j in [k, *others]]), fs)[0]
-        try:
-            z, _ = analytic(state, k, band)
-        except ValueError:
-            continue
-        noise = c.noise_std * np.sqrt(2 * (band[1] - band[0]) / fs)
-        width = band[1] - band[0]
-        e = amplitude_dependence(z, fs, width, noise, frequency_hz=c.frequency_hz) if z.size else None
+        y = deflated(state, k)[state.start:][:_audible(c, fs)]
+        e = decay_dependence(y, fs, complex(c.amplitude[0]), c.decay_rate, c.damped_frequency_hz, c.noise_std)
+        if e is None or not e.misfit <= ENVELOPE_MISFIT:  # something else in it: its band's envelope
+            e = _band_dependence(state, k, linear) or e
         c.evidence["amplitude_dependence"] = e
-        # of a candidate the linear decay explains, only the frequency's change counts (the decay rate's,
-        # from a weak mode's noisy envelope, strays beyond its standard errors)
+        # of a candidate the linear decay explains, only the frequency's change counts (the decay rate's
+        # strays beyond its standard errors where the envelope is noisy)
         if e is not None and (e.doubtful or (e.nonlinear and not c.explained)):
             c.kind = Kind.NONLINEAR
 

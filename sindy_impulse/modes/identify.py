@@ -26,9 +26,17 @@ from ..preprocessing.partition import peak_bands
 from ._states import free_decay_states
 from .band_fit import fit_band, fit_states, mode_of_states
 from .kinds import Kind, Reason
-from .linear import impulse_of, linear_amplitude, linear_mode, residue_of, shape_of, with_values_of
+from .linear import (
+    envelope_mode,
+    impulse_of,
+    linear_amplitude,
+    linear_mode,
+    residue_of,
+    shape_of,
+    with_values_of,
+)
 from .result import Mode, Rejected
-from .signals import _noise_spectrum, band_signal, deflated, free_decay, mode_bands
+from .signals import _members, _noise_spectrum, band_signal, deflated, free_decay, mode_bands
 
 __all__ = ["identify_candidates"]
 
@@ -80,11 +88,22 @@ def _one(state, k: int) -> list:
             out = nonlinear_mode(state, k)
             if "unconfirmed" in cand.evidence and not _nonlinear_equation(out):
                 return _apart(state, k)
-            return [(k, out)]
+            return [(k, _envelope_instead(state, k, out))]
     except Exception as err:  # noqa: BLE001 - one candidate's failure must not abort the survey
         return [(k, Rejected(cand.band_hz, f"the identification failed ({type(err).__name__}: {err})",
                              state.index, {"error": type(err).__name__, "message": str(err)},
                              Reason.FIT_FAILED))]
+
+
+def _envelope_instead(state, k: int, out):
+    """The averaged equations' mode (:func:`.linear.envelope_mode`) where the candidate's free decay shows
+    an amplitude dependence (:attr:`~._envelope.AmplitudeDependence.nonlinear`) that the paper's fit did
+    not give (a linear equation, or none)."""
+    e = state.candidates[k].evidence.get("amplitude_dependence")
+    pieces = len(_members(state, k)) > 1  # its free decay's fit had them removed as linear decays
+    if e is None or pieces or _nonlinear_equation(out) or not e.nonlinear:
+        return out
+    return envelope_mode(state, k, e) or out
 
 
 def _nonlinear_equation(out) -> bool:

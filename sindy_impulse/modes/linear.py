@@ -22,12 +22,14 @@ from ..feature_library.terms import term_table
 from ..identification.estimator import fit_deferred
 from ..optimizers import fresh_copy
 from ..optimizers.fixed import FixedCoefficients
+from ._envelope import CHANGE_SIGMAS
 from ._states import EDGE, STATE_NAMES, derivative_states, free_decay_states
 from .band_fit import SENSOR_POWER, fit_error_of
 from .result import Mode
 from .signals import band_signal, free_decay
 
-__all__ = ["linear_mode", "linear_amplitude", "pole_model", "shape_of", "residue_of", "impulse_of",
+__all__ = ["linear_mode", "envelope_mode", "linear_amplitude", "oscillator_model", "pole_model", "shape_of",
+           "residue_of", "impulse_of",
            "with_values_of"]
 
 def _states(state, k: int):
@@ -44,52 +46,50 @@ def _states(state, k: int):
     return (*free_decay_states(y, t, cand.frequency_hz), None)
 
 
-def _coefficients(library, n_features: int, k: float, c: float) -> np.ndarray | None:
-    """The oscillator ``y' = dy``, ``dy' = -k y - c dy`` in the library's columns (None when the library
-    lacks the linear terms of ``[y, dy]``)."""
+def _coefficients(library, n_features: int, terms: dict) -> tuple[np.ndarray, np.ndarray] | None:
+    """The oscillator ``y' = dy``, ``dy' = -sum c_pq y^p dy^q`` in the library's columns and its standard
+    deviations (NaN for the terms it does not have), from ``terms``: ``{(p, q): (c_pq, std)}``; None when
+    the library lacks one of them."""
     try:
         powers = term_table(library, 2).powers
     except (TypeError, AttributeError):
         return None
-    column = {tuple(int(v) for v in p): i for i, p in enumerate(powers) if p.sum() == 1}
-    if (1, 0) not in column or (0, 1) not in column or powers.shape[0] != n_features:
+    column = {tuple(int(v) for v in p): i for i, p in enumerate(powers)}
+    if any(key not in column for key in [(0, 1), *terms]) or powers.shape[0] != n_features:
         return None
-    coef = np.zeros((2, n_features))
-    coef[0, column[(0, 1)]] = 1.0
-    coef[1, column[(1, 0)]], coef[1, column[(0, 1)]] = -k, -c
-    return coef
+    coef, std = np.zeros((2, n_features)), np.full((2, n_features), np.nan)
+    coef[0, column[(0, 1)]], std[0, column[(0, 1)]] = 1.0, 0.0  # the kinematic y' = dy is exact
+    for key, (value, value_std) in terms.items():
+        coef[1, column[key]], std[1, column[key]] = -value, value_std
+    return coef, std
 
 
-def _coefficients_std(coef: np.ndarray, cand) -> np.ndarray:
-    """Standard deviations of the oscillator's coefficients: ``k = omega_n^2`` (``2 omega_n`` times its
-    std), ``c = 2 sigma``; the kinematic ``y' = dy`` is exact; NaN for the terms the model does not have."""
-    std = np.full(coef.shape, np.nan)
-    omega = 2 * np.pi * cand.frequency_hz
-    std[0, coef[0] != 0] = 0.0
-    y_col = int(np.flatnonzero(coef[1] == coef[1].min())[0]) if coef[1].min() < 0 else None
-    std[1, coef[1] != 0] = 2 * cand.decay_rate_std
-    if y_col is not None:
-        std[1, y_col] = 2 * omega * 2 * np.pi * cand.frequency_std_hz
-    return std
-
-
-def pole_model(template, states, states_dot, t, cand):
-    """The survey's estimator carrying the oscillator of a candidate's poles, fitted on ``states`` (None
-    when its library cannot hold it: the mode then takes the paper's fit)."""
-    omega = 2 * np.pi * cand.frequency_hz
+def oscillator_model(template, states, states_dot, t, terms: dict):
+    """The survey's estimator carrying the oscillator ``dy' = -sum c_pq y^p dy^q`` of ``terms`` (``{(p, q):
+    (c_pq, std)}``), fitted on ``states``, and its coefficients' standard deviations; ``(None, None)`` when
+    its library cannot hold it (the mode then takes the paper's fit)."""
     model = fresh_copy(template)
     library = fresh_copy(model.feature_library) if model.feature_library is not None else None
     if library is None:
         return None, None
     library.fit(states)
-    n_features = len(library.get_feature_names())
-    coef = _coefficients(library, n_features, omega**2, 2 * cand.decay_rate)
-    if coef is None:
+    found = _coefficients(library, len(library.get_feature_names()), terms)
+    if found is None:
         return None, None
+    coef, std = found
     model.set_params(optimizer=FixedCoefficients(coef), sweep=False, refine=False, output_error=False)
     x_dot = states_dot if getattr(model, "differentiation_method", None) is None else None
     fit_deferred(model, states, t=t, x_dot=x_dot, feature_names=list(STATE_NAMES))
-    return model, _coefficients_std(coef, cand)
+    return model, std
+
+
+def pole_model(template, states, states_dot, t, cand):
+    """The oscillator of a candidate's poles (:func:`oscillator_model`): ``k = omega_n^2`` (its std ``2
+    omega_n`` times the frequency's), ``c = 2 sigma``."""
+    omega = 2 * np.pi * cand.frequency_hz
+    return oscillator_model(template, states, states_dot, t, {
+        (1, 0): (omega**2, 2 * omega * 2 * np.pi * cand.frequency_std_hz),
+        (0, 1): (2 * cand.decay_rate, 2 * cand.decay_rate_std)})
 
 
 def linear_mode(state, k: int) -> Mode | None:
@@ -107,6 +107,37 @@ def linear_mode(state, k: int) -> Mode | None:
                 shape=shape_of(state, cand), residue=residue_of(state, cand, amplitude), record=state.index,
                 frequency_std_hz=cand.frequency_std_hz, damping_ratio_std=cand.damping_ratio_std,
                 coefficients_std=coefficients_std, source="poles")
+
+
+def envelope_mode(state, k: int, e) -> Mode | None:
+    """The :class:`Mode` of candidate ``k`` from the averaged equations its free decay was fitted with
+    (:func:`~._envelope.decay_dependence`, ``e``): ``omega(A) = omega_0 + omega_2 A^2`` and ``sigma(A) =
+    sigma_0 + sigma_2 A^2`` are the free decay of ``y'' + 2 sigma_0 y' + (omega_0^2 + sigma_0^2) y + k_3
+    y^3 + c_3 y^2 y' = 0`` with ``k_3 = 8 omega_0 omega_2 / 3`` and ``c_3 = 8 sigma_2`` (first order in
+    the nonlinear terms), each nonlinear term where its change stands out (:meth:`~._envelope.
+    AmplitudeDependence.changes`); its frequency and damping ratio are the small-amplitude ones. None when
+    the estimator's library lacks those terms."""
+    cand = state.candidates[k]
+    (w0, w2, s0, s2), (w0_std, w2_std, s0_std, s2_std) = e.coefficients, e.coefficients_std
+    wn = math.hypot(w0, s0)
+    terms = {(1, 0): (wn**2, 2 * math.hypot(w0 * w0_std, s0 * s0_std)), (0, 1): (2 * s0, 2 * s0_std)}
+    if e.changes(CHANGE_SIGMAS, decay=False):
+        terms[3, 0] = 8 * w0 * w2 / 3, 8 * math.hypot(w0 * w2_std, w2 * w0_std) / 3
+    if e.changes(CHANGE_SIGMAS, frequency=False):
+        terms[2, 1] = 8 * s2, 8 * s2_std
+    states, states_dot, t, band = _states(state, k)
+    model, coefficients_std = oscillator_model(state.options.template, states, states_dot, t, terms)
+    if model is None:
+        return None
+    amplitude = linear_amplitude(state, cand)
+    return Mode(frequency_hz=wn / (2 * np.pi), damping_ratio=s0 / wn, band_hz=cand.band_hz,
+                amplitude=amplitude, fit_error=fit_error_of(model), model=model, states=states, t=t,
+                snr_db=float(band.snr_db) if band is not None else float(cand.height_db),
+                shape=shape_of(state, cand), residue=residue_of(state, cand, amplitude), record=state.index,
+                frequency_std_hz=math.hypot(w0 * w0_std, s0 * s0_std) / wn / (2 * np.pi),
+                damping_ratio_std=s0_std / wn, coefficients_std=coefficients_std, source="envelope",
+                uncertainty_note="the averaged equations of its free decay (the paper's fit did not give the "
+                                 "amplitude dependence its envelope shows)")
 
 
 def linear_amplitude(state, cand) -> float:

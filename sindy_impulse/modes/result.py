@@ -69,8 +69,10 @@ class Mode:
     source : {"poles", "equation", "envelope"}
         Where the frequency and damping ratio come from: the decay fit of the record's poles (a linear
         mode, whose equation they define; or a nonlinear mode the paper's fit could not reproduce), the
-        identified equation's linear part, or, for the damping ratio of a nonlinear mode whose equation
-        lacks its amplitude-dependent damping, the decay envelope at zero amplitude.
+        identified equation's linear part, or the decay envelope at zero amplitude: the averaged equations
+        fitted to the mode's free decay where the paper's fit missed the amplitude dependence it shows
+        (they are then its equation), or, for the damping ratio of a nonlinear mode whose equation lacks
+        its amplitude-dependent damping, the envelope's decay rate.
     frequency_spread_hz, damping_ratio_spread : float
         Interquartile range of the hits' values (0 for one hit), kept apart from the standard deviations
         above.
