@@ -14,10 +14,10 @@ The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence;
   and whose amplitude goes as a whole power of the lower one's (:func:`~._harmonics.harmonic_evidence`): a
   product of the lower mode's nonlinearity, which is then nonlinear too.
 - **nonlinear** (:attr:`Kind.NONLINEAR`): a component whose frequency or decay rate changes with its
-  amplitude by more than a modal table reads (:func:`~._envelope.decay_dependence` on its own free decay,
-  or where something else is in it, :func:`~._envelope.amplitude_dependence` on its band's analytic signal;
-  read where the averaged equations describe it): beyond 3 standard errors where
-  the linear decay does not explain it (its residual stands out of the noise:
+  amplitude by more than a modal table reads, read where the averaged equations of a weakly nonlinear
+  oscillator describe its decay (:func:`~._envelope.decay_dependence` on its own free decay; where
+  something else is in it, :func:`~._envelope.amplitude_dependence` on its band's analytic signal): beyond
+  3 standard errors where the linear decay does not explain it (its residual stands out of the noise:
   :attr:`~.candidates.Candidate.explained`), the frequency beyond 2 where it does;
   or that makes a harmonic. The paper's sweep and refinement identify its equation (and where they miss
   the dependence its free decay shows, the averaged equations fitted there stand:
