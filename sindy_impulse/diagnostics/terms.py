@@ -46,7 +46,7 @@ from scipy.stats import chi2
 
 from ..exceptions import DataWarning
 from ..feature_library.terms import library_terms
-from ..simulation import WORK_BUDGET, WorkBudget, at_rest_level, compile_model
+from ..simulation import WORK_BUDGET, Reference, WorkBudget, at_rest_level, compile_model
 from ..simulation.scoring import compare_stride
 from .model import Fitted, regression, segments, simulate_residuals
 
@@ -137,8 +137,9 @@ class _Sensitivity:
         self.stride = _test_stride(fitted.filtered[0])
         self.n_inputs = 0 if fitted.inputs[0] is None else fitted.inputs[0].shape[1]
         self.terms = library_terms(est.feature_library_, self.coef.shape[0] + self.n_inputs)
-        self.reference = np.vstack(fitted.filtered) - shift
         self.reference_u = None if self.n_inputs == 0 else np.vstack(fitted.inputs)
+        # what every tested model takes from the data (its time scale's probes, its bounds), computed once
+        self.reference = Reference(np.vstack(fitted.filtered) - shift, self.reference_u, self.n_inputs)
         self.divergence = float(getattr(est, "divergence_factor", 100.0))
         self.budget = WorkBudget(WORK_FRACTION * WORK_BUDGET)
         self.theta, self.y = regression(fitted, shift, stride=self.stride)

@@ -17,14 +17,20 @@ __all__ = ["SplineBasis"]
 
 
 def _weights(u: np.ndarray, a: int) -> np.ndarray:
-    """Value of the ``a``-th of the 4 cubic B-splines touching a sample at position ``u`` in [0, 1)."""
+    """Value of the ``a``-th of the 4 cubic B-splines touching a sample at position ``u`` in [0, 1).
+
+    Powers by products (numpy's ``u**3`` calls ``pow`` per element, ten times slower on long records).
+    """
     if a == 0:
-        return (1 - u) ** 3 / 6.0
+        w = 1 - u
+        return w * w * w / 6.0
+    u2 = u * u
+    u3 = u2 * u
     if a == 1:
-        return (3 * u**3 - 6 * u**2 + 4) / 6.0
+        return (3 * u3 - 6 * u2 + 4) / 6.0
     if a == 2:
-        return (-3 * u**3 + 3 * u**2 + 3 * u + 1) / 6.0
-    return u**3 / 6.0
+        return (-3 * u3 + 3 * u2 + 3 * u + 1) / 6.0
+    return u3 / 6.0
 
 
 @jit(_nrt=False)
