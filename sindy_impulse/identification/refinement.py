@@ -198,6 +198,7 @@ def refine(
     budget: WorkBudget | None = None,
     penalty: float | None = None,
     ftol: float = REFINE_FTOL,
+    resolution: float = 0.0,
 ) -> RefinementResult:
     """Minimize ``measure(model, coefs)`` over the model's non-zero coefficients within sign-keeping bounds.
 
@@ -223,6 +224,14 @@ def refine(
     ftol : float, default=REFINE_FTOL
         SLSQP stops once an iteration changes the score by less than this fraction of the starting score
         (a coarser value where only the score's first digits matter, e.g. to compare candidates).
+    resolution : float, default=0.0
+        The smallest score the measure resolves (its floor per compared value times the values compared,
+        as in :func:`~sindy_impulse.identification.selection.tolerance`): the stop is ``ftol`` times the
+        larger of it and the starting score. On clean data the starting score can lie far below it, where
+        ``ftol`` times that score asks for changes below the rounding of the forward differences and SLSQP
+        runs to ``max_iter`` (the paper's noise-free oscillator: 100 iterations and 1,188 calls of the
+        measure, where this stop takes 5 and 47 to the same score, 1.8e-5, and the same coefficients to 7
+        digits).
 
     Returns
     -------
@@ -261,7 +270,7 @@ def refine(
                 method="SLSQP",
                 bounds=[(0.0, bound_factor)] * objective.values.size,
                 callback=callback,
-                options={"maxiter": max_iter, "ftol": ftol * max(g0, 1e-12) / scale},
+                options={"maxiter": max_iter, "ftol": ftol * max(g0, resolution, 1e-12) / scale},
             )
         w, success, message = np.asarray(res.x, float), bool(res.success), str(res.message)
     except OutOfBudget:

@@ -310,7 +310,8 @@ def run_stages(
         if not may_refine or not np.isfinite(scores[i]):
             return candidates[i], scores[i], {"score": [], "coefficients": []}
         res = refine(
-            problem.compile(candidates[i]), measure, bound_factor, max_iter, budget=refine_budget, ftol=ftol
+            problem.compile(candidates[i]), measure, bound_factor, max_iter, budget=refine_budget, ftol=ftol,
+            resolution=measure.floor * problem.n_values,
         )
         if not res.score <= scores[i]:
             return candidates[i], scores[i], res.history
