@@ -99,6 +99,8 @@ def build(group: str, mark=lambda entry: None) -> None:
         _banded.trace_inverse(band)
         mark(_banded._trace_inverse_kernel)
         basis = _spline.SplineBasis(np.arange(40.0), 8)
+        basis.rhs(np.ones(40))
+        mark(_spline._bincounts)
         basis.fit_scores(np.ones(basis.n_coef), np.ones(40), 2)
         mark(_spline._scores)
         basis.evaluate(np.ones(basis.n_coef))
