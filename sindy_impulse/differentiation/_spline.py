@@ -73,28 +73,62 @@ def _evaluate(c, start, u, spacing, values, slopes):
         slopes[i] = dy / spacing
 
 
+#: Samples per block of the consistency's running moments in :func:`_scores`.
+_BLOCK = 4096
+
+
 @kernel
 def _scores(c, start, u, spacing, g, tau, lo, hi):
-    """``(rss, consistency)`` of the spline ``c`` against ``g`` in one pass (``SplineBasis.fit_scores``)."""
+    """``(rss, consistency)`` of the spline ``c`` against ``g`` in one pass (``SplineBasis.fit_scores``).
+
+    The consistency is the standard deviation of ``g`` minus the trapezoid integral of the spline's slope
+    over the samples ``lo:hi`` (the mean, a free constant, removed): summed about each block's first value
+    and the blocks merged by Chan's formula, which leaves the loop without a division in its chain of
+    dependent operations (Welford's update per sample took 40 % of the pass); the residual sum is
+    accumulated sample by sample in order, as before.
+    """
+    n = start.shape[0]
+    lo = max(lo, 0)
+    hi = max(min(hi, n), lo)
     rss = 0.0
+    for i in range(lo):
+        y, dy = _at(c, start[i], u[i])
+        rss += (g[i] - y) ** 2
     integral = 0.0
     mean = 0.0
     m2 = 0.0
     count = 0
     previous = 0.0
-    for i in range(start.shape[0]):
-        y, dy = _at(c, start[i], u[i])
-        rss += (g[i] - y) ** 2
-        if lo <= i < hi:
+    first = lo
+    while first < hi:
+        stop = min(first + _BLOCK, hi)
+        shift = 0.0
+        s1 = 0.0
+        s2 = 0.0
+        for i in range(first, stop):
+            y, dy = _at(c, start[i], u[i])
+            rss += (g[i] - y) ** 2
             slope = dy / spacing
             if i > lo:  # trapezoid rule, as for the samples of any other basis
                 integral += 0.5 * (previous + slope) * (tau[i] - tau[i - 1])
             previous = slope
-            count += 1
-            d = g[i] - integral - mean  # Welford: the mean (free constant) removed in the same pass
-            mean += d / count
-            m2 += d * (g[i] - integral - mean)
-    return rss, np.sqrt(m2 / max(count, 1))
+            if i == first:
+                shift = g[i] - integral
+            d = g[i] - integral - shift
+            s1 += d
+            s2 += d * d
+        k = stop - first
+        block_mean = s1 / k
+        total = count + k
+        delta = shift + block_mean - mean
+        mean += delta * k / total
+        m2 += (s2 - s1 * block_mean) + delta * delta * count * k / total
+        count = total
+        first = stop
+    for i in range(hi, n):
+        y, dy = _at(c, start[i], u[i])
+        rss += (g[i] - y) ** 2
+    return rss, np.sqrt(max(m2, 0.0) / max(count, 1))
 
 
 class SplineBasis:
