@@ -68,7 +68,9 @@ def segments(fitted: Fitted) -> list[np.ndarray]:
     return fitted.starts
 
 
-def simulate_residuals(model, fitted: Fitted, coef=None, start_offset=None) -> list[np.ndarray]:
+def simulate_residuals(
+    model, fitted: Fitted, coef=None, start_offset=None, stride: int = 1
+) -> list[np.ndarray]:
     """Per trajectory, ``model``'s simulation minus the filtered states (NaN where it diverged).
 
     Ring-downs of more than ``AUTO_PERIODS`` periods are simulated in segments of ``SEGMENT_PERIODS``
@@ -76,21 +78,38 @@ def simulate_residuals(model, fitted: Fitted, coef=None, start_offset=None) -> l
     error of the model's structure); data that do not ring down (a limit cycle, a chaotic attractor) in
     segments of ``SUSTAINED_PERIODS``. ``coef`` replaces the model's active coefficients; ``start_offset``
     (n_states,) is added to every segment's initial state.
+
+    ``stride`` > 1 returns the residual at every ``stride``-th sample only, simulated on those samples
+    (and the segments' first samples) as the error measures simulate a finely sampled record
+    (:class:`~sindy_impulse.simulation.scoring.WeightedL1`): the integrator's sub-steps follow the model's
+    time scale, not the sampling, so the samples skipped between them add steps but no accuracy. A
+    trajectory with inputs is simulated at every sample (the inputs may change between the compared ones).
     """
     extra = {} if coef is None else {"coef": coef}
     out = []
     for ref, t, u, starts in zip(fitted.filtered, fitted.times, fitted.inputs, segments(fitted)):
+        compared = None
+        if stride > 1 and u is None:
+            compared = np.arange(0, ref.shape[0], stride)
+            keep = np.union1d(compared, starts)
+            compared = np.searchsorted(keep, compared)
+            ref, t, starts = ref[keep], t[keep], np.searchsorted(keep, starts)
         if u is None and starts.size > 1 and hasattr(model, "simulate_segments"):  # one run of the kernel
             x0s = ref[starts] if start_offset is None else ref[starts] + start_offset
-            out.append(model.simulate_segments(x0s, t, starts, **extra) - ref)
-            continue
-        ends = np.append(starts[1:], ref.shape[0] - 1)
-        sim = np.full_like(ref, np.nan)
-        for a, b in zip(starts, ends):
-            inputs = None if u is None else u[a : b + 1]
-            x0 = ref[a] if start_offset is None else ref[a] + start_offset
-            sim[a : b + 1] = model.simulate(x0, t[a : b + 1], u=inputs, **extra)
-        out.append(sim - ref)
+            residual = model.simulate_segments(x0s, t, starts, **extra) - ref
+        else:
+            ends = np.append(starts[1:], ref.shape[0] - 1)
+            sim = np.full_like(ref, np.nan)
+            for a, b in zip(starts, ends):
+                inputs = None if u is None else u[a : b + 1]
+                x0 = ref[a] if start_offset is None else ref[a] + start_offset
+                sim[a : b + 1] = model.simulate(x0, t[a : b + 1], u=inputs, **extra)
+            residual = sim - ref
+        if compared is not None:
+            residual = residual[compared]
+        elif stride > 1:
+            residual = residual[::stride]
+        out.append(residual)
     return out
 
 
@@ -110,13 +129,36 @@ def fit_error(residuals, fitted: Fitted, level: np.ndarray) -> np.ndarray:
     return np.where(den > 0, err / np.where(den > 0, den, 1.0), np.where(err > 0, np.inf, 0.0))
 
 
-def _derivative(x: np.ndarray, t: np.ndarray, order: int) -> np.ndarray:
-    """Central differences of second or fourth order (uniform ``t``; second order otherwise), NaN ends."""
+def _derivative(x: np.ndarray, t: np.ndarray, order: int, stride: int = 1) -> np.ndarray:
+    """Central differences of second or fourth order (uniform ``t``; second order otherwise), NaN ends, at
+    every ``stride``-th sample (each from its neighbours only: the samples between are not differenced)."""
     steps = np.diff(t)
-    if order == 2 or x.shape[0] < 5 or np.ptp(steps) > 1e-6 * np.mean(steps):
-        return np.gradient(x, t, axis=0)
-    out = np.full_like(x, np.nan)
-    out[2:-2] = (x[:-4] - 8 * x[1:-3] + 8 * x[3:-1] - x[4:]) / (12 * np.mean(steps))
+    n = x.shape[0]
+    if order == 2 or n < 5 or np.ptp(steps) > 1e-6 * np.mean(steps):
+        if stride == 1:
+            return np.gradient(x, t, axis=0)
+        return _gradient_at(x, t, np.arange(0, n, stride))
+    rows = np.arange(0, n, stride)
+    out = np.full((rows.size, x.shape[1]), np.nan)
+    inner = (rows >= 2) & (rows < n - 2)
+    i = rows[inner]
+    out[inner] = (x[i - 2] - 8 * x[i - 1] + 8 * x[i + 1] - x[i + 2]) / (12 * np.mean(steps))
+    return out
+
+
+def _gradient_at(x: np.ndarray, t: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """``np.gradient(x, t, axis=0)[rows]`` (second order inside, first order at the ends) from the rows'
+    neighbours only."""
+    n = x.shape[0]
+    out = np.empty((rows.size, x.shape[1]))
+    inner = (rows > 0) & (rows < n - 1)
+    i = rows[inner]
+    h1 = (t[i] - t[i - 1])[:, None]
+    h2 = (t[i + 1] - t[i])[:, None]
+    out[inner] = (-h2 / (h1 * (h1 + h2)) * x[i - 1] + (h2 - h1) / (h1 * h2) * x[i]
+                  + h1 / (h2 * (h1 + h2)) * x[i + 1])  # fmt: skip
+    out[rows == 0] = (x[1] - x[0]) / (t[1] - t[0])
+    out[rows == n - 1] = (x[n - 1] - x[n - 2]) / (t[n - 1] - t[n - 2])
     return out
 
 
@@ -130,7 +172,7 @@ def regression(fitted: Fitted, shift: np.ndarray, order: int = 2, stride: int = 
     ]
     theta = library.transform([AxesArray(j, {"ax_time": 0, "ax_coord": 1}) for j in joined])
     theta = np.vstack([np.asarray(th) for th in theta])
-    y = np.vstack([_derivative(f, t, order)[::stride] for f, t in zip(fitted.filtered, fitted.times)])
+    y = np.vstack([_derivative(f, t, order, stride) for f, t in zip(fitted.filtered, fitted.times)])
     return theta, y
 
 

@@ -46,7 +46,7 @@ from scipy.stats import chi2
 
 from ..exceptions import DataWarning
 from ..feature_library.terms import library_terms
-from ..simulation import WORK_BUDGET, WorkBudget, at_rest_level, compile_model
+from ..simulation import WORK_BUDGET, Reference, WorkBudget, at_rest_level, compile_model
 from ..simulation.scoring import compare_stride
 from .model import Fitted, regression, segments, simulate_residuals
 
@@ -132,13 +132,15 @@ class _Sensitivity:
     def __init__(self, fitted: Fitted, shift: np.ndarray, noise_ratio: np.ndarray, raw: list):
         est = fitted.estimator
         self.fitted, self.coef, self.shift = fitted, fitted.coef, shift
-        self.noise = [r - f for r, f in zip(raw, fitted.filtered)] if raw else [0.0] * len(fitted.filtered)
         # residuals compared at <= 200 samples per period, as the error measures do: long records stay cheap
         self.stride = _test_stride(fitted.filtered[0])
+        noise = [(r - f)[:: self.stride] for r, f in zip(raw, fitted.filtered)] if raw else None
+        self.noise = noise or [0.0] * len(fitted.filtered)
         self.n_inputs = 0 if fitted.inputs[0] is None else fitted.inputs[0].shape[1]
         self.terms = library_terms(est.feature_library_, self.coef.shape[0] + self.n_inputs)
-        self.reference = np.vstack(fitted.filtered) - shift
         self.reference_u = None if self.n_inputs == 0 else np.vstack(fitted.inputs)
+        # what every tested model takes from the data (its time scale's probes, its bounds), computed once
+        self.reference = Reference(np.vstack(fitted.filtered) - shift, self.reference_u, self.n_inputs)
         self.divergence = float(getattr(est, "divergence_factor", 100.0))
         self.budget = WorkBudget(WORK_FRACTION * WORK_BUDGET)
         self.theta, self.y = regression(fitted, shift, stride=self.stride)
@@ -183,9 +185,9 @@ class _Sensitivity:
 
     def residual(self, model, coef: np.ndarray, start_offset=None):
         """Simulation minus measured states in noise units, flattened (None if it diverged)."""
-        res = simulate_residuals(model, self.fitted, self._at(model, coef), start_offset)
+        res = simulate_residuals(model, self.fitted, self._at(model, coef), start_offset, self.stride)
         self.budget.charge_model(model)
-        r = np.vstack([(ri - ni)[:: self.stride] for ri, ni in zip(res, self.noise)])
+        r = np.vstack([ri - ni for ri, ni in zip(res, self.noise)])
         return (r / self.sigma).ravel() if np.all(np.isfinite(r)) else None
 
     def start_columns(self):

@@ -27,7 +27,7 @@ from scipy.optimize import minimize
 
 from ..simulation import OutOfBudget, WorkBudget, get_error_measure
 
-__all__ = ["refine", "refine_coefficients", "RefinementResult", "Multipliers"]
+__all__ = ["refine", "refine_coefficients", "RefinementResult", "Multipliers", "REFINE_FTOL"]
 
 #: Whether the refinement and the output-error fit use exact gradients where a model has them
 #: (:mod:`sindy_impulse.simulation.sensitivity`). Off: measured (CPU time, ``identify_modes`` on issue 26's
@@ -47,7 +47,7 @@ _FIRST_STEP = 0.1
 #: hundredths of a standard deviation from where 1e-10 stops. On issue 26's 50 three-mode records
 #: (``benchmarks/speed/batch.py``) 1e-10 -> 1e-7 took 12 % of the survey's CPU time off and moved no
 #: frequency by more than 2e-11 and no damping ratio by more than 3e-9 (relative).
-_FTOL = 1e-7
+REFINE_FTOL = 1e-7
 
 
 @dataclass
@@ -197,6 +197,8 @@ def refine(
     zero_tol: float = 1e-3,
     budget: WorkBudget | None = None,
     penalty: float | None = None,
+    ftol: float = REFINE_FTOL,
+    resolution: float = 0.0,
 ) -> RefinementResult:
     """Minimize ``measure(model, coefs)`` over the model's non-zero coefficients within sign-keeping bounds.
 
@@ -219,6 +221,17 @@ def refine(
         best coefficients found so far (``success=False``).
     penalty : float, optional
         Value used for a diverged simulation (default: ``10 * score_initial + 1``).
+    ftol : float, default=REFINE_FTOL
+        SLSQP stops once an iteration changes the score by less than this fraction of the starting score
+        (a coarser value where only the score's first digits matter, e.g. to compare candidates).
+    resolution : float, default=0.0
+        The smallest score the measure resolves (its floor per compared value times the values compared,
+        as in :func:`~sindy_impulse.identification.selection.tolerance`): the stop is ``ftol`` times the
+        larger of it and the starting score. On clean data the starting score can lie far below it, where
+        ``ftol`` times that score asks for changes below the rounding of the forward differences and SLSQP
+        runs to ``max_iter`` (the paper's noise-free oscillator: 100 iterations and 1,188 calls of the
+        measure, where this stop takes 5 and 47 to the same score, 1.8e-5, and the same coefficients to 7
+        digits).
 
     Returns
     -------
@@ -257,7 +270,7 @@ def refine(
                 method="SLSQP",
                 bounds=[(0.0, bound_factor)] * objective.values.size,
                 callback=callback,
-                options={"maxiter": max_iter, "ftol": _FTOL * max(g0, 1e-12) / scale},
+                options={"maxiter": max_iter, "ftol": ftol * max(g0, resolution, 1e-12) / scale},
             )
         w, success, message = np.asarray(res.x, float), bool(res.success), str(res.message)
     except OutOfBudget:

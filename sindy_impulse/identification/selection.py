@@ -121,7 +121,14 @@ def register_selection_rule(name: str, rule: Callable) -> Callable:
 
 
 def select_candidate(
-    rule, scores, n_terms, refine, noise_gamma: float = 0.0, n_values: int = 0, floor: float = FLOOR
+    rule,
+    scores,
+    n_terms,
+    refine,
+    noise_gamma: float = 0.0,
+    n_values: int = 0,
+    floor: float = FLOOR,
+    final=None,
 ):
     """Select a candidate of the sweep and return it refined.
 
@@ -142,6 +149,9 @@ def select_candidate(
         Number of values the score sums over (samples x states), for the absolute floor.
     floor : float
         The measure's absolute tolerance per value.
+    final : callable, optional
+        ``final(index) -> (coefficients, score, history)``: the selected candidate as returned (e.g. refined
+        to a finer precision than the rule's comparisons need); default ``refine``.
 
     Returns
     -------
@@ -178,4 +188,4 @@ def select_candidate(
     index = int(rule(scores, n_terms, refined, tolerance_at))
     if not 0 <= index < len(scores):
         raise ValueError(f"the selection rule returned index {index} for {len(scores)} candidates")
-    return index, refined(index)
+    return index, (refined(index) if final is None else final(index))

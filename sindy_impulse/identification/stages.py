@@ -32,10 +32,17 @@ from ..optimizers import least_squares
 from ..preprocessing.states import leave_out_clipped
 from ..simulation import Reference, TermTable, WorkBudget, at_rest_level, compile_model, oscillation_count
 from .output_error import OutputErrorResult, fit_output_error
-from .refinement import refine
+from .refinement import REFINE_FTOL, refine
 from .selection import select_candidate
 
-__all__ = ["Problem", "StageResult", "prepare", "run_stages", "filter_states"]
+__all__ = ["Problem", "StageResult", "prepare", "run_stages", "filter_states", "SCREEN_FTOL"]
+
+#: SLSQP's stop (relative change of the score between iterations, see :data:`.refinement.REFINE_FTOL`)
+#: of the refinements a selection rule compares: the rules compare refined scores to within
+#: :data:`.selection.REL_TOL` (10 %) of the score, a thousand times coarser. The selected candidate is
+#: then refined once more, from its unrefined coefficients, to :data:`.refinement.REFINE_FTOL`: its
+#: coefficients are those of a refinement to full precision.
+SCREEN_FTOL = 1e-4
 
 
 def filter_states(method, data: Trajectories, x_dot=None, plain: bool = False):
@@ -298,11 +305,14 @@ def run_stages(
     refine_budget = WorkBudget() if budget is None else budget
     may_refine = refine_selected
 
-    def refined(i: int):
+    def refined(i: int, ftol: float = REFINE_FTOL):
         """The candidate refined on the measure (paper section 2.5); never worse than unrefined."""
         if not may_refine or not np.isfinite(scores[i]):
             return candidates[i], scores[i], {"score": [], "coefficients": []}
-        res = refine(problem.compile(candidates[i]), measure, bound_factor, max_iter, budget=refine_budget)
+        res = refine(
+            problem.compile(candidates[i]), measure, bound_factor, max_iter, budget=refine_budget, ftol=ftol,
+            resolution=measure.floor * problem.n_values,
+        )
         if not res.score <= scores[i]:
             return candidates[i], scores[i], res.history
         return res.coefficients, res.score, res.history
@@ -311,10 +321,11 @@ def run_stages(
         selection,
         np.where(usable, scores, np.inf),
         n_terms,
-        refined,
+        lambda i: refined(i, SCREEN_FTOL),
         noise,
         problem.n_values,
         measure.floor,
+        final=refined,
     )
     fit = None
     if refine_selected and _output_error_on(output_error, problem.filtered) and np.any(coef):

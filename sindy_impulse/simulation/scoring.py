@@ -79,13 +79,13 @@ def oscillation_count(x: np.ndarray) -> float:
     10.0
     """
     x = np.asarray(x, dtype=float).reshape(len(x), -1)
-    centred = x - x.mean(axis=0)
-    band = 0.1 * centred.std(axis=0)
+    mean = x.mean(axis=0)
     most = 0
-    for j in range(x.shape[1]):
-        col = centred[:, j]
-        signs = np.sign(col[np.abs(col) > band[j]])
-        most = max(most, int(np.count_nonzero(np.diff(signs))))
+    for j in range(x.shape[1]):  # one contiguous column at a time: a long record is read a few times only
+        col = x[:, j] - mean[j]
+        band = 0.1 * np.sqrt(np.dot(col, col) / col.size) if col.size else 0.0  # 0.1 standard deviation
+        beyond = col[np.abs(col) > band] > 0  # the side of each sample outside the band
+        most = max(most, int(np.count_nonzero(beyond[1:] != beyond[:-1])))
     return most / 2
 
 
