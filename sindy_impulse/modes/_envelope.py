@@ -292,15 +292,15 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
     # every m-th sample, at least _PER_PERIOD per period, at most about _SAMPLES of them: a parametric fit
     # in time needs no band limit (its start is within a fraction of the alias spacing), and the standard
     # errors say what the samples left out cost
-    step = max(1, min(int(fs / (_PER_PERIOD * frequency_hz)), -(-y.size // _SAMPLES)))
+    stride = max(1, min(int(fs / (_PER_PERIOD * frequency_hz)), -(-y.size // _SAMPLES)))
     t_end = (y.size - 1) / fs
-    y = y[::step]
-    t = np.arange(y.size) * step / fs
+    y = y[::stride]
+    t = np.arange(y.size) * stride / fs
     a2 = abs(amplitude) ** 2
     integral = a2 * -np.expm1(-2 * decay_rate * t) / (2 * decay_rate)
     x = np.array([amplitude.real, amplitude.imag, decay_rate, 2 * np.pi * frequency_hz, 0.0, 0.0])
     cost = np.inf
-    for _ in range(_ITERATIONS):
+    for iteration in range(_ITERATIONS):
         e = np.exp((-x[2] + 1j * x[3]) * t + (-x[5] + 1j * x[4]) * integral)
         ce = (x[0] + 1j * x[1]) * e
         residual = y - ce.real
@@ -310,23 +310,19 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
         if not np.isfinite(new_cost) or new_cost > cost * (1 - _TOLERANCE):
             break  # (the last step no longer lowered the misfit: keep its start's values)
         cost, best = new_cost, (x, residual, jac)
-        if cost < np.inf and np.sqrt(cost / y.size) > _HOPELESS * noise_std and _ > 0:
+        if iteration > 0 and np.sqrt(cost / y.size) > _HOPELESS * noise_std:
             break  # something else is in the decay: the misfit says so without converging
-        scale = np.sqrt(np.einsum("ij,ij->j", jac, jac))
-        scale[scale == 0] = 1.0
-        normal = (jac / scale).T @ (jac / scale)
+        normal, scale = _scaled_normal(jac)
         try:
-            step = np.linalg.solve(normal, (jac / scale).T @ residual) / scale
+            x = x + np.linalg.solve(normal, (jac / scale).T @ residual) / scale
         except np.linalg.LinAlgError:
             return None
-        x = x + step
     x, residual, jac = best
     if not (x[2] > 0 and x[3] > 0):
         return None
     variance = float(residual @ residual) / max(y.size - x.size, 1)
-    scale = np.sqrt(np.einsum("ij,ij->j", jac, jac))
-    scale[scale == 0] = 1.0
-    cov = np.linalg.pinv((jac / scale).T @ (jac / scale)) / np.outer(scale, scale) * variance
+    normal, scale = _scaled_normal(jac)
+    cov = np.linalg.pinv(normal) / np.outer(scale, scale) * variance
     sigma0, omega0, omega2, sigma2 = x[2], x[3], x[4], x[5]
     largest, smallest = abs(amplitude), abs(amplitude) * np.exp(-decay_rate * t_end)
     span = largest**2 - smallest**2
@@ -337,3 +333,12 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
                                (float(largest), float(smallest)),
                                (float(omega0), float(omega2), float(sigma0), float(sigma2)),
                                (std(3), std(4), std(2), std(5)), misfit)
+
+
+def _scaled_normal(jac: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The normal matrix of ``jac`` with its columns scaled to unit norm, and the scales (a mode's
+    amplitude, rates and slopes differ by many orders: unscaled, a pseudo-inverse drops the small ones)."""
+    scale = np.sqrt(np.einsum("ij,ij->j", jac, jac))
+    scale[scale == 0] = 1.0
+    scaled = jac / scale
+    return scaled.T @ scaled, scale

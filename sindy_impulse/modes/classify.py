@@ -227,9 +227,10 @@ def _band_dependence(state, k: int, modes: list):
         z, _ = analytic(state, k, band)
     except ValueError:
         return None
+    if not z.size:
+        return None
     noise = cands[k].noise_std * np.sqrt(2 * (band[1] - band[0]) / fs)
-    return amplitude_dependence(z, fs, band[1] - band[0], noise, frequency_hz=cands[k].frequency_hz) \
-        if z.size else None
+    return amplitude_dependence(z, fs, band[1] - band[0], noise, frequency_hz=cands[k].frequency_hz)
 
 
 def _amplitude_dependent(state) -> None:

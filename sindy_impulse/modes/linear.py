@@ -1,9 +1,11 @@
-"""A linear mode from its poles: the equation, its states, its values and their standard deviations.
+"""A mode from fixed oscillator coefficients: its equation, states, values and their standard deviations.
 
 A mode the linear decay explains (:mod:`.classify`) needs no sweep: the decay fit
 (:mod:`sindy_impulse.poles.decay_fit`) is the output-error fit of its oscillator ``y'' + c y' + k y = 0``,
 whose free response is the damped sinusoid fitted there, so ``k = omega_n^2`` and ``c = 2 sigma`` with their
-standard deviations by the delta method. The mode's model is the survey's estimator carrying these
+standard deviations by the delta method (:func:`linear_mode`). A mode whose free decay shows an amplitude
+dependence the paper's fit missed gets the averaged equations fitted to that decay instead
+(:func:`envelope_mode`). The mode's model is the survey's estimator carrying these
 coefficients (:class:`~sindy_impulse.optimizers.fixed.FixedCoefficients`), fitted on the mode's own states:
 its band signal and its derivative (:func:`~._states.derivative_states`), or, where the band-pass would keep
 too few periods of a strongly damped mode, the free decay with every other component of the decay fit
@@ -28,9 +30,8 @@ from .band_fit import SENSOR_POWER, fit_error_of
 from .result import Mode
 from .signals import band_signal, free_decay
 
-__all__ = ["linear_mode", "envelope_mode", "linear_amplitude", "oscillator_model", "pole_model", "shape_of",
-           "residue_of", "impulse_of",
-           "with_values_of"]
+__all__ = ["linear_mode", "envelope_mode", "linear_amplitude", "oscillator_model", "shape_of", "residue_of",
+           "impulse_of", "with_values_of"]
 
 def _states(state, k: int):
     """``(states, states_dot, t, band or None)`` of candidate ``k``: its band signal's, else its free
@@ -83,30 +84,33 @@ def oscillator_model(template, states, states_dot, t, terms: dict):
     return model, std
 
 
-def pole_model(template, states, states_dot, t, cand):
-    """The oscillator of a candidate's poles (:func:`oscillator_model`): ``k = omega_n^2`` (its std ``2
-    omega_n`` times the frequency's), ``c = 2 sigma``."""
-    omega = 2 * np.pi * cand.frequency_hz
-    return oscillator_model(template, states, states_dot, t, {
-        (1, 0): (omega**2, 2 * omega * 2 * np.pi * cand.frequency_std_hz),
-        (0, 1): (2 * cand.decay_rate, 2 * cand.decay_rate_std)})
-
-
-def linear_mode(state, k: int) -> Mode | None:
-    """The :class:`Mode` of linear candidate ``k`` (see the module); None when the survey's estimator cannot
-    carry an oscillator (its library lacks ``y`` or ``dy``)."""
+def _fixed_mode(state, k: int, terms: dict, source: str, **values) -> Mode | None:
+    """Candidate ``k``'s :class:`Mode` carrying the oscillator of ``terms`` (:func:`oscillator_model`) on
+    its states, with ``values`` (frequency, damping ratio and their standard deviations, a note); None when
+    the survey's estimator cannot carry it."""
     cand = state.candidates[k]
     states, states_dot, t, band = _states(state, k)
-    model, coefficients_std = pole_model(state.options.template, states, states_dot, t, cand)
+    model, coefficients_std = oscillator_model(state.options.template, states, states_dot, t, terms)
     if model is None:
         return None
     amplitude = linear_amplitude(state, cand)
-    return Mode(frequency_hz=cand.frequency_hz, damping_ratio=cand.damping_ratio, band_hz=cand.band_hz,
-                amplitude=amplitude, fit_error=fit_error_of(model), model=model, states=states, t=t,
-                snr_db=float(band.snr_db) if band is not None else float(cand.height_db),
+    return Mode(band_hz=cand.band_hz, amplitude=amplitude, fit_error=fit_error_of(model), model=model,
+                states=states, t=t, snr_db=float(band.snr_db) if band is not None else float(cand.height_db),
                 shape=shape_of(state, cand), residue=residue_of(state, cand, amplitude), record=state.index,
-                frequency_std_hz=cand.frequency_std_hz, damping_ratio_std=cand.damping_ratio_std,
-                coefficients_std=coefficients_std, source="poles")
+                coefficients_std=coefficients_std, source=source, **values)
+
+
+def linear_mode(state, k: int) -> Mode | None:
+    """The :class:`Mode` of linear candidate ``k`` (see the module): the oscillator of its poles, ``k =
+    omega_n^2`` (its std ``2 omega_n`` times the frequency's), ``c = 2 sigma``; None when the survey's
+    estimator cannot carry an oscillator (its library lacks ``y`` or ``dy``)."""
+    cand = state.candidates[k]
+    omega = 2 * np.pi * cand.frequency_hz
+    terms = {(1, 0): (omega**2, 2 * omega * 2 * np.pi * cand.frequency_std_hz),
+             (0, 1): (2 * cand.decay_rate, 2 * cand.decay_rate_std)}
+    return _fixed_mode(state, k, terms, "poles", frequency_hz=cand.frequency_hz,
+                       damping_ratio=cand.damping_ratio, frequency_std_hz=cand.frequency_std_hz,
+                       damping_ratio_std=cand.damping_ratio_std)
 
 
 def envelope_mode(state, k: int, e) -> Mode | None:
@@ -117,27 +121,17 @@ def envelope_mode(state, k: int, e) -> Mode | None:
     the nonlinear terms), each nonlinear term where its change stands out (:meth:`~._envelope.
     AmplitudeDependence.changes`); its frequency and damping ratio are the small-amplitude ones. None when
     the estimator's library lacks those terms."""
-    cand = state.candidates[k]
     (w0, w2, s0, s2), (w0_std, w2_std, s0_std, s2_std) = e.coefficients, e.coefficients_std
-    wn = math.hypot(w0, s0)
-    terms = {(1, 0): (wn**2, 2 * math.hypot(w0 * w0_std, s0 * s0_std)), (0, 1): (2 * s0, 2 * s0_std)}
+    wn, wn_std = math.hypot(w0, s0), math.hypot(w0 * w0_std, s0 * s0_std) / math.hypot(w0, s0)
+    terms = {(1, 0): (wn**2, 2 * wn * wn_std), (0, 1): (2 * s0, 2 * s0_std)}
     if e.changes(CHANGE_SIGMAS, decay=False):
         terms[3, 0] = 8 * w0 * w2 / 3, 8 * math.hypot(w0 * w2_std, w2 * w0_std) / 3
     if e.changes(CHANGE_SIGMAS, frequency=False):
         terms[2, 1] = 8 * s2, 8 * s2_std
-    states, states_dot, t, band = _states(state, k)
-    model, coefficients_std = oscillator_model(state.options.template, states, states_dot, t, terms)
-    if model is None:
-        return None
-    amplitude = linear_amplitude(state, cand)
-    return Mode(frequency_hz=wn / (2 * np.pi), damping_ratio=s0 / wn, band_hz=cand.band_hz,
-                amplitude=amplitude, fit_error=fit_error_of(model), model=model, states=states, t=t,
-                snr_db=float(band.snr_db) if band is not None else float(cand.height_db),
-                shape=shape_of(state, cand), residue=residue_of(state, cand, amplitude), record=state.index,
-                frequency_std_hz=math.hypot(w0 * w0_std, s0 * s0_std) / wn / (2 * np.pi),
-                damping_ratio_std=s0_std / wn, coefficients_std=coefficients_std, source="envelope",
-                uncertainty_note="the averaged equations of its free decay (the paper's fit did not give the "
-                                 "amplitude dependence its envelope shows)")
+    return _fixed_mode(state, k, terms, "envelope", frequency_hz=wn / (2 * np.pi), damping_ratio=s0 / wn,
+                       frequency_std_hz=wn_std / (2 * np.pi), damping_ratio_std=s0_std / wn,
+                       uncertainty_note="the averaged equations of its free decay (the paper's fit did not "
+                                        "give the amplitude dependence its envelope shows)")
 
 
 def linear_amplitude(state, cand) -> float:
