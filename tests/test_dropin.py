@@ -74,6 +74,15 @@ def test_library_terms_equal_the_library_and_avoid_its_transform(make, kind):
     assert getattr(terms, "__name__", "") != "transform"  # no PySINDy transform per evaluation
 
 
+@pytest.mark.parametrize("degree, n_inputs, bias", [(3, 2, True), (5, 1, False), (3, 4, True)])
+def test_polynomial_table_is_the_library_matrix_bit_for_bit(degree, n_inputs, bias):
+    """The regression matrix comes from the term table: PySINDy's own matrix, not just close to it (a
+    drop-in fit must equal PySINDy's)."""
+    z = 3.0 * np.random.default_rng(2).normal(size=(500, n_inputs))
+    library = ps.PolynomialLibrary(degree=degree, include_bias=bias).fit(z)
+    assert np.array_equal(library_terms(library, n_inputs).evaluate(z), np.asarray(library.transform(z)))
+
+
 def test_a_library_the_evaluators_do_not_know_falls_back_to_its_transform():
     class Shifted(ps.PolynomialLibrary):  # a subclass may change its terms: not trusted to be polynomial
         def transform(self, x):

@@ -115,3 +115,16 @@ def test_fixed_coefficients_must_fit_the_library():
                          refine=False)
     with pytest.raises(ValueError, match="do not match"):
         model.fit(x, t=t)
+
+
+def test_fixed_coefficients_hand_back_their_values_whatever_the_data():
+    """No regression is solved: NaN rows and a rank-deficient matrix change nothing."""
+    theta = np.ones((50, 3))  # rank 1
+    theta[5] = np.nan
+    y = np.random.default_rng(0).normal(size=(50, 2))
+    opt = FixedCoefficients([[0.0, 1.0, 0.0], [-4.0, 0.0, -0.2]]).fit(theta, y)
+    assert opt.coef_.tolist() == [[0.0, 1.0, 0.0], [-4.0, 0.0, -0.2]]
+    assert opt.ind_.tolist() == [[False, True, False], [True, False, True]]
+    assert opt.Theta_.shape == (49, 3) and opt.coef_ is not opt.coefficients
+    with pytest.raises(ValueError, match="do not match"):
+        FixedCoefficients([[1.0, 2.0]]).fit(theta, y)

@@ -8,6 +8,7 @@ from sindy_impulse.preprocessing import (
     bandpass,
     decimation_factor,
     extract_band,
+    filter_gain,
     peak_bands,
     record_end,
     transient_samples,
@@ -143,3 +144,20 @@ def test_bad_band_is_refused(band):
 def test_bad_start_is_refused():
     with pytest.raises(ValueError, match="start must be"):
         extract_band(_mode(150.0, 0.003), FS, (136.4, 165.0), start=10**6)
+
+
+def test_the_fft_band_pass_weights_only_positive_frequencies_by_the_filter_gain():
+    """The analytic band-pass equals the full two-sided construction: the positive frequencies doubled and
+    weighted by ``filter_gain``, the rest zero (the gain is evaluated on the band's support only)."""
+    from scipy.fft import next_fast_len
+
+    fs = 2000.0
+    x = np.random.default_rng(3).normal(size=1001)
+    for band in [(40.0, 60.0), (900.0, 990.0)]:
+        pad = transient_samples(fs, band)
+        n_fft = next_fast_len(x.size + 2 * pad)
+        freq = np.fft.fftfreq(n_fft, 1.0 / fs)
+        gain = filter_gain(freq, fs, band) * np.where(freq > 0, 2.0, 0.0)
+        expected = np.fft.ifft(np.fft.fft(x, n_fft) * gain)[: x.size]
+        got = bandpass(x, fs, band, analytic=True)
+        np.testing.assert_allclose(got, expected, rtol=0, atol=1e-12 * np.abs(expected).max())

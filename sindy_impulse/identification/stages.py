@@ -182,8 +182,11 @@ def prepare(
         derivs, excluded = leave_out_clipped(data.x, derivs)
     shifted = [f - level for f in filtered]
     joined = shifted if data.u is None else [np.hstack([f, ui]) for f, ui in zip(shifted, data.u)]
-    theta = library.fit_transform([AxesArray(j, {"ax_time": 0, "ax_coord": 1}) for j in joined])
-    theta = np.asarray(theta[0]) if len(theta) == 1 else np.vstack([np.asarray(th) for th in theta])
+    library.fit([AxesArray(j, {"ax_time": 0, "ax_coord": 1}) for j in joined])
+    # the matrix from the library's terms (checked against its transform); unknown terms: its transform
+    terms = library_terms(library, data.n_states + data.n_inputs)
+    evaluate = terms.evaluate if isinstance(terms, TermTable) else terms
+    theta = np.vstack([np.asarray(evaluate(j)) for j in joined])
     y = np.vstack(derivs)
     usable = int(np.sum(np.all(np.isfinite(y), axis=1) & np.all(np.isfinite(theta), axis=1)))
     if usable < theta.shape[1] + 1:
@@ -198,7 +201,6 @@ def prepare(
             DataWarning,
             stacklevel=4,
         )
-    terms = library_terms(library, data.n_states + data.n_inputs)
     return Problem(data, filtered, derivs, level, theta, y, terms, excluded, divergence_factor)
 
 

@@ -28,6 +28,7 @@ from numbers import Integral, Real
 import numpy as np
 
 from .._utils.params import HasMethods, Interval, Options, check_param
+from .._utils.threads import one_thread
 from .._utils.validation import check_signal
 from ..exceptions import DataWarning, NoDynamicsWarning
 from ._hits import merge_hits
@@ -83,15 +84,17 @@ def _times(t, n_records: int):
 def _survey_record(state: SurveyState) -> SurveyState:
     """One record through :data:`SURVEY`. A problem of the input (the ``read`` stage refuses it) raises its
     clear error; a failure after that becomes one :class:`Rejected` row of the record, with the error as
-    its evidence, so the other records of a survey stand."""
-    Pipeline(SURVEY[:1])(state)
-    try:
-        Pipeline(SURVEY[1:])(state)
-    except Exception as err:  # noqa: BLE001 - one record's failure must not abort the survey
-        evidence = {"error": type(err).__name__, "message": str(err)}
-        reason = f"the identification of record {state.index} failed ({type(err).__name__}: {err})"
-        state.modes, state.origin = [], []
-        state.rejected.append(Rejected(None, reason, state.index, evidence, Reason.FIT_FAILED))
+    its evidence, so the other records of a survey stand. BLAS runs on one thread: a survey's products are
+    small (a band's few thousand samples by a handful of columns), where threads only contend."""
+    with one_thread("blas"):
+        Pipeline(SURVEY[:1])(state)
+        try:
+            Pipeline(SURVEY[1:])(state)
+        except Exception as err:  # noqa: BLE001 - one record's failure must not abort the survey
+            evidence = {"error": type(err).__name__, "message": str(err)}
+            reason = f"the identification of record {state.index} failed ({type(err).__name__}: {err})"
+            state.modes, state.origin = [], []
+            state.rejected.append(Rejected(None, reason, state.index, evidence, Reason.FIT_FAILED))
     return state
 
 
