@@ -399,7 +399,7 @@ def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: in
     linear = not (has_nonlinear_terms(parent.model) if nonlinear is None else nonlinear)
     if e["locked"] and not e["locked_within_errors"] and linear:
         e.update(locked=False, harmonic=False)  # a linear parent's harmonic: exactly n times it (see below)
-    if candidate.damping_ratio > 0:  # a fitted mode: its decay rate over its parent's is the exponent too
+    if candidate.damping_ratio > 0 and parent.damping_ratio > 0:  # fitted decays: their ratio is the exponent
         e.update(decay_exponent=float(candidate.damping_ratio * candidate.frequency_hz
                                       / (parent.damping_ratio * parent.frequency_hz)))
     if e["harmonic"] and linear and not _decays_as_power(parent, candidate, order):
