@@ -184,8 +184,8 @@ def alternatives(test: Comparison, coef, terms, search: bool, n_search: int):
 
 #: Share of the model's shift the data must show the other way (besides the resolution) to contradict
 #: it: the data's Hilbert backbone scatters, its damping-ratio change over the decay of a linear record
-#: reaching 0.04 (median) to 0.15 (90 %) in ``benchmarks/accuracy/nonlinearity.py`` (short, strongly damped
-#: decays), where the model's backbone of an amplitude-dependent damper shows 0.12-0.36.
+#: reaching 0.04 (median) to 0.15 (90 %) on short, strongly damped simulated decays, where the model's
+#: backbone of an amplitude-dependent damper shows 0.12-0.36.
 CONTRADICTION_SHARE = 0.5
 
 

@@ -31,8 +31,8 @@ The test works on unit-free data: each state's equilibrium (the mean of the end 
 and the state divided by its largest magnitude, so scaling the record (1e-6 ... 1e6) or adding an offset
 does not change the verdict. Coefficients are reported in the data's units (about the equilibrium).
 
-Measured (``benchmarks/accuracy/nonlinearity.py``: single-mode accelerometer hammer tests through band-pass
-and derivative states, SNR 30-60 dB, 10-96 cycles kept, damping ratio 0.3-2 %, 100 records per row):
+Measured (simulated single-mode accelerometer hammer tests through band-pass and derivative states, SNR
+30-60 dB, 10-96 cycles kept, damping ratio 0.3-2 %, 100 records of each kind):
 false alarms on 2 of 100 linear records; "nonlinear" on 100 of 100 with a cubic spring (frequency shift
 0.35-1 % over the decay) and on 100 of 100 with a damping growing with amplitude (x 1.5-2.5 over the
 decay, frequency shift 0); the same verdict on every record scaled by 1e-6 and 1e6 with an offset (300 of

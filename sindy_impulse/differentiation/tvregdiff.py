@@ -71,14 +71,14 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         the units of the data or of time. A float (or one per column) is used as given, in the units of
         the functional above (data units x time units^order): it scales linearly with the signal
         amplitude. Because the penalty is written as a time integral, the best alpha depends little on
-        the sampling rate: on the benchmark ring-down (30 dB, 4 s) the automatic choice changed by less
+        the sampling rate: on the paper's ring-down (30 dB, 4 s) the automatic choice changed by less
         than 1.6x between 201 and 1601 samples, for order 1 and 3 (Chartrand's unscaled sum over samples
         would need alpha proportional to N instead). ``alpha_`` after an ``"auto"`` run is a value in
         these units that reproduces the result.
     order : {1, 2, 3}, default=3
         Penalized derivative of ``u``: 1 is Chartrand's total variation (piecewise-constant derivative),
         2 and 3 penalize the variation of the 2nd and 3rd derivative. Smooth ring-downs favour 3 (about
-        2.4-3.3x smaller errors than 1 at 20-40 dB SNR; see ``benchmarks/accuracy/tvregdiff.py``).
+        2.4-3.3x smaller errors than 1 on the paper's ring-down at 20-40 dB SNR).
     alpha_selection : {"gcv", "consistency"}, default="gcv"
         Criterion for ``alpha="auto"``, minimized over a log grid of alphas:
 
@@ -97,7 +97,7 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         differences of the current iterate: ``|d|`` is replaced by ``sqrt(d^2 + (eps * rms(d))^2)``.
         ``eps -> 0`` is the pure (edge-preserving) TV of Chartrand; ``eps = 1`` penalizes small variations
         quadratically and large ones linearly, which was 10-28% more accurate than ``eps=1e-3`` on smooth
-        ring-downs at 40-20 dB (order 3; ``benchmarks/accuracy/tvregdiff.py``).
+        ring-downs at 40-20 dB (order 3).
     max_iter : int, default=30
         Lagged-diffusivity iterations per alpha.
     tol : float, default=1e-4

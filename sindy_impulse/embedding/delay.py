@@ -314,7 +314,7 @@ class DelayEmbedding(TransformerMixin, BaseEstimator):
         cut by the same ``offset_`` leading samples. ``delayed=True`` gives the input at every delay of the
         row, ``[u_(n-(m-1)tau), ..., u_n]`` per channel (a delayed coordinate is driven by the input at its
         delay); ``delayed=False`` only ``u_n``. Embed forced records with a short ``tau`` (a few samples):
-        the input between the delays is not seen (``benchmarks/accuracy/forced.py`` measures both).
+        the input between the delays is not seen.
 
         Examples
         --------

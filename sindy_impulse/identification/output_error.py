@@ -80,8 +80,8 @@ def fit_output_error(
     simulation with sensitivities (:mod:`~sindy_impulse.simulation.sensitivity`) for a two-state cubic
     model.
     Started from a refined model, it removes what the measured first state's noise did to the
-    coefficients: on ``benchmarks/accuracy/model_backbone.py``'s amplitude-dependent dampers (40-105
-    periods) the damping backbones within the marks went from 40 to 45 of 50 records.
+    coefficients: on simulated single modes with an amplitude-dependent ``x^2 x'`` damper (40-105 periods,
+    SNR 30-60 dB) the damping backbones within the marks went from 40 to 45 of 50 records.
 
     It is a local fit of a whole free decay: meant for records short enough that the starting model's
     phase stays within a fraction of a period over them (a hundred periods or so, see

@@ -202,8 +202,8 @@ def _near_order(ratio: float, sigma: float, n_eff: float, order: int, tol: float
     :data:`RATIO_TOL`. The standard error of a stretch of ``n_eff`` independent samples is itself uncertain
     (a line fitted to 4 of them leaves 2 degrees of freedom): the normal's ``SIGMAS`` becomes the Student-t
     quantile of the same probability with ``n_eff - 2`` degrees of freedom (3.0 for long stretches; the
-    quarters of a harmonic 20 dB over the noise hold 1.4-3.8 such samples, and their ratios strayed 3-7
-    standard errors from 2 on family (e) records 38 and 60 of ``benchmarks/accuracy/modes.py``)."""
+    quarters of a harmonic 20 dB over the noise hold 1.4-3.8 such samples, and the frequency ratios of a
+    true second harmonic's quarters to its mode strayed 3-7 standard errors from 2)."""
     sigmas = float(student_t.ppf(normal_cdf(SIGMAS), max(n_eff - 2.0, 1.0)))
     return abs(ratio - order) <= max(sigmas * sigma, tol * order)
 
@@ -227,8 +227,8 @@ def _parent_band(bands: list, freqs: np.ndarray, i: int, candidate_band) -> tupl
     narrow parent band smooths the phase of a mode whose frequency moves fast early in the decay over a
     longer time than the harmonic's band (the ratio of a true cubic harmonic read 3.010 and 2.988 in two
     quarters) and its transient hides a fast-decaying harmonic altogether. Its low edge stays above a
-    twentieth of the parent's frequency (a strongly damped candidate's wide band reached 0 Hz: an invalid
-    band that aborted the record's survey, family (d) of ``benchmarks/accuracy/modes.py``)."""
+    twentieth of the parent's frequency (in a short record of strongly damped modes a candidate's wide band
+    reached 0 Hz: an invalid band that aborted the record's survey)."""
     half = 0.5 * (candidate_band[1] - candidate_band[0])
     f = freqs[i]
     lo = max(f - half, 0.5 * (freqs[i - 1] + f)) if i > 0 else f - half
@@ -257,13 +257,13 @@ def _on_backbone(parent, candidate, order: int) -> bool:
     p >= 2 of the parent's: its envelope decays p times as fast; an x^2 x' damper's third harmonics decay
     4.2 and 5.7 times as fast as their parents' linear rates), nor for a parent identified without a band
     signal (no band SNR: the direct or free-decay fit of a short record, :mod:`._short`), whose few periods
-    do not make a backbone to extrapolate (family (d) of ``benchmarks/accuracy/modes.py``: a 47.9 Hz mode
-    decaying 0.6 times as fast as a 24.3 Hz one was named its harmonic 2, a 307.7 Hz mode at 2.016 times a
-    152.6 Hz one its harmonic 2, both parents' few-period models with cubic terms), nor for a candidate
-    more than ``order**2`` times as strong as the parent (a harmonic is weaker than its mode in
-    displacement; an acceleration sensor lifts harmonic n by n**2 at most): family (b) of
-    ``benchmarks/accuracy/modes.py``, seed 1, record 42: a record's strongest mode, 2795.6 Hz, was named
-    harmonic 2 of a mode 36 dB weaker whose noisy band equation had cubic terms.
+    do not make a backbone to extrapolate (in short records of strongly damped linear modes, parents'
+    few-period models with cubic terms would name e.g. a 47.9 Hz mode decaying 0.6 times as fast as a 24.3
+    Hz one its harmonic 2, and a 307.7 Hz mode at 2.016 times a 152.6 Hz one), nor for a candidate more than
+    ``order**2`` times as strong as the parent (a harmonic is weaker than its mode in displacement; an
+    acceleration sensor lifts harmonic n by n**2 at most): a weak mode's noisy band equation may have cubic
+    terms, and a record's strongest mode near twice its frequency (e.g. 2795.6 Hz, the weak mode 36 dB
+    below it) would be named its harmonic 2.
     """
     from ..analysis import backbone
     from ._nonlinear import has_nonlinear_terms
@@ -329,8 +329,8 @@ def _decays_as_power(parent, candidate, order: int) -> bool:
     """Whether the candidate's fitted decay rate is ``k`` times the linear parent's (``2 <= k <= order``)
     within :data:`SIGMAS` standard errors of their ratio (from both modes' standard deviations; True when
     they have none: nothing to judge). A harmonic's amplitude goes as its mode's to the power ``k``: of a mode
-    whose equation is linear (a constant decay rate) it decays exactly ``k`` times as fast. Family (a)
-    record 73 of ``benchmarks/accuracy/modes.py``: a linear 987.54 Hz mode 0.026 % off twice a linear 493.64
+    whose equation is linear (a constant decay rate) it decays exactly ``k`` times as fast; a mode near a
+    whole multiple of a linear one need not: e.g. a linear 987.54 Hz mode 0.026 % off twice a linear 493.64
     Hz mode, locked within the few independent samples of its stretch, decays 2.21 times as fast.
 
     Examples
@@ -375,9 +375,10 @@ def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: in
 
     :data:`RATIO_TOL` serves a nonlinear parent, whose frequency moves along its backbone faster than the
     band-passed phases follow; a parent whose model is linear keeps its frequency, and a harmonic of it
-    (from nonlinear terms too weak for its equation) is at ``n`` times it within the standard errors: family
-    (a) record 73 of ``benchmarks/accuracy/modes.py``, a linear 987.54 Hz mode 0.026 % off twice a linear
-    493.64 Hz one, read 2.00080 +- 0.00017 (4.7 standard errors off) and was named its harmonic.
+    (from nonlinear terms too weak for its equation) is at ``n`` times it within the standard errors; a
+    linear mode near a whole multiple of a linear one passes the tolerance: e.g. a linear 987.54 Hz mode
+    0.026 % off twice a linear 493.64 Hz one reads 2.00080 +- 0.00017 (4.7 standard errors off) and would be
+    named its harmonic.
 
     ``nonlinear``: whether the parent is nonlinear, when known without its model (a candidate the linear
     decay does not explain); None reads its model's terms, and only then may its backbone decide.
@@ -451,11 +452,10 @@ def _unseen_harmonics(pre, ring, modes: list, rejected: list) -> tuple:
     linear mode makes none), where no mode, peak or rejected row lies, a spectral peak over the floor
     (:func:`_unseen_peak`) is tested as that mode's harmonic in a band :data:`_FAILED_BAND` wide (a cubic
     spring's third harmonic sweeps three times its mode's frequency change: the damped-sinusoid test of the
-    peaks, made for modes, drops it; family (e) of ``benchmarks/accuracy/modes.py``, records 15 and 37 at 38
-    and 37 dB). Only the data decide here (no mode is at stake, and noise must not be named): a peak
-    phase-locked to the mode whose amplitude goes as a power of at least :data:`MIN_EXPONENT` of the mode's (a
-    chirping harmonic seen over a few periods read 4.8) becomes a rejected row with its evidence; anything
-    else is left alone. ``(rejected, notes)``."""
+    peaks, made for modes, drops it, even at 37-38 dB SNR). Only the data decide here (no mode is at stake,
+    and noise must not be named): a peak phase-locked to the mode whose amplitude goes as a power of at least
+    :data:`MIN_EXPONENT` of the mode's (a chirping harmonic seen over a few periods read 4.8) becomes a
+    rejected row with its evidence; anything else is left alone. ``(rejected, notes)``."""
     from ._nonlinear import has_nonlinear_terms
 
     spectrum = pre.peaks.spectrum

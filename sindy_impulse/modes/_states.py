@@ -7,8 +7,8 @@ as ``y^2 dy`` (amplitude-dependent damping) or ``y^3`` (hardening) keep their ph
 
 The band signal is already filtered (the zero-phase band-pass is the denoising step) and band-limited well
 below its sampling rate (8-20 samples per period), so a 9-point central difference (8th order)
-differentiates it to 1e-4 relative at 8 samples per period and 1e-6 at 16. Measured on a 478 Hz mode at
-10.5 samples per period (``benchmarks/accuracy/modes.py`` case): TVRegDiff's derivative is biased there
+differentiates it to 1e-4 relative at 8 samples per period and 1e-6 at 16. Measured on a simulated 478 Hz
+mode at 10.5 samples per period: TVRegDiff's derivative is biased there
 (model ``y' = 1.2 dy``, frequency 20 % off, zero damping), the band-limited derivatives give the frequency
 to 3e-5 and the damping ratio to 0.1 %.
 """
@@ -105,7 +105,8 @@ _FREE_DECAY_SAMPLES_PER_PERIOD = 16.0
 #: sinusoid with the same pole (to rounding). The derivatives are the local polynomial's: the relation
 #: ``y'' = -w^2 y - 2 zeta w y'`` read on them is off by 0.34 % in frequency and 0.6 % in damping ratio at
 #: half a period (``tests/test_modes_short.py`` bounds it), the start the identification refines; a wider
-#: window passes less noise (family (d)'s equations: ``python -m benchmarks short_records --poles``).
+#: window passes less noise but is further off (the trade-off set on the equations of short, strongly
+#: damped decays of a few periods).
 WINDOW_PERIODS = 0.5
 
 

@@ -27,8 +27,8 @@ MAX_FIT_ERROR = 0.25
 #: A mode's model is selected and refined on bands longer than 30 periods by segments normalised by their
 #: own amplitude down to this share of the largest, by absolute errors below it (the estimator's default
 #: floor is 0.01): the quiet end of a band, near the noise, then does not magnify its noise. Measured on
-#: ``benchmarks/accuracy/model_backbone.py`` (x^2 x' dampers, SNR 30-60 dB, 40-80 periods; mode backbones
-#: within the marks): 0.01 -> 36/50 (the split between linear and amplitude-dependent damping followed the
+#: simulated single modes with an x^2 x' damper (SNR 30-60 dB, 40-80 periods; mode backbones within the
+#: marks): 0.01 -> 36/50 (the split between linear and amplitude-dependent damping followed the
 #: noise of the last segments), 0.1 -> 40/50, 0.3 -> 41/50; but at 0.3 two of 24 records rounded to 8
 #: digits moved a coefficient of two correlated terms (y^3, y dy^2) by 27 % and 259 % (another local
 #: minimum), at 0.1 none by more than 3.9e-4
@@ -48,8 +48,8 @@ SEGMENT_PERIODS = Segmented().segment_periods
 #: :func:`~sindy_impulse.identification.output_error.fit_output_error`). Gamma and
 #: the segments start every simulation from the filtered measured state, whose noise the coefficients then
 #: absorb: a fit of the generating equation's own structure with its initial state fixed there passes
-#: 29/50 damper backbones, with the initial state fitted 46/50 (``benchmarks/accuracy/model_backbone.py``,
-#: x^2 x' dampers of 40-105 periods); the modes' backbones went from 40/50 to 45/50. A fit of a whole
+#: 29/50 damper backbones, with the initial state fitted 46/50 (simulated single modes with an x^2 x'
+#: damper, 40-105 periods); the modes' backbones went from 40/50 to 45/50. A fit of a whole
 #: free decay is local: on bands of hundreds of periods the segment-wise measure's model stays.
 OUTPUT_ERROR_PERIODS = 150
 #: Power of omega between a displacement and what each sensor measures.

@@ -55,11 +55,10 @@ class Mode:
     frequency_std_hz, damping_ratio_std : float
         Standard deviations of ``frequency_hz`` and ``damping_ratio`` from the fit itself: the noise of the
         band signal propagated through the linearised fit of the model's simulation to its states
-        (:mod:`sindy_impulse.modes.uncertainty`; ``benchmarks/accuracy/uncertainty.py`` measures their
-        calibration), plus, for a model with nonlinear terms, how far those move the values over the
-        data (a stated systematic term). NaN when they cannot be computed (``uncertainty_note`` says
-        why). With repeated hits, the standard deviation of the combined value; the hits' scatter is
-        ``frequency_spread_hz``.
+        (:mod:`sindy_impulse.modes.uncertainty`, which gives their measured calibration), plus, for a model
+        with nonlinear terms, how far those move the values over the data (a stated systematic term). NaN
+        when they cannot be computed (``uncertainty_note`` says why). With repeated hits, the standard
+        deviation of the combined value; the hits' scatter is ``frequency_spread_hz``.
     coefficients_std : ndarray or None
         Standard deviation of each of ``model.coefficients()`` from the fit (NaN for terms the model does
         not have).

@@ -27,19 +27,21 @@ periodogram over the gain). For the weighted-L1 fits the variance is multiplied 
 :data:`L1_VARIANCE_FACTOR` (``4 / pi``, derived below). The residual includes what the model does not
 follow, so a misfit widens the standard deviations. No other systematic term is added: the band-pass
 filter's own bias on a decay (relative 1e-7 in frequency and 1e-4 in decay rate on noise-free
-ring-downs, ``benchmarks/accuracy/preprocessing.py``) is below the noise's effect at the SNRs measured.
+ring-downs) is below the noise's effect at the SNRs measured.
 
 **One stated systematic term**, added in quadrature: the mode's values are those of the model's linear
 part at rest, its small-amplitude limit. A model with nonlinear terms moves its frequency and damping over
 the amplitudes of its data; how far (the linear system that best reproduces the model's right-hand side
 over its states, against the linear part at rest) is counted as a standard deviation of the small-amplitude
 values. It is zero for a linear model. Measured: a linear mode next to a strongly damped neighbour whose
-leakage the model followed with cubic terms (48.12 Hz, 60 dB, ``benchmarks/accuracy/uncertainty.py``) had its
-frequency 85 and its damping ratio 62 noise standard deviations off; with the term, 0.9 and 0.9.
+leakage the model followed with cubic terms (48.12 Hz, 60 dB) had its frequency 85 and its damping ratio 62
+noise standard deviations off; with the term, 0.9 and 0.9.
 
 The frequency and damping ratio are functions of the coefficients (the eigenvalue of the model's
 Jacobian at rest, :mod:`sindy_impulse.poles.modal`); their variances follow by the delta method
-(central differences of the eigenvalue). ``benchmarks/accuracy/uncertainty.py`` measures the calibration.
+(central differences of the eigenvalue). Calibration measured on simulated single- and two-mode hammer tests
+at 30, 45 and 60 dB SNR (about 300 modes a level): ``value +- 2 std`` held the true frequency and damping
+ratio for 93-94 % of the modes, and the RMS of ``error / std`` was 1.02-1.09.
 """
 
 from __future__ import annotations

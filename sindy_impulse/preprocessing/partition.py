@@ -42,12 +42,12 @@ _TOP = 0.499
 def resolved(frequency_hz: tuple[float, float], damping_ratio: tuple[float, float]) -> bool:
     """Whether two modes are at least the wider one's half-power half-width (``zeta f``) apart.
 
-    Closer than that they are the pieces of one mode that a linear fit cuts in two: a chirp's stable poles
-    (family (g) of ``benchmarks/accuracy/modes.py``: 593.0 Hz as 594.2 and 596.2 Hz), or an
-    amplitude-dependent damping's two decay rates (``benchmarks/accuracy/model_backbone.py``'s damper seed 39:
-    a 73.0 Hz mode at damping ratio 0.015 as poles at 73.04 Hz, 0.017, and 71.9 Hz, 0.137). Two true modes
-    a record resolves are farther apart (family (f) draws pairs ``k (zeta1 f1 + zeta2 f2)`` apart, ``k >=
-    1``).
+    Closer than that they are the pieces of one mode that a linear fit cuts in two: the stable poles of a
+    mode whose frequency moves with amplitude (593.0 Hz as 594.2 and 596.2 Hz), or an
+    amplitude-dependent damping's two decay rates (a 73.0 Hz mode at damping ratio 0.015 with an ``x^2 x'``
+    damper as poles at 73.04 Hz, 0.017, and 71.9 Hz, 0.137). Two true modes that a record resolves are
+    farther apart, at least about the sum of their half-power half-widths (``zeta1 f1 + zeta2 f2``, more
+    than the wider one's alone).
 
     Examples
     --------

@@ -9,8 +9,7 @@ __all__ = ["WorkBudget", "WORK_BUDGET", "OVERRUN", "OutOfBudget"]
 #: term evaluations per RK4 step (see ``CompiledModel.work``). About 4-10 s on one core through the
 #: general kernel, less for two-state polynomial models (:mod:`.cubic2`). Measured: at half this budget
 #: the refinement of a cubic-spring record with five correlated terms stopped before converging, so the
-#: same record rounded to 8 significant digits moved a coefficient by 16 %; at this budget by 4.4e-3
-#: (``benchmarks/accuracy/nonlinearity.py``, rounding table).
+#: same record rounded to 8 significant digits moved a coefficient by 16 %; at this budget by 4.4e-3.
 WORK_BUDGET = 2e8
 #: Work a model may do past its budget's remainder before the next charge, as a fraction of the budget (a
 #: batch of adaptive simulations stops there).
