@@ -298,6 +298,8 @@ def fit_candidates(state) -> None:
         f0 = np.concatenate([fit.damped_frequency_hz[keep], new_f])
         s0 = np.concatenate([fit.decay_rate[keep], new_s])
         fit = None
+    if fit is not None and not given:
+        fit = _split_by_poles(fit, ring, fs, state.poles, noise, threshold)
     state.fit = fit
     state.candidates = [] if fit is None else _candidates(fit, state.poles)
     state.candidates = [c for c in state.candidates if c.stable or c.damping_ratio <= MODE_DAMPING or given]
@@ -309,6 +311,47 @@ def fit_candidates(state) -> None:
     state.pre = replace(pre, peaks=_as_peaks(state.candidates, peaks, threshold, fs, given))
     state.decide(f"{len(state.candidates)} candidate(s) over {threshold:.1f} dB after {rounds} round(s): "
                  + ", ".join(f"{c.frequency_hz:.5g} Hz ({c.height_db:.0f} dB)" for c in state.candidates))
+
+
+def _unexplained(fit) -> np.ndarray:
+    """Mask of the components the linear decay does not explain (:attr:`Candidate.explained`)."""
+    return (np.asarray(fit.lack_of_fit_p) < NONLINEAR_P) & (np.asarray(fit.lack_of_fit) > NONLINEAR_RATIO)
+
+
+def _split_by_poles(fit, ring: np.ndarray, fs: float, table, noise, threshold_db: float):
+    """The decay fit with each component it does not explain replaced by the stable poles inside its
+    half-power band, where that explains them.
+
+    Two modes whose half-power bands touch give two stable poles, but seed the fit once (the seeds keep
+    one pole per half-power band, as a single mode's poles may make two clusters), and the one component
+    then leaves a misfit. The poles decide: the component is refitted as those poles, and the split is kept
+    when every one of them comes out a separate component that the linear decay explains and that stands
+    over the detection threshold (a nonlinear mode's chirp, whose poles also spread, stays unexplained by
+    linear components and keeps its one).
+    """
+    unexplained = np.flatnonzero(_unexplained(fit))
+    if not unexplained.size:
+        return fit
+    stable = [m for m in table.modes() if m.n_orders >= SEED_PERSISTENCE * len(table.orders)
+              and m.damping_ratio < MAX_DAMPING]
+    f = np.array([m.frequency_hz * np.sqrt(1 - m.damping_ratio**2) for m in stable])
+    sigma = np.array([2 * np.pi * m.frequency_hz * m.damping_ratio for m in stable])
+    resolution = fs / ring.shape[0]
+    for k in unexplained:
+        width = fit.decay_rate[k] / (2 * np.pi)
+        inside = np.flatnonzero(np.abs(f - fit.damped_frequency_hz[k]) <= max(width, resolution))
+        if inside.size < 2 or np.min(np.diff(np.sort(f[inside]))) <= 2 * resolution:
+            continue
+        others = np.arange(len(fit)) != k
+        trial = fit_decay(ring, fs, np.concatenate([fit.damped_frequency_hz[others], f[inside]]),
+                          np.concatenate([fit.decay_rate[others], sigma[inside]]), noise=noise)
+        tf = np.asarray(trial.damped_frequency_hz)
+        new = np.unique([int(np.argmin(np.abs(tf - g))) for g in f[inside]])  # the poles' components
+        separate = new.size == inside.size and np.min(np.diff(np.sort(tf[new]))) > 2 * resolution
+        if (len(trial) == len(fit) + inside.size - 1 and separate and not _unexplained(trial)[new].any()
+                and np.all(trial.height_db[new] >= threshold_db)):
+            return _split_by_poles(trial, ring, fs, table, noise, threshold_db)
+    return fit
 
 
 def _candidates(fit, table) -> list:
