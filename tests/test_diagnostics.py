@@ -381,3 +381,22 @@ def test_the_residuals_colour_is_read_per_direction():
     assert _Colour(white, 1, np.zeros(1)).ratio(in_band) == pytest.approx(1.0, rel=0.5)
     coloured = _Colour(narrow / narrow.std(), 1, np.zeros(1))
     assert coloured.ratio(in_band) > 5 and coloured.ratio(out_of_band) < 0.2
+
+
+def test_term_tests_compile_one_model_per_new_term(monkeypatch):
+    """A tested term enters every equation's model (at 1e-300 where it is not tested): the tests of the
+    same term in different equations share that model, with the same statistics as separate ones."""
+    from sindy_impulse.diagnostics import terms
+
+    ring = damped_oscillator(snr_db=40, random_state=0)
+    model = ImpulseSINDy().fit(ring.x, t=ring.t)
+    tried = []
+    column, compile_ = terms._Sensitivity.column, terms._Sensitivity.model
+    monkeypatch.setattr(terms._Sensitivity, "column", lambda s, i, j: tried.append(j) or column(s, i, j))
+    compiled = []
+    monkeypatch.setattr(terms._Sensitivity, "model", lambda s, cols: compiled.append(1) or compile_(s, cols))
+    shared = diagnose_fit(model, warn=False)
+    new_terms = {j for j in tried if not np.any(model.coef_[:, j])}
+    assert len(compiled) == 1 + len(new_terms) < len(tried)  # the base model, then one per new term
+    assert shared.term_statistics == model.diagnostics_.term_statistics
+    assert shared.missing_terms == model.diagnostics_.missing_terms

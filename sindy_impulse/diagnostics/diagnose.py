@@ -19,7 +19,10 @@ _CHECK_ERRORS = (ValueError, ArithmeticError, np.linalg.LinAlgError)
 
 def _estimator_warned(estimator) -> frozenset:
     """Reasons the estimator itself has already warned about during this fit."""
-    path = getattr(estimator, "path_", None)
+    # the sweep's scores as the fit left them, without finishing the simulations it stopped early (as
+    # reading ``path_`` would): a stopped candidate's finite lower bound gives the same answer, since a
+    # simulation stops only below the finished score of a candidate with terms
+    path = vars(estimator)["_path"] if "_path" in vars(estimator) else getattr(estimator, "path_", None)
     out = set()
     if path is not None:
         live = np.isfinite(path.score) & (path.n_terms > 0)

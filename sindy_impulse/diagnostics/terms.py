@@ -151,6 +151,7 @@ class _Sensitivity:
         ratio = typical_y[:, None] / np.where(typical_theta > 0, typical_theta, np.inf)[None, :]
         self.steps = STEP * np.where(ratio > 0, ratio, STEP)
         self.base_model = self.model(np.flatnonzero(np.any(self.coef != 0, axis=0)))
+        self._with_term = {}  # term -> the base model with that term added (:meth:`column`)
         centred = np.vstack(fitted.filtered) - np.median(np.vstack(fitted.filtered), axis=0)
         scale = np.sqrt(np.mean(centred**2, axis=0))
         floor = np.maximum(np.asarray(noise_ratio, float), NOISE_FLOOR) * np.where(scale > 0, scale, 1.0)
@@ -215,7 +216,12 @@ class _Sensitivity:
         if self.budget.exhausted:
             return None
         used = np.any(self.coef != 0, axis=0)
-        model = self.base_model if used[j] else self.model(np.flatnonzero(used | (np.arange(used.size) == j)))
+        if used[j]:
+            model = self.base_model
+        else:  # the term in every equation (at 1e-300 where not tested): one model per term, shared
+            if j not in self._with_term:
+                self._with_term[j] = self.model(np.flatnonzero(used | (np.arange(used.size) == j)))
+            model = self._with_term[j]
         trial = self.coef.copy()
         trial[i, j] += self.steps[i, j]
         r = self.residual(model, trial)

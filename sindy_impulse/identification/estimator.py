@@ -10,6 +10,7 @@ regression (:func:`~.stages.prepare`), enumerate the candidates along the thresh
 
 from __future__ import annotations
 
+from dataclasses import replace
 from numbers import Integral, Real
 
 import numpy as np
@@ -296,29 +297,47 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
             max_iter=self.refine_max_iter,
             output_error=self.output_error,
             budget=WorkBudget(),
+            bounded_scores=True,
         )
         self.noise_level_ = stages.noise_level
         self.budget_used_ = stages.budget_used  # a budget that ran out is a reason of the verdict
         self.output_error_fit_ = stages.output_error_fit
         return self._keep(
-            candidates,
-            thresholds,
-            stages.index,
-            stages.coefficients,
-            problem.compile,
-            measure,
-            stages.history,
-            stages.scores,
-            stages.score,
+            candidates, thresholds, stages.index, stages.coefficients, problem.compile, measure,
+            stages.history, stages.scores, stages.score, stages.unfinished,
         )
+
+    @property
+    def path_(self) -> SweepPath:
+        """Every candidate of the sweep (see the class's Attributes).
+
+        The sweep stops simulating a candidate once it can no longer be selected (``run_stages``'
+        ``bounded_scores``); those candidates' scores are finished here, when the path is first read, so
+        ``path_.score`` holds every candidate's full score.
+        """
+        if "_path" not in self.__dict__:
+            raise AttributeError("'ImpulseSINDy' object has no attribute 'path_' (not fitted)")
+        unfinished = self.__dict__.get("_unfinished_scores")
+        if unfinished is not None:
+            with one_thread():
+                self._path = replace(self._path, score=unfinished.finish(self._path.score))
+            self._unfinished_scores = None
+        return self._path
+
+    @path_.setter
+    def path_(self, value: SweepPath) -> None:
+        self._path = value
+        self._unfinished_scores = None
 
     def _may_refine(self) -> bool:
         """Whether coefficients may be fitted to simulations: ``refine`` and no clipped stretches (refining
         would fit them)."""
         return self.refine and not self._excluded
 
-    def _keep(self, candidates, thresholds, index, coef, compile_, measure, history, scores, score):
-        """Store the selected model and what led to it."""
+    def _keep(self, candidates, thresholds, index, coef, compile_, measure, history, scores, score,
+              unfinished=None):
+        """Store the selected model and what led to it (``unfinished``: candidates whose scores in
+        ``scores`` are lower bounds, finished when ``path_`` is first read)."""
         self.coef_ = np.asarray(coef, dtype=float)
         self.model_ = compile_(self.coef_)
         n_terms = np.array([np.count_nonzero(c) for c in candidates])
@@ -330,6 +349,7 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
             index,
             self.error_measure_ if measure is None else measure.name,
         )
+        self._unfinished_scores = unfinished
         self.threshold_ = float(thresholds[index])
         self.refinement_history_ = history
         if measure is None:

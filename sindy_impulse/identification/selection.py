@@ -35,6 +35,8 @@ __all__ = [
     "SELECTION_RULES",
     "select_candidate",
     "register_selection_rule",
+    "exact_scores_needed",
+    "reads_bounds",
     "tolerance",
     "REL_TOL",
     "NOISE_TOL",
@@ -108,6 +110,55 @@ def auto(scores, n_terms, refine, tolerance) -> int:
 
 #: Registered rules: name -> rule.
 SELECTION_RULES: dict[str, Callable] = {"auto": auto, "min_gamma": min_score, "min_score": min_score}
+
+
+def _min_score_reads(scores, n_terms, tolerance) -> np.ndarray:
+    return np.zeros(len(scores), dtype=bool)
+
+
+def _auto_reads(scores, n_terms, tolerance) -> np.ndarray:
+    best = _least(scores, n_terms)
+    target = scores[best] + tolerance(scores[best])
+    return np.isfinite(scores) & (n_terms > 0) & (n_terms < n_terms[best]) & (scores <= HOPELESS * target)
+
+
+#: For the rules that need no more than the least score exactly: which other candidates' scores they read
+#: (``reads(scores, n_terms, tolerance) -> mask``). See :func:`exact_scores_needed`.
+_READS = {auto: _auto_reads, min_score: _min_score_reads}
+
+
+def reads_bounds(rule) -> bool:
+    """Whether ``rule`` (a name or a callable) is one that :func:`exact_scores_needed` knows: it may then
+    be given lower bounds in place of the scores of candidates worse than the best."""
+    rule = SELECTION_RULES.get(rule) if isinstance(rule, str) else rule
+    return rule in _READS
+
+
+def exact_scores_needed(rule, scores, n_terms, noise_gamma=0.0, n_values=0, floor=FLOOR) -> np.ndarray:
+    """The candidates whose exact score ``rule`` reads, when some ``scores`` are lower bounds.
+
+    A sweep may stop simulating a candidate once its error passes the least score found so far: it
+    cannot be the least. Its score is then a lower bound above that least score. The rules of
+    :data:`SELECTION_RULES` read the least score and, ``"auto"``, the scores of the sparser candidates
+    within :data:`HOPELESS` times the tolerance target; a lower bound beyond that serves them as well as
+    the score (the same selection). Returns a mask of the candidates whose exact score the rule reads
+    (where a bound stands, the caller finishes the simulation).
+
+    Examples
+    --------
+    >>> g = np.array([1.0, 1.05, 5.0, 80.0]); k = np.array([5, 3, 2, 1])
+    >>> exact_scores_needed("auto", g, k).tolist()
+    [False, True, True, False]
+    """
+    rule = SELECTION_RULES.get(rule) if isinstance(rule, str) else rule
+    if rule not in _READS:
+        raise ValueError(f"no lower bounds for the selection rule {rule!r}: it needs every score")
+    scores = np.asarray(scores, dtype=float)
+
+    def tolerance_at(g: float) -> float:
+        return tolerance(g, noise_gamma, n_values, floor)
+
+    return _READS[rule](scores, np.asarray(n_terms), tolerance_at)
 
 
 def register_selection_rule(name: str, rule: Callable) -> Callable:

@@ -33,9 +33,17 @@ from ..preprocessing.states import leave_out_clipped
 from ..simulation import Reference, TermTable, WorkBudget, at_rest_level, compile_model, oscillation_count
 from .output_error import OutputErrorResult, fit_output_error
 from .refinement import REFINE_FTOL, refine
-from .selection import select_candidate
+from .selection import exact_scores_needed, reads_bounds, select_candidate
 
-__all__ = ["Problem", "StageResult", "prepare", "run_stages", "filter_states", "SCREEN_FTOL"]
+__all__ = [
+    "Problem",
+    "StageResult",
+    "UnfinishedScores",
+    "prepare",
+    "run_stages",
+    "filter_states",
+    "SCREEN_FTOL",
+]
 
 #: SLSQP's stop (relative change of the score between iterations, see :data:`.refinement.REFINE_FTOL`)
 #: of the refinements a selection rule compares: the rules compare refined scores to within
@@ -226,6 +234,9 @@ class StageResult:
         Fraction of the simulation work budget used.
     output_error_fit : OutputErrorResult or None
         The output-error fit, when it ran.
+    unfinished : UnfinishedScores or None
+        With ``bounded_scores``: the candidates whose simulation stopped once it could no longer be
+        selected (their entry of ``scores`` is a lower bound), and how to finish them.
     """
 
     index: int
@@ -236,6 +247,40 @@ class StageResult:
     noise_level: float
     budget_used: float
     output_error_fit: OutputErrorResult | None = None
+    unfinished: UnfinishedScores | None = None
+
+
+class UnfinishedScores:
+    """Candidates of a sweep whose scoring stopped at a lower bound, to be finished when asked for.
+
+    Holds each such candidate's compiled model, where its simulation stopped, and the bound measure (all
+    picklable), so that the sweep's full scores can be given later (e.g. when a fitted estimator's
+    ``path_`` is first read) without the regression problem: each simulation resumes where it stopped.
+
+    Parameters
+    ----------
+    models : dict
+        ``{index: (model, progress)}`` of the unfinished candidates
+        (:meth:`~sindy_impulse.simulation.WeightedL1.bounded`).
+    measure : ErrorMeasure
+        The bound measure that scored them.
+    """
+
+    def __init__(self, models: dict, measure):
+        self.models = models
+        self.measure = measure
+
+    @property
+    def indices(self) -> np.ndarray:
+        """The unfinished candidates."""
+        return np.array(sorted(self.models), dtype=int)
+
+    def finish(self, scores) -> np.ndarray:
+        """``scores`` with the unfinished candidates' full scores (what an unbounded sweep gives)."""
+        out = np.array(scores, dtype=float, copy=True)
+        for i, (model, progress) in self.models.items():
+            out[i] = self.measure.bounded(model, np.inf, progress)[0]
+        return out
 
 
 def run_stages(
@@ -250,6 +295,7 @@ def run_stages(
     output_error=False,
     budget: WorkBudget | None = None,
     all_diverged: str = "raise",
+    bounded_scores: bool = False,
 ) -> StageResult:
     """Score every candidate, select one, refine it and (if asked) fit it by output error.
 
@@ -276,6 +322,13 @@ def run_stages(
     all_diverged : {"raise", "keep"}, default="raise"
         When every candidate diverges: raise RuntimeError (a fit), or keep the first candidate with its
         infinite score (a refit of a given support, whose caller compares scores).
+    bounded_scores : bool, default=False
+        Stop a candidate's simulation once its error passes the least error found so far (scored sparsest
+        first), when the selection rule is one whose choice such lower bounds do not change
+        (:func:`~.selection.exact_scores_needed`); the candidates the rule then reads are finished. The
+        same selection and coefficients, at a fraction of the simulation: on a noisy record most dense
+        candidates fall behind a sparse one within the first part of the record. The stopped candidates'
+        ``scores`` are lower bounds; ``unfinished`` finishes them.
 
     Returns
     -------
@@ -301,8 +354,16 @@ def run_stages(
     """
     candidates = [np.asarray(c, dtype=float) for c in candidates]
     n_terms = np.array([np.count_nonzero(c) for c in candidates])
-    scores = _score(problem, candidates, n_terms, measure, budget)
+    bounded = bounded_scores and reads_bounds(selection) and hasattr(measure, "bounded")
+    scores, unfinished = _score(problem, candidates, n_terms, measure, budget, bounded)
     noise = measure.noise_level(problem.data.x, problem.filtered, problem.data.t)
+    if unfinished:  # finish the stopped candidates whose exact score the rule reads
+        needed = exact_scores_needed(selection, scores, n_terms, noise, problem.n_values, measure.floor)
+        for i in [i for i in unfinished if needed[i]]:
+            model, progress = unfinished.pop(i)
+            scores[i] = measure.bounded(model, np.inf, progress)[0]
+            if budget is not None:
+                budget.charge_model(model)
     usable = _usable(scores, n_terms, all_diverged)
     refine_budget = WorkBudget() if budget is None else budget
     may_refine = refine_selected
@@ -335,20 +396,45 @@ def run_stages(
         fit = fit_output_error(problem.compile(coef), problem.filtered, data.t, data.u, bound_factor)
         coef = fit.coefficients
     used = 0.0 if budget is None else budget.used
-    return StageResult(index, np.asarray(coef, dtype=float), float(score), scores, history, noise, used, fit)
+    return StageResult(
+        index,
+        np.asarray(coef, dtype=float),
+        float(score),
+        scores,
+        history,
+        noise,
+        used,
+        fit,
+        UnfinishedScores(unfinished, measure) if unfinished else None,
+    )
 
 
-def _score(problem, candidates, n_terms, measure, budget) -> np.ndarray:
-    """Score of every candidate's simulation, sparsest first; past the budget, inf (not simulated)."""
+def _score(problem, candidates, n_terms, measure, budget, bounded: bool = False):
+    """Score of every candidate's simulation, sparsest first; past the budget, inf (not simulated).
+
+    ``bounded``: a candidate's simulation stops once its error passes the least error of a candidate
+    with terms so far (:meth:`~sindy_impulse.simulation.WeightedL1.bounded`); it then has a lower bound
+    above that least error, and its model and where its simulation stopped are returned in
+    ``{index: (model, progress)}`` (the unfinished candidates).
+    """
     scores = np.full(len(candidates), np.inf)
+    unfinished = {}
+    least = np.inf  # the least finished score of a candidate with terms
     for i in np.argsort(n_terms, kind="stable"):
         if budget is not None and budget.exhausted:
             continue
         model = problem.compile(candidates[i])
-        scores[i] = measure(model)[0]
+        if bounded and np.isfinite(least):
+            scores[i], finished, progress = measure.bounded(model, least)
+            if not finished:
+                unfinished[int(i)] = (model, progress)
+        else:
+            scores[i] = measure(model)[0]
         if budget is not None:
             budget.charge_model(model)
-    return scores
+        if n_terms[i] > 0 and int(i) not in unfinished:
+            least = min(least, scores[i])
+    return scores, unfinished
 
 
 def _usable(scores, n_terms, all_diverged: str) -> np.ndarray:

@@ -14,7 +14,7 @@ import numpy as np
 
 from . import integrators as kernels
 from .base import SMOOTH_STEP_SCALE, STEP_SCALE, Reference, _as_inputs, _SparseModel
-from .integrators import scratch_size
+from .integrators import NO_PROPAGATOR, scratch_size
 from .program import build_program, pack, propagators, term_values
 from .terms import PLAIN, TermTable
 from .two_state_cubic import CUBIC2, dense_coefficients, dense_positions, integrate_cubic2, is_cubic2
@@ -33,6 +33,9 @@ __all__ = [
 
 #: Work units charged per right-hand-side evaluation and term by the fallback (Python is ~100x slower).
 FALLBACK_COST = 100.0
+#: Pieces a bounded scoring (:meth:`CompiledModel.weighted_l1_until`) simulates a record in: a sum is
+#: checked against its cutoff after each.
+PIECES = 8
 #: Work units per evaluation and term of a compiled model called from the adaptive integrator (through
 #: Python, about 25x a kernel RK4 step).
 ADAPTIVE_COST = 25.0
@@ -254,6 +257,70 @@ class CompiledModel(_SparseModel):
             _NO_OUTPUT,
         )
 
+    def weighted_l1_until(self, reference, t, starts, weights, cutoff, u=None, resume=None,
+                          pieces: int = PIECES):
+        """:meth:`weighted_l1` of the model's own coefficients, stopped once the sum passes ``cutoff``.
+
+        The error is a sum of non-negative terms in time order, so a partial sum above ``cutoff`` is a
+        lower bound above it: the rest of the simulation need not run. The record is simulated in about
+        ``pieces`` pieces (each segment cut where a piece ends, the state carried over), and the sum is
+        accumulated in the kernel's order, so a simulation that runs to the end gives :meth:`weighted_l1`'s
+        error to the last bit and does the same work, also when resumed. Linear models (one propagator per
+        interval: a simulation costs little), two-state cubic and stiff ones run whole.
+
+        Parameters
+        ----------
+        reference, t, starts, weights, u
+            As :meth:`weighted_l1`.
+        cutoff : float
+            Stop once the error passes it (``inf``: run to the end).
+        resume : tuple, optional
+            The ``progress`` of a stopped call with the same arguments: continue from there.
+        pieces : int, default=PIECES
+
+        Returns
+        -------
+        (error, finished, progress)
+            The error (``inf`` if the simulation diverged), or, ``finished`` False, the partial sum that
+            passed ``cutoff`` (a lower bound of the error) and where it stopped (``resume``).
+        """
+        t = np.ascontiguousarray(t, dtype=float)
+        ref = np.ascontiguousarray(reference, dtype=float)
+        starts = np.ascontiguousarray(starts, dtype=np.int64)
+        weights = np.ascontiguousarray(weights, dtype=float)
+        if (self.is_linear or self._dense_positions is not None or self.is_stiff(t)
+                or len(t) < 2 * max(pieces, 1)):
+            return float(self.weighted_l1(ref, t, starts, weights, None, u)[0][0]), True, None
+        steps = self.substeps(t)
+        prog, vals, _, _ = self._packed(None, self._grid(t)[1], steps)
+        bound = np.maximum(self.bound, 10 * np.max(np.abs(ref[starts]), axis=0))
+        uu = _as_inputs(u, len(t), self.n_inputs)
+        if not ref.flags.writeable or not t.flags.writeable:  # as in _integrate: one compiled kernel
+            ref, t = ref.copy(), t.copy()
+        cuts = np.linspace(0, len(t) - 1, max(pieces, 1) + 1).astype(np.int64)
+        cuts = cuts[cuts >= starts[0]]  # the kernel starts at the first segment
+        edges = np.union1d(np.append(starts, len(t) - 1), cuts)
+        segment_of = np.searchsorted(starts, edges, side="right") - 1
+        restarts = np.isin(edges, starts)
+        errors, rows = np.empty(1), np.empty(1, dtype=np.int64)
+        first, x, total = (0, ref[0], np.zeros(1)) if resume is None else resume
+        for e in range(first, edges.size - 1):
+            a, b, k = edges[e], edges[e + 1], segment_of[e]
+            x0 = ref[a : a + 1] if restarts[e] else x[None]
+            out = np.empty((b - a + 1, self.n_states))
+            piece_u = uu if uu.size == 0 else uu[a : b + 1]
+            kernels.integrate(x0, t[a : b + 1], _FIRST, _NO_WEIGHTS, steps, prog, vals, NO_PROPAGATOR, bound,
+                              piece_u, self._scratch, out, errors, rows)
+            self.work_done += self.work(t, steps, int(rows[0]))
+            if not np.all(np.isfinite(out[-1])):  # diverged (the kernel fills NaN from there on)
+                return np.inf, True, None
+            terms = (weights[k] * np.abs(out[1:] - ref[a + 1 : b + 1])).ravel()
+            total = np.cumsum(np.concatenate([total[-1:], terms]))[-1:]  # in order, as the kernel adds
+            x = out[-1]
+            if total[0] > cutoff and e + 2 < edges.size:
+                return float(total[0]), False, (e + 1, x, total)
+        return float(total[0]), True, None
+
 
 class FallbackModel(_SparseModel):
     """A sparse model over a library the kernels cannot evaluate (e.g. a ``CustomLibrary``).
@@ -371,6 +438,11 @@ class AtRestLevel:
     def weighted_l1(self, reference, t, *args, **kwargs):
         """The fused error kernel against a measured reference."""
         return self.inner.weighted_l1(np.asarray(reference, dtype=float) - self.level, t, *args, **kwargs)
+
+    def weighted_l1_until(self, reference, t, *args, **kwargs):
+        """The bounded error (:meth:`CompiledModel.weighted_l1_until`) against a measured reference."""
+        shifted = np.asarray(reference, dtype=float) - self.level
+        return self.inner.weighted_l1_until(shifted, t, *args, **kwargs)
 
     def __repr__(self) -> str:
         return f"AtRestLevel({self.inner!r}, level={self.level.tolist()})"

@@ -195,6 +195,43 @@ class WeightedL1(ErrorMeasure):
         starts, weights = plan
         return model.weighted_l1(reference, t, starts, weights, coefs, u)[0]
 
+    def bounded(self, model, cutoff: float, resume=None):
+        """The model's error, or a lower bound of it once that passes ``cutoff``.
+
+        A candidate whose error exceeds the best one found so far cannot be selected, whatever the rest of
+        its simulation: the simulation stops there (:meth:`CompiledModel.weighted_l1_until`). Summed over
+        the trajectories in the order :meth:`__call__` sums them, so an error that stays below ``cutoff``
+        (or is resumed to the end) is the one :meth:`__call__` returns. A model without the bounded kernel
+        runs whole.
+
+        Parameters
+        ----------
+        model : CompiledModel or AtRestLevel
+        cutoff : float
+            ``inf``: run (or resume) to the end.
+        resume : tuple, optional
+            The ``progress`` of a stopped call on the same model: continue from there.
+
+        Returns
+        -------
+        (error, finished, progress)
+            ``finished`` False: ``error`` is a lower bound above ``cutoff``, ``progress`` where it stopped.
+        """
+        until = getattr(model, "weighted_l1_until", None)
+        if until is None:
+            return float(self(model)[0]), True, None
+        first, inner, total = (0, None, np.zeros(1)) if resume is None else resume
+        for j in range(first, len(self.trajectories_)):
+            (ref, t, u), (starts, weights) = self.trajectories_[j], self.plans_[j]
+            error, finished, inner = until(ref, t, starts, weights, cutoff - total[0], u, inner)
+            if not finished:
+                if total[0] + error > cutoff:
+                    return float(total[0] + error), False, (j, inner, total.copy())
+                error = until(ref, t, starts, weights, np.inf, u, inner)[0]  # passed only in rounding
+            total += error if np.isfinite(error) else np.inf
+            inner = None
+        return float(total[0]), True, None
+
     def gradient(self, model, coef=None, entries=None):
         """The error of one active-coefficient matrix and its exact gradient by its ``entries`` (forward
         sensitivities, :func:`.sensitivity.weighted_l1_gradient`), summed over the bound trajectories; None
