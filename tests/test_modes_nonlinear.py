@@ -364,3 +364,19 @@ def test_a_third_harmonic_fitted_as_a_run_of_pieces_is_one_harmonic_not_a_mode()
     found = _survey(rec)
     assert [round(m.frequency_hz) for m in found.modes] == [154]
     assert any("harmonic 3" in r.reason for r in found.rejected)
+
+
+def test_a_swept_third_harmonic_seen_by_the_diagrams_poles_is_named():
+    """A hardening mode's third harmonic sweeps three times the mode's frequency change: no spectral bin
+    stands out of the noise at ``3 f``, but the stabilisation diagram's poles follow it; where its phase
+    locking cannot be resolved, a stable pole on three times the backbone is named the harmonic."""
+    rec = impact_record([225.2863990239285], [0.011714220188398995], fs=10000.0, duration=2.1152,
+                        sensor="acceleration", pre_trigger=0.04975851956048192, offset=4.3382428161916184,
+                        snr_db=44.652830035660756, random_state=2091831078, cubic_stiffness=7.087145682791103e+17)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        survey = identify_modes(rec.y, fs=rec.fs)
+    assert [round(m.frequency_hz) for m in survey.modes] == [225]
+    named = [r for r in survey.rejected if "harmonic 3" in r.reason]
+    assert len(named) == 1 and "stable pole" in named[0].evidence["detection"]
+    assert 3 * 0.98 * 225.3 <= np.mean(named[0].band_hz) <= 3 * 1.06 * 225.3

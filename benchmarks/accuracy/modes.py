@@ -62,7 +62,15 @@ import warnings
 import numpy as np
 
 from benchmarks.accuracy.families import FAMILY_SIZES, draw, random_case
-from benchmarks.accuracy.scoring import F_TOL, Z_TOL, esprit_start, judge, match, run_family_case
+from benchmarks.accuracy.scoring import (
+    F_TOL,
+    Z_TOL,
+    RecordRefused,
+    esprit_start,
+    judge,
+    match,
+    run_family_case,
+)
 from benchmarks.accuracy.short_decays import F_TRUE, Z_TRUE, run
 from sindy_impulse import identify_modes, impact_record
 from sindy_impulse.analysis import esprit
@@ -298,6 +306,9 @@ def run_families(names: list[str], n: int | None, seed: int, failures: bool, bud
             except KeyboardInterrupt:
                 print(f"  family {name}: interrupted after {i} of {count} records")
                 break
+            except RecordRefused as err:  # the generator's, not the survey's: the record is left out
+                print(f"  [{name} #{i}] left out: the generator refused the record ({err})", flush=True)
+                continue
             rows[name].append(r)
             print(f"  [{name} #{i}] survey {'right' if r['ours']['passed'] else 'WRONG'}, baseline "
                   f"{'right' if r['theirs']['passed'] else 'wrong'}, "

@@ -111,9 +111,18 @@ def baseline_answer(rec) -> tuple:
     return found, time.perf_counter() - start
 
 
+class RecordRefused(ValueError):
+    """The generator refused a drawn configuration (e.g. a nonlinear record that diverges): the record is
+    left out of the family, as no survey ran on it."""
+
+
 def run_family_case(case: dict) -> dict:
-    """One record of a family through the survey and the stabilised ESPRIT baseline, both scored."""
-    rec = impact_record(**case["config"])
+    """One record of a family through the survey and the stabilised ESPRIT baseline, both scored
+    (:class:`RecordRefused` when the generator refuses the configuration)."""
+    try:
+        rec = impact_record(**case["config"])
+    except ValueError as err:
+        raise RecordRefused(str(err)) from err
     f_true = np.asarray(rec.modes.frequency_hz, float)
     z_true = np.asarray(rec.modes.damping_ratio, float)
     counted = np.ones(f_true.size, bool)

@@ -447,7 +447,7 @@ def _names(row, mode, order: int) -> bool:
     return bool(e.get("harmonic") and e.get("order") == order and band[0] <= parent <= band[1])
 
 
-def _unseen_harmonics(pre, ring, modes: list, rejected: list) -> tuple:
+def _unseen_harmonics(pre, ring, modes: list, rejected: list, poles=()) -> tuple:
     """Harmonics the detection did not keep: near ``n`` times a mode whose model has nonlinear terms (a
     linear mode makes none), where no mode, peak or rejected row lies, a spectral peak over the floor
     (:func:`_unseen_peak`) is tested as that mode's harmonic in a band :data:`_FAILED_BAND` wide (a cubic
@@ -455,7 +455,12 @@ def _unseen_harmonics(pre, ring, modes: list, rejected: list) -> tuple:
     peaks, made for modes, drops it, even at 37-38 dB SNR). Only the data decide here (no mode is at stake,
     and noise must not be named): a peak phase-locked to the mode whose amplitude goes as a power of at least
     :data:`MIN_EXPONENT` of the mode's (a chirping harmonic seen over a few periods read 4.8) becomes a
-    rejected row with its evidence; anything else is left alone. ``(rejected, notes)``."""
+    rejected row with its evidence; anything else is left alone. The stable poles of the record's diagram
+    near ``n`` times the mode (``poles``, Hz) are tested too, nearest first, after the spectral peak: a
+    chirping harmonic spreads its energy over the bins it sweeps, where a noise bin can stand higher, but
+    the diagram's poles follow the sweep. A stable pole is not noise, so where the locking cannot be
+    resolved it is named a harmonic when it lies at ``n`` times a frequency of the mode's backbone
+    (:func:`_on_backbone`, as for a candidate). ``(rejected, notes)``."""
     from ._nonlinear import has_nonlinear_terms
 
     spectrum = pre.peaks.spectrum
@@ -472,21 +477,25 @@ def _unseen_harmonics(pre, ring, modes: list, rejected: list) -> tuple:
                 continue
             if any(_names(r, parent, order) for r in rejected):
                 continue  # its harmonic of this order is named already (a chirping one lies off n f)
-            f = _unseen_peak(spectrum, target)
-            if f is None:
-                continue
-            band = (f * (1 - _FAILED_BAND), f * (1 + _FAILED_BAND))
-            try:
-                peak = SimpleNamespace(frequency_hz=f, damping_ratio=0.0)
-                e = _evidence(pre, ring, (bands, freqs), i, parent, band, band_noise_rms(spectrum, band),
-                              order, peak, failed=True)
-            except (ValueError, ArithmeticError, np.linalg.LinAlgError):
-                continue  # the band cannot be analysed
-            if e["locked"] and e["exponent"] >= MIN_EXPONENT:
-                e.update(harmonic=True, by_backbone=False,
-                         detection="a spectral peak the damped-sinusoid test of the peaks did not keep")
-                why = _reason(parent, e)
-                rejected.append(Rejected(band, why, parent.record, e))
-                notes.append(f"record {parent.record}: the peak at {f:.4g} Hz is the {why}")
-                taken.append(f)
+            peak = _unseen_peak(spectrum, target)
+            near = sorted((p for p in poles if abs(p / target - 1) <= NEAR), key=lambda p: abs(p - target))
+            for f in [] if peak is None else [peak]:
+                near.insert(0, f)
+            for f in near:
+                band = (f * (1 - _FAILED_BAND), f * (1 + _FAILED_BAND))
+                try:
+                    e = _evidence(pre, ring, (bands, freqs), i, parent, band, band_noise_rms(spectrum, band),
+                                  order, SimpleNamespace(frequency_hz=f, damping_ratio=0.0), failed=True)
+                except (ValueError, ArithmeticError, np.linalg.LinAlgError):
+                    continue  # the band cannot be analysed
+                locked = e["locked"] and e["exponent"] >= MIN_EXPONENT
+                if locked or (f != peak and e["harmonic"]):  # a stable pole is no noise: its backbone may say
+                    source = "a spectral peak" if f == peak else "a stable pole of the diagram"
+                    e.update(harmonic=True, by_backbone=not locked,
+                             detection=f"{source} the damped-sinusoid test of the peaks did not keep")
+                    why = _reason(parent, e)
+                    rejected.append(Rejected(band, why, parent.record, e))
+                    notes.append(f"record {parent.record}: the peak at {f:.4g} Hz is the {why}")
+                    taken.append(f)
+                    break
     return rejected, notes

@@ -21,6 +21,7 @@ import numpy as np
 from ._envelope import _missing_damping
 from ._harmonics import _on_backbone, _reason, _unseen_harmonics
 from ._nonlinear import has_nonlinear_terms
+from .candidates import persistent_modes
 from .kinds import Kind, Reason
 from .result import Rejected
 
@@ -34,7 +35,8 @@ def reconcile(state) -> None:
     _envelope_damping(state)
     pre = state.pre
     ring = pre.y[pre.impact.ringdown_index:]
-    state.rejected, unseen = _unseen_harmonics(pre, ring, state.modes, state.rejected)
+    poles = [m.frequency_hz for m in persistent_modes(state.poles)] if state.poles is not None else []
+    state.rejected, unseen = _unseen_harmonics(pre, ring, state.modes, state.rejected, poles)
     state.notes += unseen
     order = np.argsort([m.frequency_hz for m in state.modes], kind="stable")
     state.modes = [state.modes[i] for i in order]
