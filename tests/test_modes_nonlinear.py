@@ -372,7 +372,8 @@ def test_a_swept_third_harmonic_seen_by_the_diagrams_poles_is_named():
     locking cannot be resolved, a stable pole on three times the backbone is named the harmonic."""
     rec = impact_record([225.2863990239285], [0.011714220188398995], fs=10000.0, duration=2.1152,
                         sensor="acceleration", pre_trigger=0.04975851956048192, offset=4.3382428161916184,
-                        snr_db=44.652830035660756, random_state=2091831078, cubic_stiffness=7.087145682791103e+17)
+                        snr_db=44.652830035660756, random_state=2091831078,
+                        cubic_stiffness=7.087145682791103e+17)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         survey = identify_modes(rec.y, fs=rec.fs)
