@@ -66,6 +66,25 @@ def scratch_size(n_z: int, n_values: int) -> int:
     return 4 * n_z + n_values
 
 
+@jit(cache=False, inline="always")
+def _scratch(work, n, u):
+    """The parts of the scratch space ``work`` (rows: the layout of :func:`scratch_size`) for ``n`` states
+    and the inputs ``u``: ``(n_z, acc, x_old, x, dx, theta, z)``, ``z`` the inputs' slots in ``theta``.
+
+    The one place of that layout for the kernels and their RK4 steps. Inlined where it is called (numba's
+    ``inline="always"``), so the views are made as if sliced in the caller: no call, and no views handed
+    from a function without reference counting (the RK4 steps) to one with it (the kernels).
+    """
+    n_z = n + u.shape[1]
+    acc = work[0:n]
+    x_old = work[n_z : n_z + n]
+    x = work[2 * n_z : 2 * n_z + n]
+    dx = work[3 * n_z : 3 * n_z + n]
+    theta = work[4 * n_z :]
+    z = theta[1 : 1 + n_z]  # the inputs are the first monomials
+    return n_z, acc, x_old, x, dx, theta, z
+
+
 @kernel
 def integrate(ref, t, starts, weights, substeps, prog, vals, props, bound, u, work, out, errors, rows):
     """Simulate a batch of models over the grid ``t``, restarted from ``ref`` at each segment start.
@@ -78,10 +97,7 @@ def integrate(ref, t, starts, weights, substeps, prog, vals, props, bound, u, wo
     the number of grid intervals simulated (the work done). The loop is :func:`segment_loop`'s with
     :func:`_rk4_interval`; two-state cubic models take :func:`.two_state_cubic.integrate_cubic2`.
     """
-    n = ref.shape[1]
-    n_z = n + u.shape[1]
-    x_old = work[n_z : n_z + n]
-    x = work[2 * n_z : 2 * n_z + n]
+    _, _, x_old, x, _, _, _ = _scratch(work, ref.shape[1], u)
     model = (prog, vals, u, work)
     n_models = vals.shape[0]
     _integrate_program(
@@ -180,14 +196,9 @@ def _rk4_interval(x, t, s, substeps, model, b):
     vals = values[b]
     parent, var, fcode, fslot, finput, fparam, eq_ptr, slot = prog
     n = x.shape[0]
-    n_z = n + u.shape[1]
+    n_z, acc, x_old, _, dx, theta, z = _scratch(work, n, u)
     n_mono = parent.shape[0]
-    acc = work[0:n]
-    x_old = work[n_z : n_z + n]
-    dx = work[3 * n_z : 3 * n_z + n]
-    theta = work[4 * n_z :]
     theta[0] = 1.0
-    z = theta[1 : 1 + n_z]  # the inputs are the first monomials
     h = (t[s] - t[s - 1]) / substeps
     for j in range(substeps):
         for i in range(n):
@@ -232,8 +243,7 @@ def integrate_batch(ref, t, starts, weights, substeps, prog, vals, bound, u, wor
     other).
     """
     n = ref.shape[1]
-    n_z = n + u.shape[1]
-    x = work[2 * n_z : 2 * n_z + n]
+    _, _, _, x, _, _, _ = _scratch(work, n, u)
     for b in range(vals.shape[1]):
         errors[b] = 0.0
         rows[b] = 0
@@ -267,13 +277,8 @@ def _rk4_interval_batch(x, t, s, substeps, prog, vals, u, work):
     """:func:`_rk4_interval` for the columns of ``x`` (n_states, n_models), each with its ``vals`` column."""
     parent, var, fcode, fslot, finput, fparam, eq_ptr, slot = prog
     n, n_b = x.shape
-    n_z = n + u.shape[1]
+    n_z, acc, x_old, _, dx, theta, z = _scratch(work, n, u)
     n_mono = parent.shape[0]
-    acc = work[0:n]
-    x_old = work[n_z : n_z + n]
-    dx = work[3 * n_z : 3 * n_z + n]
-    theta = work[4 * n_z :]
-    z = theta[1 : 1 + n_z]
     h = (t[s] - t[s - 1]) / substeps
     for b in range(n_b):
         theta[0, b] = 1.0
