@@ -22,10 +22,16 @@ __all__ = ["jit", "kernel"]
 _OPTIONS = {"error_model": "numpy", "nogil": True}
 
 
-def jit(function=None, **options):
-    """``numba.njit`` with the package's options, cached on disk if a writable cache location exists."""
+def jit(function=None, cache=True, **options):
+    """``numba.njit`` with the package's options, cached on disk if a writable cache location exists.
+
+    ``cache=False`` for a function compiled only into kernels that are cached themselves (a function that
+    closes over another cannot be cached by numba, and needs no cache of its own there).
+    """
     if function is None:
-        return lambda f: jit(f, **options)
+        return lambda f: jit(f, cache=cache, **options)
+    if not cache:
+        return numba.njit(**_OPTIONS, **options)(function)
     try:
         return numba.njit(cache=True, **_OPTIONS, **options)(function)
     except RuntimeError:  # numba found no writable cache location for this source file

@@ -40,6 +40,7 @@ from .._utils.jit import jit, kernel
 __all__ = [
     "integrate",
     "integrate_batch",
+    "segment_loop",
     "solve_ivp_simulate",
     "scratch_size",
     "MAX_SUBSTEPS",
@@ -65,6 +66,26 @@ def scratch_size(n_z: int, n_values: int) -> int:
     return 4 * n_z + n_values
 
 
+@jit(cache=False, inline="always")
+def _scratch(work, n, u):
+    """The parts of the scratch space ``work`` (rows: the layout of :func:`scratch_size`) for ``n`` states
+    and the inputs ``u``: ``(n_z, acc, x_old, x, dx, theta, z)``, ``z`` the inputs' slots in ``theta``.
+
+    The RK4 steps' one place of that layout (the kernels slice only the state's slots ``x_old`` and
+    ``x``: through this helper they compiled to slightly slower code, about 2-3 % in one measurement).
+    Inlined where it is called (numba's ``inline="always"``), so the views are made as if sliced in the
+    caller, without a call.
+    """
+    n_z = n + u.shape[1]
+    acc = work[0:n]
+    x_old = work[n_z : n_z + n]
+    x = work[2 * n_z : 2 * n_z + n]
+    dx = work[3 * n_z : 3 * n_z + n]
+    theta = work[4 * n_z :]
+    z = theta[1 : 1 + n_z]  # the inputs are the first monomials
+    return n_z, acc, x_old, x, dx, theta, z
+
+
 @kernel
 def integrate(ref, t, starts, weights, substeps, prog, vals, props, bound, u, work, out, errors, rows):
     """Simulate a batch of models over the grid ``t``, restarted from ``ref`` at each segment start.
@@ -74,37 +95,67 @@ def integrate(ref, t, starts, weights, substeps, prog, vals, props, bound, u, wo
     if ``props`` is not empty). With an empty ``out`` each sample's error ``|x - ref|`` of state ``j`` is
     weighted by ``weights[k, j]`` and summed into ``errors[b]`` (``inf`` once a segment diverged); else
     the trajectory of the (single) model is written into ``out``, NaN after a divergence. ``rows[b]`` is
-    the number of grid intervals simulated (the work done). Two-state cubic models take
-    :func:`.cubic2.integrate_cubic2`.
+    the number of grid intervals simulated (the work done). The loop is :func:`segment_loop`'s with
+    :func:`_rk4_interval`; two-state cubic models take :func:`.two_state_cubic.integrate_cubic2`.
     """
     n = ref.shape[1]
     n_z = n + u.shape[1]
     x_old = work[n_z : n_z + n]
     x = work[2 * n_z : 2 * n_z + n]
-    store = out.shape[0] > 0
-    for b in range(vals.shape[0]):
-        total = 0.0
-        done = 0
-        for k in range(starts.shape[0]):
-            s0 = starts[k]
-            s1 = starts[k + 1] if k + 1 < starts.shape[0] else t.shape[0] - 1
-            for i in range(n):
-                x[i] = ref[s0, i]
-                if store:
-                    out[s0, i] = x[i]
-            for s in range(s0 + 1, s1 + 1):
-                if props.shape[0] > 0:  # RK4's map over the interval
-                    propagate(x, x_old, props, b)
-                else:
-                    _rk4_interval(x, t, s, substeps, prog, vals[b], u, work)
-                done += 1
-                total = account(x, s, k, ref, weights, bound, out, total)
+    model = (prog, vals, u, work)
+    n_models = vals.shape[0]
+    _integrate_program(
+        ref, t, starts, weights, substeps, n_models, model, props, bound, x, x_old, out, errors, rows
+    )
+
+
+def segment_loop(interval):
+    """The loop of the simulation kernels over models, segments and grid intervals, around one interval step.
+
+    ``interval(x, t, s, substeps, model, b)`` integrates the state ``x`` of model ``b`` of the batch
+    ``model`` (its coefficients and whatever else the step needs) in place from ``t[s-1]`` to ``t[s]``.
+    The returned function runs :func:`integrate`'s loop with it: ``loop(ref, t, starts, weights, substeps,
+    n_models, model, props, bound, x, x_old, out, errors, rows)``, the arguments of :func:`integrate`
+    plus the number of models and the state's two slots of scratch space ``x`` and ``x_old``.
+
+    Each kind of model (the general program, the two-state cubic) has one kernel: this loop around its own
+    step, so that neither kernel compiles the other's arithmetic and the step is called directly. The loop
+    is inlined into the kernel when the kernel compiles (numba's ``inline="always"``) and cached on disk as
+    part of it: compiled on its own it cost each kernel one more optimisation of all its code (measured:
+    +1.1 s and +2.0 s of compile time for the two-state cubic and the general kernel), and numba cannot
+    cache a function that closes over another. As for any function a kernel calls, numba's cache of a
+    kernel follows its own source file only: after editing this loop, clear the cache of
+    :func:`.two_state_cubic.integrate_cubic2`.
+    """
+
+    @jit(cache=False, inline="always")
+    def loop(ref, t, starts, weights, substeps, n_models, model, props, bound, x, x_old, out, errors, rows):
+        store = out.shape[0] > 0
+        for b in range(n_models):
+            total = 0.0
+            done = 0
+            for k in range(starts.shape[0]):
+                s0 = starts[k]
+                s1 = starts[k + 1] if k + 1 < starts.shape[0] else t.shape[0] - 1
+                for i in range(x.shape[0]):
+                    x[i] = ref[s0, i]
+                    if store:
+                        out[s0, i] = x[i]
+                for s in range(s0 + 1, s1 + 1):
+                    if props.shape[0] > 0:  # RK4's map over the interval
+                        propagate(x, x_old, props, b)
+                    else:
+                        interval(x, t, s, substeps, model, b)
+                    done += 1
+                    total = account(x, s, k, ref, weights, bound, out, total)
+                    if total == np.inf:
+                        break
                 if total == np.inf:
                     break
-            if total == np.inf:
-                break
-        errors[b] = total
-        rows[b] = done
+            errors[b] = total
+            rows[b] = done
+
+    return loop
 
 
 @jit(_nrt=False)
@@ -142,18 +193,16 @@ def account(x, s, k, ref, weights, bound, out, total):
 
 
 @jit(_nrt=False)
-def _rk4_interval(x, t, s, substeps, prog, vals, u, work):
-    """Integrate ``x`` in place from ``t[s-1]`` to ``t[s]`` with ``substeps`` RK4 steps."""
+def _rk4_interval(x, t, s, substeps, model, b):
+    """Integrate ``x`` in place from ``t[s-1]`` to ``t[s]`` with ``substeps`` RK4 steps of model ``b`` of
+    ``model = (prog, vals, u, work)`` (:func:`integrate`'s arguments)."""
+    prog, values, u, work = model
+    vals = values[b]
     parent, var, fcode, fslot, finput, fparam, eq_ptr, slot = prog
     n = x.shape[0]
-    n_z = n + u.shape[1]
+    n_z, acc, x_old, _, dx, theta, z = _scratch(work, n, u)
     n_mono = parent.shape[0]
-    acc = work[0:n]
-    x_old = work[n_z : n_z + n]
-    dx = work[3 * n_z : 3 * n_z + n]
-    theta = work[4 * n_z :]
     theta[0] = 1.0
-    z = theta[1 : 1 + n_z]  # the inputs are the first monomials
     h = (t[s] - t[s - 1]) / substeps
     for j in range(substeps):
         for i in range(n):
@@ -183,6 +232,9 @@ def _rk4_interval(x, t, s, substeps, prog, vals, u, work):
             x[i] = x_old[i] + h / 6.0 * acc[i]
 
 
+_integrate_program = segment_loop(_rk4_interval)
+
+
 @kernel
 def integrate_batch(ref, t, starts, weights, substeps, prog, vals, bound, u, work, errors, rows):
     """:func:`integrate`'s weighted error for a batch of models stepped together, stage by stage.
@@ -191,7 +243,8 @@ def integrate_batch(ref, t, starts, weights, substeps, prog, vals, bound, u, wor
     refinement scores one model per coefficient) and the innermost loops run over the models, side by side
     in memory. The arithmetic of each model is :func:`integrate`'s, in the same order: the same errors and
     work. ``vals`` is (n_values, n_models) (one column per model), ``work`` (scratch rows, n_models). Not
-    for two-state cubic models (:func:`.cubic2.integrate_cubic2` steps those faster, one after the other).
+    for two-state cubic models (:func:`.two_state_cubic.integrate_cubic2` steps those faster, one after the
+    other).
     """
     n = ref.shape[1]
     n_z = n + u.shape[1]
@@ -229,13 +282,8 @@ def _rk4_interval_batch(x, t, s, substeps, prog, vals, u, work):
     """:func:`_rk4_interval` for the columns of ``x`` (n_states, n_models), each with its ``vals`` column."""
     parent, var, fcode, fslot, finput, fparam, eq_ptr, slot = prog
     n, n_b = x.shape
-    n_z = n + u.shape[1]
+    n_z, acc, x_old, _, dx, theta, z = _scratch(work, n, u)
     n_mono = parent.shape[0]
-    acc = work[0:n]
-    x_old = work[n_z : n_z + n]
-    dx = work[3 * n_z : 3 * n_z + n]
-    theta = work[4 * n_z :]
-    z = theta[1 : 1 + n_z]
     h = (t[s] - t[s - 1]) / substeps
     for b in range(n_b):
         theta[0, b] = 1.0

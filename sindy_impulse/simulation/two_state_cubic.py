@@ -7,9 +7,10 @@ monomials of each equation are few enough to write out: :func:`dense_coefficient
 coefficient matrices into dense rows (per equation: 1, x0, x1, x0^2, x0 x1, x1^2, x0^3, x0^2 x1, x0 x1^2,
 x1^3) and flags of the parts present, in numpy; :func:`rk4_interval_cubic2` steps a model, computing the
 quadratic and cubic parts only where present. :func:`integrate_cubic2` is the kernel of these models (and
-of linear two-state ones, by their propagator): :func:`.integrators.integrate`'s loop without the product
-tree, kept apart so that it compiles fast (1.2 s; the general kernel takes 1.1 s more): the first fit of
-the paper's case after installation waits for it and TVRegDiff's kernels only.
+of linear two-state ones, by their propagator): :func:`.integrators.integrate`'s loop
+(:func:`.integrators.segment_loop`) around this step, without the product tree, so that it compiles fast
+(1.2 s; the general kernel takes 1.1 s more): the first fit of the paper's case after installation waits
+for it and TVRegDiff's kernels only.
 
 Measured (``benchmarks/speed/speed.py``, a 4-term Duffing model, 401 samples, 5 sub-steps): 1.25-1.3x a
 minimal hand-written numba RK4, against 4-6x through the product tree. Its results equal RK4 on the model's
@@ -22,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._utils.jit import jit, kernel
-from .integrators import account, propagate
+from .integrators import segment_loop
 from .terms import PLAIN, TermTable
 
 __all__ = ["CUBIC2", "dense_coefficients", "dense_positions", "is_cubic2", "integrate_cubic2"]
@@ -84,9 +85,10 @@ def _cubic2_rhs(p, q, c, o, quadratic, cubic_p, cubic_q):
 
 
 @jit(_nrt=False)
-def rk4_interval_cubic2(x, t, s, substeps, c):
-    """:func:`.integrators._rk4_interval` for a two-state cubic model (``c``: a row of
-    :func:`dense_coefficients`)."""
+def rk4_interval_cubic2(x, t, s, substeps, dense, b):
+    """:func:`.integrators._rk4_interval` for two-state cubic models: model ``b`` of the rows ``dense`` of
+    :func:`dense_coefficients`."""
+    c = dense[b]
     h = (t[s] - t[s - 1]) / substeps
     a0, b0, d0 = c[20] != 0.0, c[21] != 0.0, c[22] != 0.0
     a1, b1, d1 = c[23] != 0.0, c[24] != 0.0, c[25] != 0.0
@@ -103,36 +105,20 @@ def rk4_interval_cubic2(x, t, s, substeps, c):
     x[0], x[1] = p, q
 
 
+_integrate_dense = segment_loop(rk4_interval_cubic2)
+
+
 @kernel
 def integrate_cubic2(ref, t, starts, weights, substeps, props, dense, bound, work, out, errors, rows):
     """:func:`.integrators.integrate` for two-state cubic models: model ``b`` is stepped by its propagator
     ``props[b]`` if ``props`` is not empty (a linear model), else by its dense row ``dense[b]``
-    (:func:`rk4_interval_cubic2`). The loop of ``integrate`` (segments; the same propagator step and
-    the same accounting of divergence, stored trajectory or weighted error), without the general
-    model's code so that it compiles fast (see the module). ``work`` holds at least 4 floats.
+    (:func:`rk4_interval_cubic2`). The loop of ``integrate`` (:func:`.integrators.segment_loop`:
+    segments; the same propagator step and the same accounting of divergence, stored trajectory or
+    weighted error) around this step only, without the general model's code so that it compiles fast (see
+    the module). ``work`` holds at least 4 floats.
     """
+    n_models = max(props.shape[0], dense.shape[0])
     x, x_old = work[0:2], work[2:4]
-    store = out.shape[0] > 0
-    for b in range(max(props.shape[0], dense.shape[0])):
-        total = 0.0
-        done = 0
-        for k in range(starts.shape[0]):
-            s0 = starts[k]
-            s1 = starts[k + 1] if k + 1 < starts.shape[0] else t.shape[0] - 1
-            for i in range(2):
-                x[i] = ref[s0, i]
-                if store:
-                    out[s0, i] = x[i]
-            for s in range(s0 + 1, s1 + 1):
-                if props.shape[0] > 0:  # RK4's map over the interval
-                    propagate(x, x_old, props, b)
-                else:
-                    rk4_interval_cubic2(x, t, s, substeps, dense[b])
-                done += 1
-                total = account(x, s, k, ref, weights, bound, out, total)
-                if total == np.inf:
-                    break
-            if total == np.inf:
-                break
-        errors[b] = total
-        rows[b] = done
+    _integrate_dense(
+        ref, t, starts, weights, substeps, n_models, dense, props, bound, x, x_old, out, errors, rows
+    )
