@@ -11,7 +11,9 @@
   that says whether the linear decay explains it). What the fit leaves is searched for modes it misses
   (:func:`~sindy_impulse.poles.decay_fit.missing_peaks`), away from modes it does not explain (there the
   residual is that mode's own amplitude dependence, not another mode), and a component under the detection
-  threshold is dropped: a mode is a candidate when it stands out of the noise, as a spectral peak must.
+  threshold is dropped: a mode is a candidate when it stands out of the noise, as a spectral peak must. A
+  component the linear decay does not explain whose half-power band holds two or more stable poles is
+  refitted as those poles (:func:`_split_by_poles`): two modes whose half-power bands touch.
 """
 
 from __future__ import annotations
