@@ -479,9 +479,7 @@ def _unseen_harmonics(pre, ring, modes: list, rejected: list, poles=()) -> tuple
                 continue  # its harmonic of this order is named already (a chirping one lies off n f)
             peak = _unseen_peak(spectrum, target)
             near = sorted((p for p in poles if abs(p / target - 1) <= NEAR), key=lambda p: abs(p - target))
-            for f in [] if peak is None else [peak]:
-                near.insert(0, f)
-            for f in near:
+            for f in ([] if peak is None else [peak]) + near:
                 band = (f * (1 - _FAILED_BAND), f * (1 + _FAILED_BAND))
                 try:
                     e = _evidence(pre, ring, (bands, freqs), i, parent, band, band_noise_rms(spectrum, band),

@@ -120,7 +120,13 @@ class Candidate:
     @property
     def explained(self) -> bool:
         """Whether the linear decay explains the data near the mode (see :data:`NONLINEAR_P`)."""
-        return not (self.lack_of_fit_p < NONLINEAR_P and self.lack_of_fit > NONLINEAR_RATIO)
+        return not _misfit(self.lack_of_fit, self.lack_of_fit_p)
+
+
+def _misfit(lack_of_fit, lack_of_fit_p):
+    """Whether (elementwise) a component's lack of fit is too improbable from noise and large enough to be
+    physics (:data:`NONLINEAR_P`, :data:`NONLINEAR_RATIO`)."""
+    return (np.asarray(lack_of_fit_p) < NONLINEAR_P) & (np.asarray(lack_of_fit) > NONLINEAR_RATIO)
 
 
 def _reference_channel(record: np.ndarray, channel) -> int:
@@ -209,15 +215,23 @@ def persistent_modes(table) -> list:
             if m.n_orders >= PERSISTENCE * len(table.orders) and m.damping_ratio < MAX_DAMPING]
 
 
-def _pole_seeds(table) -> tuple[list, list]:
-    """The stable modes found at :data:`SEED_PERSISTENCE` of the orders or more, strongest first, one per
-    half-power band (a mode's poles may make two clusters): damped frequencies and decay rates."""
+def _seed_poles(table) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The stable modes found at :data:`SEED_PERSISTENCE` of the orders or more, below
+    :data:`MAX_DAMPING`: damped frequencies (Hz), decay rates (1/s) and numbers of orders."""
     found = [m for m in table.modes() if m.n_orders >= SEED_PERSISTENCE * len(table.orders)
              and m.damping_ratio < MAX_DAMPING]
+    fd = np.array([m.frequency_hz * np.sqrt(1 - m.damping_ratio**2) for m in found])
+    sigma = np.array([2 * np.pi * m.frequency_hz * m.damping_ratio for m in found])
+    return fd, sigma, np.array([m.n_orders for m in found], dtype=int)
+
+
+def _pole_seeds(table) -> tuple[list, list]:
+    """The seed poles (:func:`_seed_poles`), strongest first, one per half-power band (a mode's poles may
+    make two clusters): damped frequencies and decay rates."""
+    found_f, found_s, orders = _seed_poles(table)
     f, s = [], []
-    for m in sorted(found, key=lambda m: -m.n_orders):
-        fd = m.frequency_hz * np.sqrt(1 - m.damping_ratio**2)
-        sigma = 2 * np.pi * m.frequency_hz * m.damping_ratio
+    for k in np.argsort(-orders, kind="stable"):
+        fd, sigma = float(found_f[k]), float(found_s[k])
         if all(abs(fd - g) > (sigma + t) / (2 * np.pi) for g, t in zip(f, s)):
             f.append(fd)
             s.append(sigma)
@@ -315,11 +329,6 @@ def fit_candidates(state) -> None:
                  + ", ".join(f"{c.frequency_hz:.5g} Hz ({c.height_db:.0f} dB)" for c in state.candidates))
 
 
-def _unexplained(fit) -> np.ndarray:
-    """Mask of the components the linear decay does not explain (:attr:`Candidate.explained`)."""
-    return (np.asarray(fit.lack_of_fit_p) < NONLINEAR_P) & (np.asarray(fit.lack_of_fit) > NONLINEAR_RATIO)
-
-
 def _split_by_poles(fit, ring: np.ndarray, fs: float, table, noise, threshold_db: float):
     """The decay fit with each component it does not explain replaced by the stable poles inside its
     half-power band, where that explains them.
@@ -331,13 +340,10 @@ def _split_by_poles(fit, ring: np.ndarray, fs: float, table, noise, threshold_db
     over the detection threshold (a nonlinear mode's chirp, whose poles also spread, stays unexplained by
     linear components and keeps its one).
     """
-    unexplained = np.flatnonzero(_unexplained(fit))
+    unexplained = np.flatnonzero(_misfit(fit.lack_of_fit, fit.lack_of_fit_p))
     if not unexplained.size:
         return fit
-    stable = [m for m in table.modes() if m.n_orders >= SEED_PERSISTENCE * len(table.orders)
-              and m.damping_ratio < MAX_DAMPING]
-    f = np.array([m.frequency_hz * np.sqrt(1 - m.damping_ratio**2) for m in stable])
-    sigma = np.array([2 * np.pi * m.frequency_hz * m.damping_ratio for m in stable])
+    f, sigma, _ = _seed_poles(table)
     resolution = fs / ring.shape[0]
     for k in unexplained:
         width = fit.decay_rate[k] / (2 * np.pi)
@@ -350,7 +356,8 @@ def _split_by_poles(fit, ring: np.ndarray, fs: float, table, noise, threshold_db
         tf = np.asarray(trial.damped_frequency_hz)
         new = np.unique([int(np.argmin(np.abs(tf - g))) for g in f[inside]])  # the poles' components
         separate = new.size == inside.size and np.min(np.diff(np.sort(tf[new]))) > 2 * resolution
-        if (len(trial) == len(fit) + inside.size - 1 and separate and not _unexplained(trial)[new].any()
+        explained = not _misfit(trial.lack_of_fit, trial.lack_of_fit_p)[new].any()
+        if (len(trial) == len(fit) + inside.size - 1 and separate and explained
                 and np.all(trial.height_db[new] >= threshold_db)):
             return _split_by_poles(trial, ring, fs, table, noise, threshold_db)
     return fit
