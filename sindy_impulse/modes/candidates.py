@@ -314,10 +314,14 @@ def fit_candidates(state) -> None:
         f0 = np.concatenate([fit.damped_frequency_hz[keep], new_f])
         s0 = np.concatenate([fit.decay_rate[keep], new_s])
         fit = None
+    hidden = np.zeros(0 if fit is None else len(fit), bool)
     if fit is not None and not given:
         fit = _split_by_poles(fit, ring, fs, state.poles, noise, threshold)
+        fit, hidden = _with_hidden(fit, ring, fs, state.poles, noise, threshold)
     state.fit = fit
-    state.candidates = [] if fit is None else _candidates(fit, state.poles)
+    found = [] if fit is None else _candidates(fit, state.poles)
+    state.hidden = [c for c, h in zip(found, hidden) if h]
+    state.candidates = [c for c, h in zip(found, hidden) if not h]
     state.candidates = [c for c in state.candidates if c.stable or c.damping_ratio <= MODE_DAMPING or given]
     if state.options.n_modes is not None:
         strongest = sorted(range(len(state.candidates)), key=lambda k: -state.candidates[k].height_db)
@@ -327,6 +331,58 @@ def fit_candidates(state) -> None:
     state.pre = replace(pre, peaks=_as_peaks(state.candidates, peaks, threshold, fs, given))
     state.decide(f"{len(state.candidates)} candidate(s) over {threshold:.1f} dB after {rounds} round(s): "
                  + ", ".join(f"{c.frequency_hz:.5g} Hz ({c.height_db:.0f} dB)" for c in state.candidates))
+    if state.hidden:
+        hidden = ", ".join(f"{c.frequency_hz:.5g} Hz ({c.height_db:.0f} dB)" for c in state.hidden)
+        state.decide(f"{len(state.hidden)} stable pole(s) of no candidate fitted as hidden component(s), "
+                     f"removed from the modes' signals: {hidden}")
+
+
+def _with_hidden(fit, ring: np.ndarray, fs: float, table, noise, threshold_db: float):
+    """The decay fit refitted with the persistent stable poles (:func:`persistent_modes`) that none of its
+    components accounts for, as hidden components: ``(fit, hidden)``, ``hidden`` a mask of its components.
+
+    Such a pole belongs to no candidate (the rounds dropped its component under the detection threshold:
+    it does not stand out of the noise as a spectral peak must), but it is in the record: left out of the
+    fit, its signal stays in its neighbours' residual and own signals, where its beat reads as an amplitude
+    dependence or a misfit of theirs. Each pole outside every component's half-power band is fitted with
+    the components; a hidden component stands when it stays under the detection threshold (over it, it is
+    a piece the fit left out on purpose: a nonlinear mode's poles spread along its chirp), the linear decay
+    explains it, it is damped less than :data:`TRANSIENT` of the largest damping, and no component the
+    linear decay leaves unexplained has it within its misfit's reach (:data:`MISFIT_REACH`: there the poles
+    may follow that mode's own amplitude dependence, which a sum of linear decays does not explain).
+    """
+    f, zeta = np.asarray(fit.frequency_hz, float), np.asarray(fit.damping_ratio, float)
+    resolution = fs / ring.shape[0]
+    added = [m for m in persistent_modes(table)
+             if np.all(np.abs(f - m.frequency_hz) > np.maximum(zeta * f, 1.5 * resolution))
+             and 0 < m.frequency_hz < TOP * fs]
+    for _ in range(2):  # the poles, then those of them that stand
+        if not added:
+            return fit, np.zeros(len(fit), bool)
+        fa = np.array([m.frequency_hz * np.sqrt(1 - m.damping_ratio**2) for m in added])
+        seeds = np.concatenate([fit.damped_frequency_hz, fa])
+        sa = [2 * np.pi * m.frequency_hz * m.damping_ratio for m in added]
+        rates = np.concatenate([fit.decay_rate, sa])
+        trial = fit_decay(ring, fs, seeds, rates, noise=noise)
+        where = np.sort(seeds).searchsorted(fa)  # one component per seed, sorted by frequency
+        stands = _standing(trial, where, resolution, threshold_db)
+        if stands.all():
+            mask = np.zeros(len(trial), bool)
+            mask[where] = True
+            return trial, mask
+        added = [m for m, ok in zip(added, stands) if ok]
+    return fit, np.zeros(len(fit), bool)
+
+
+def _standing(fit, hidden: np.ndarray, resolution: float, threshold_db: float) -> np.ndarray:
+    """Which of the components ``hidden`` (indices) stand as hidden components (:func:`_with_hidden`)."""
+    fd = np.asarray(fit.damped_frequency_hz, float)
+    ok = ~_misfit(fit.lack_of_fit, fit.lack_of_fit_p) & (fit.damping_ratio < TRANSIENT * MAX_DAMPING)
+    ok &= np.asarray(fit.height_db) < threshold_db
+    for j in np.flatnonzero(np.asarray(fit.lack_of_fit_p) < NONLINEAR_P):
+        reach = max(MISFIT_REACH * fit.decay_rate[j] / (2 * np.pi), MISFIT_SHARE * fd[j], 8 * resolution)
+        ok &= np.abs(fd - fd[j]) > reach
+    return ok[hidden]
 
 
 def _split_by_poles(fit, ring: np.ndarray, fs: float, table, noise, threshold_db: float):

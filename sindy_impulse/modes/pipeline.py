@@ -108,6 +108,9 @@ class SurveyState:
         The candidates' decay fit (``candidates``).
     candidates : list of Candidate
         The modes of the free decay and what they need (``candidates``, ``classify``).
+    hidden : list of Candidate
+        Components of the decay fit under the detection threshold that a persistent stable pole confirms
+        (``candidates``): not modes of the table, but in the record, so removed from every mode's own signal.
     modes, rejected, notes : list
         The result (``identify``, ``reconcile``).
     origin : list of int
@@ -131,6 +134,7 @@ class SurveyState:
     poles: object = None
     fit: object = None
     candidates: list = field(default_factory=list)
+    hidden: list = field(default_factory=list)
     modes: list = field(default_factory=list)
     origin: list = field(default_factory=list)
     rejected: list = field(default_factory=list)

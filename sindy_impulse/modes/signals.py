@@ -52,12 +52,13 @@ def _members(state, k: int) -> list:
 
 def deflated(state, k: int) -> np.ndarray:
     """The prepared record with every candidate but ``k`` (and its merged pieces) removed from the free
-    decay on."""
+    decay on, and the hidden components under the detection threshold (``state.hidden``)."""
     pre, start = state.pre, state.start
     n = pre.y.size - start
     if "_all_components" not in state.cache:
         parts = [component(c, n, pre.fs) for c in state.candidates]
-        state.cache["_all_components"] = parts, (np.sum(parts, axis=0) if parts else np.zeros(n))
+        every = parts + [component(c, n, pre.fs) for c in state.hidden]
+        state.cache["_all_components"] = parts, (np.sum(every, axis=0) if every else np.zeros(n))
     parts, total = state.cache["_all_components"]
     out = pre.y.copy()
     out[start:] -= total - sum((parts[j] for j in set(_members(state, k))), np.zeros(n))
