@@ -128,3 +128,45 @@ def test_fixed_coefficients_hand_back_their_values_whatever_the_data():
     assert opt.Theta_.shape == (49, 3) and opt.coef_ is not opt.coefficients
     with pytest.raises(ValueError, match="do not match"):
         FixedCoefficients([[1.0, 2.0]]).fit(theta, y)
+
+
+def _values(survey) -> list:
+    return [(m.frequency_hz, m.damping_ratio, m.frequency_std_hz, m.damping_ratio_std, m.uncertainty_note,
+             m.source, m.fit_error, m.model.coefficients().tolist()) for m in survey]
+
+
+@pytest.mark.parametrize("nonlinear", [False, True])
+def test_signals_kept_for_reuse_and_deferred_standard_deviations_change_nothing(nonlinear, monkeypatch):
+    """The survey keeps each candidate's own signal and its band-passes for the later stages, and computes
+    the standard deviations of a nonlinear candidate's fit only where its mode is kept: the modes are those
+    of a survey that keeps nothing (bit for bit), and every mode has its standard deviations."""
+    from sindy_impulse.modes import signals
+    from sindy_impulse.modes.band_fit import PENDING
+
+    if nonlinear:
+        k3 = 4 / 3 * 0.06 * (2 * np.pi * 60.0) ** 2
+        rec = impact_record(60.0, 0.01, fs=2000.0, duration=3.0, snr_db=50, sensor="displacement",
+                            cubic_stiffness=k3, random_state=0)
+    else:
+        rec = impact_record([118.0, 243.0, 402.0], [0.002, 0.004, 0.008], amplitudes=[1.0, 0.5, 0.3],
+                            fs=5000.0, duration=2.0, snr_db=45, random_state=7)
+    kept = _survey(rec.y, rec.fs)
+    monkeypatch.setattr(signals, "CACHE_BYTES", 0)
+    assert _values(_survey(rec.y, rec.fs)) == _values(kept)
+    assert all(m.uncertainty_note != PENDING and np.isfinite(m.frequency_std_hz) for m in kept)
+    assert any(m.source == "equation" for m in kept) == nonlinear
+
+
+def test_a_candidates_own_signal_is_computed_once_and_read_only(three_modes):
+    from sindy_impulse.modes.band_fit import default_estimator
+    from sindy_impulse.modes.pipeline import SurveyOptions, SurveyState
+    from sindy_impulse.modes.signals import deflated
+
+    rec, _ = three_modes
+    options = SurveyOptions(template=default_estimator())
+    state = SurveyState(0, rec.y.reshape(-1, 1), None, rec.fs, None, options)
+    Pipeline(SURVEY[:4])(state)
+    first = deflated(state, 0)
+    assert deflated(state, 0) is first and not first.flags.writeable
+    with pytest.raises(ValueError):
+        first[0] = 1.0

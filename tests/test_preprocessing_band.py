@@ -161,3 +161,16 @@ def test_the_fft_band_pass_weights_only_positive_frequencies_by_the_filter_gain(
         expected = np.fft.ifft(np.fft.fft(x, n_fft) * gain)[: x.size]
         got = bandpass(x, fs, band, analytic=True)
         np.testing.assert_allclose(got, expected, rtol=0, atol=1e-12 * np.abs(expected).max())
+
+
+def test_a_given_analytic_signal_gives_the_same_band():
+    """A caller that has the band-pass already hands it over: the same band signal, bit for bit."""
+    y = _mode(150.0, 0.003)
+    band = (136.4, 165.0)
+    z = bandpass(y[40:], FS, band, analytic=True)
+    own, given = extract_band(y, FS, band, start=40), extract_band(y, FS, band, start=40, analytic_signal=z)
+    for name in ("y", "t", "envelope"):
+        assert np.array_equal(getattr(own, name), getattr(given, name))
+    assert (own.stop_index, own.snr_db, own.end_reason) == (given.stop_index, given.snr_db, given.end_reason)
+    with pytest.raises(ValueError, match="analytic_signal"):
+        extract_band(y, FS, band, start=40, analytic_signal=z[1:])

@@ -304,24 +304,24 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
         e = np.exp((-x[2] + 1j * x[3]) * t + (-x[5] + 1j * x[4]) * integral)
         ce = (x[0] + 1j * x[1]) * e
         residual = y - ce.real
-        jac = np.column_stack([e.real, -e.imag, -t * ce.real, -t * ce.imag, -integral * ce.imag,
-                               -integral * ce.real])
         new_cost = float(residual @ residual)
         if not np.isfinite(new_cost) or new_cost > cost * (1 - _TOLERANCE):
             break  # (the last step no longer lowered the misfit: keep its start's values)
-        cost, best = new_cost, (x, residual, jac)
+        # the Jacobian of an accepted point only (a rejected step's is never read)
+        jac = np.column_stack([e.real, -e.imag, -t * ce.real, -t * ce.imag, -integral * ce.imag,
+                               -integral * ce.real])
+        normal, scale, scaled = _scaled_normal(jac, scaled=True)
+        cost, best = new_cost, (x, residual, normal, scale)
         if iteration > 0 and np.sqrt(cost / y.size) > _HOPELESS * noise_std:
             break  # something else is in the decay: the misfit says so without converging
-        normal, scale = _scaled_normal(jac)
         try:
-            x = x + np.linalg.solve(normal, (jac / scale).T @ residual) / scale
+            x = x + np.linalg.solve(normal, scaled.T @ residual) / scale
         except np.linalg.LinAlgError:
             return None
-    x, residual, jac = best
+    x, residual, normal, scale = best
     if not (x[2] > 0 and x[3] > 0):
         return None
     variance = float(residual @ residual) / max(y.size - x.size, 1)
-    normal, scale = _scaled_normal(jac)
     cov = np.linalg.pinv(normal) / np.outer(scale, scale) * variance
     sigma0, omega0, omega2, sigma2 = x[2], x[3], x[4], x[5]
     largest, smallest = abs(amplitude), abs(amplitude) * np.exp(-decay_rate * t_end)
@@ -335,10 +335,12 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
                                (std(3), std(4), std(2), std(5)), misfit)
 
 
-def _scaled_normal(jac: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _scaled_normal(jac: np.ndarray, scaled: bool = False) -> tuple:
     """The normal matrix of ``jac`` with its columns scaled to unit norm, and the scales (a mode's
-    amplitude, rates and slopes differ by many orders: unscaled, a pseudo-inverse drops the small ones)."""
+    amplitude, rates and slopes differ by many orders: unscaled, a pseudo-inverse drops the small ones);
+    with ``scaled``, the scaled ``jac`` too."""
     scale = np.sqrt(np.einsum("ij,ij->j", jac, jac))
     scale[scale == 0] = 1.0
-    scaled = jac / scale
-    return scaled.T @ scaled, scale
+    columns = jac / scale
+    normal = columns.T @ columns
+    return (normal, scale, columns) if scaled else (normal, scale)

@@ -34,7 +34,7 @@ from types import SimpleNamespace
 
 import numpy as np
 from scipy.special import ndtr as normal_cdf
-from scipy.stats import t as student_t
+from scipy.special import stdtrit
 
 from ..preprocessing.band import band_noise_rms
 from ..preprocessing.filters import bandpass, transient_samples
@@ -204,8 +204,13 @@ def _near_order(ratio: float, sigma: float, n_eff: float, order: int, tol: float
     quantile of the same probability with ``n_eff - 2`` degrees of freedom (3.0 for long stretches; the
     quarters of a harmonic 20 dB over the noise hold 1.4-3.8 such samples, and the frequency ratios of a
     true second harmonic's quarters to its mode strayed 3-7 standard errors from 2)."""
-    sigmas = float(student_t.ppf(normal_cdf(SIGMAS), max(n_eff - 2.0, 1.0)))
+    sigmas = float(stdtrit(max(n_eff - 2.0, 1.0), _SIGMAS_P))  # the quantile (scipy.stats.t.ppf's own)
     return abs(ratio - order) <= max(sigmas * sigma, tol * order)
+
+
+#: The normal's probability within :data:`SIGMAS` standard deviations (one-sided), for
+#: :func:`_near_order`'s Student-t quantile.
+_SIGMAS_P = float(normal_cdf(SIGMAS))
 
 
 def _whole_power(p: float, order: int) -> bool:

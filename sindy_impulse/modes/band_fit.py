@@ -19,7 +19,7 @@ from .result import Mode, Rejected
 from .uncertainty import mode_uncertainty
 
 __all__ = ["default_estimator", "fit_band", "fit_states", "mode_of_states", "fit_error_of", "MAX_FIT_ERROR",
-           "SENSOR_POWER"]
+           "SENSOR_POWER", "PENDING", "with_uncertainty"]
 
 #: Largest fit error (mean absolute deviation relative to the local amplitude) of a model reported as a
 #: mode; a peak whose best model does worse is rejected.
@@ -196,11 +196,13 @@ def fit_band(
     impulse=None,
     sensor=None,
     index: int = 0,
+    uncertainty: bool = True,
 ):
     """Identify the mode of one band (a :class:`~sindy_impulse.preprocessing.BandSignal`).
 
     Returns a :class:`Mode`, or a :class:`Rejected` saying why no stable, well-fitting model explains the
-    band.
+    band. ``uncertainty=False`` leaves the mode's standard deviations to :func:`with_uncertainty` (its
+    ``uncertainty_note`` is :data:`PENDING` until then): for a caller that may not keep the mode.
     """
     states, states_dot, t = derivative_states(band.y, band.t)
     found = fit_states(states, states_dot, t, band.band_hz, template, index=index)
@@ -223,6 +225,7 @@ def fit_band(
         states,
         t,
         index,
+        uncertainty=uncertainty,
         frequency_hz=frequency,
         damping_ratio=zeta,
         fit_error=fit_error,
@@ -266,12 +269,50 @@ def _uncertainty(model, states, t, band_hz, frequency: float, **kws) -> dict:
                 coefficients_std=u.coefficients_std, uncertainty_note=u.reason)
 
 
-def _mode(band, model, states, t, index, lags=None, **values) -> Mode:
+def _mode(band, model, states, t, index, lags=None, uncertainty: bool = True, **values) -> Mode:
     """The :class:`Mode` of a band's ``model`` fitted on ``states`` (delay coordinates of the band
     signal with ``lags``, else ``[y, dy]``); ``values`` are the mode's own (frequency, damping ratio, fit
-    error; amplitude, shape, residue where known)."""
+    error; amplitude, shape, residue where known). ``uncertainty=False``: its standard deviations are left
+    :data:`PENDING` (``[y, dy]`` states only)."""
     values.setdefault("amplitude", math.nan)  # a mode of a joint group's model: no amplitude of its own
     band_hz = tuple(float(b) for b in band.band_hz)
     snr_db = float(band.snr_db)
-    values.update(_uncertainty(model, states, t, band_hz, values["frequency_hz"], lags=lags))
+    if uncertainty or lags is not None:
+        values.update(_uncertainty(model, states, t, band_hz, values["frequency_hz"], lags=lags))
+    else:
+        values.update(uncertainty_note=PENDING)
     return Mode(band_hz=band_hz, model=model, states=states, t=t, snr_db=snr_db, record=index, **values)
+
+
+#: ``uncertainty_note`` of a mode of :func:`fit_band` whose standard deviations are not computed yet.
+PENDING = "standard deviations not computed yet"
+
+
+def with_uncertainty(mode: Mode, index: int = 0) -> Mode | Rejected:
+    """A mode of :func:`fit_band` (``uncertainty=False``) with its standard deviations from its fit, as
+    ``fit_band`` computes them (in place); the :class:`Rejected` ``fit_band`` gives where that computation
+    fails. Any other mode is returned as it is.
+
+    Examples
+    --------
+    >>> from sindy_impulse.preprocessing import extract_band
+    >>> t = np.arange(8000) / 4000.0
+    >>> y = np.exp(-2.0 * t) * np.cos(2 * np.pi * 100.0 * t)
+    >>> band = extract_band(y + 1e-6 * np.sin(2 * np.pi * 1000 * t), 4000.0, (80.0, 120.0))
+    >>> mode = fit_band(band, default_estimator(), onset_time=0.0, uncertainty=False)
+    >>> mode.uncertainty_note == PENDING, math.isnan(mode.frequency_std_hz)
+    (True, True)
+    >>> done = with_uncertainty(mode)
+    >>> done is mode, done.uncertainty_note == PENDING, bool(done.frequency_std_hz >= 0)
+    (True, False, True)
+    """
+    if not isinstance(mode, Mode) or mode.uncertainty_note != PENDING:
+        return mode
+    try:
+        values = _uncertainty(mode.model, mode.states, mode.t, mode.band_hz, mode.frequency_hz)
+    except Exception as err:  # noqa: BLE001 - as fit_band (isolated) reports a failure of its band
+        return Rejected(mode.band_hz, f"the identification failed ({type(err).__name__}: {err})", index,
+                        {"error": type(err).__name__, "message": str(err)})
+    for name, value in values.items():
+        setattr(mode, name, value)
+    return mode

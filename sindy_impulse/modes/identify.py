@@ -24,7 +24,7 @@ import numpy as np
 from .._utils.threads import one_thread
 from ..preprocessing.partition import peak_bands
 from ._states import free_decay_states
-from .band_fit import fit_band, fit_states, mode_of_states
+from .band_fit import fit_band, fit_states, mode_of_states, with_uncertainty
 from .kinds import Kind, Reason
 from .linear import (
     envelope_mode,
@@ -85,14 +85,27 @@ def _one(state, k: int) -> list:
             warnings.simplefilter("ignore")
             if cand.kind is Kind.LINEAR:
                 return [(k, linear_mode(state, k) or nonlinear_mode(state, k))]
-            out = nonlinear_mode(state, k)
-            if "unconfirmed" in cand.evidence and not _nonlinear_equation(out):
-                return _apart(state, k)
-            return [(k, _envelope_instead(state, k, out))]
+            return _kept(state, k, nonlinear_mode(state, k, uncertainty=False))
     except Exception as err:  # noqa: BLE001 - one candidate's failure must not abort the survey
         return [(k, Rejected(cand.band_hz, f"the identification failed ({type(err).__name__}: {err})",
                              state.index, {"error": type(err).__name__, "message": str(err)},
                              Reason.FIT_FAILED))]
+
+
+def _kept(state, k: int, out) -> list:
+    """What nonlinear candidate ``k``'s paper's fit ``out`` gives: its unconfirmed neighbours apart where it
+    has no nonlinear equation (:func:`_apart`), else ``out`` or the averaged equations' mode
+    (:func:`_envelope_instead`). The fit's standard deviations are computed for a mode that is kept
+    only (:func:`~.band_fit.with_uncertainty`); where that fails, the fit failed (as if inside it: the
+    decay fit's values instead, :func:`_linear_instead`)."""
+    if "unconfirmed" in state.candidates[k].evidence and not _nonlinear_equation(out):
+        return _apart(state, k)
+    kept = _envelope_instead(state, k, out)
+    if kept is out:
+        done = with_uncertainty(out, state.index)
+        if done is not out:  # the standard deviations failed: the fit failed
+            return _kept(state, k, _linear_instead(state, k, f"the paper's fit gave no mode ({done.reason})"))
+    return [(k, kept)]
 
 
 def _envelope_instead(state, k: int, out):
@@ -121,8 +134,9 @@ def _apart(state, k: int) -> list:
     return [(j, linear_mode(state, j) or nonlinear_mode(state, j)) for j in members]
 
 
-def nonlinear_mode(state, k: int):
-    """The paper's fit on candidate ``k``'s band (see the module)."""
+def nonlinear_mode(state, k: int, uncertainty: bool = True):
+    """The paper's fit on candidate ``k``'s band (see the module); ``uncertainty=False``: the standard
+    deviations of a mode of the band's fit left to :func:`~.band_fit.with_uncertainty`."""
     try:
         band = band_signal(state, k, state.options.max_periods)
     except ValueError:
@@ -136,7 +150,7 @@ def nonlinear_mode(state, k: int):
     pre = state.pre
     out = fit_band(band, state.options.template, onset_time=pre.impact.onset_time, record=state.record,
                    channel=state.channel, impulse=impulse_of(state), sensor=state.options.sensor,
-                   index=state.index)
+                   index=state.index, uncertainty=uncertainty)
     if isinstance(out, Rejected):
         return _linear_instead(state, k, f"the paper's fit gave no mode ({out.reason})")
     return out

@@ -30,8 +30,9 @@ MIN_SAMPLES = 24
 _MODES = (Kind.LINEAR, Kind.NONLINEAR)
 
 
-def component(cand, n: int, fs: float) -> np.ndarray:
-    """A candidate's damped sinusoid over ``n`` samples of the free decay (reference channel).
+def component(cand, n: int, fs: float, t: np.ndarray | None = None) -> np.ndarray:
+    """A candidate's damped sinusoid over ``n`` samples of the free decay (reference channel); ``t``:
+    their times ``arange(n) / fs`` when already computed.
 
     Examples
     --------
@@ -40,7 +41,7 @@ def component(cand, n: int, fs: float) -> np.ndarray:
     >>> component(c, 3, 100.0).round(3).tolist()
     [2.0, 1.602, 0.606]
     """
-    t = np.arange(n) / fs
+    t = np.arange(n) / fs if t is None else t
     s = -cand.decay_rate + 2j * np.pi * cand.damped_frequency_hz
     return np.real(cand.amplitude[0] * np.exp(s * t))
 
@@ -52,17 +53,54 @@ def _members(state, k: int) -> list:
 
 def deflated(state, k: int) -> np.ndarray:
     """The prepared record with every candidate but ``k`` (and its merged pieces) removed from the free
-    decay on, and the hidden components under the detection threshold (``state.hidden``)."""
+    decay on, and the hidden components under the detection threshold (``state.hidden``); once per set of
+    members (:func:`_kept`: read-only)."""
+    members = _members(state, k)
+    return _kept(state, "_deflated", frozenset(members), lambda: _deflate(state, members))
+
+
+def _deflate(state, members: list) -> np.ndarray:
     pre, start = state.pre, state.start
     n = pre.y.size - start
     if "_all_components" not in state.cache:
-        parts = [component(c, n, pre.fs) for c in state.candidates]
-        every = parts + [component(c, n, pre.fs) for c in state.hidden]
+        t = np.arange(n) / pre.fs
+        parts = [component(c, n, pre.fs, t) for c in state.candidates]
+        every = parts + [component(c, n, pre.fs, t) for c in state.hidden]
         state.cache["_all_components"] = parts, (np.sum(every, axis=0) if every else np.zeros(n))
     parts, total = state.cache["_all_components"]
     out = pre.y.copy()
-    out[start:] -= total - sum((parts[j] for j in set(_members(state, k))), np.zeros(n))
+    out[start:] -= total - sum((parts[j] for j in set(members)), np.zeros(n))
     return out
+
+
+#: Most bytes of signals a record's survey keeps for reuse (:func:`_kept`): its candidates' own signals and
+#: their analytic band-passes, each computed once while they fit.
+CACHE_BYTES = 64 * 2**20
+
+
+def _kept(state, kind: str, key, compute) -> np.ndarray:
+    """``compute()``, kept in ``state.cache[kind][key]`` (read-only) while the signals kept stay within
+    :data:`CACHE_BYTES`: the stages ask for the same candidate's signal, or the same band of it, several
+    times (the classification's tests, then the mode's identification)."""
+    store = state.cache.setdefault(kind, {})
+    if key in store:
+        return store[key]
+    value = compute()
+    used = state.cache.get("_kept_bytes", 0)
+    if used + value.nbytes <= CACHE_BYTES:
+        value.flags.writeable = False
+        store[key] = value
+        state.cache["_kept_bytes"] = used + value.nbytes
+    return value
+
+
+def _own_analytic(state, k: int, band_hz) -> np.ndarray:
+    """Candidate ``k``'s own signal (:func:`deflated`) from the decay's start as an analytic signal in
+    ``band_hz`` (zero-phase FFT band-pass, untrimmed); once per set of members and band."""
+    band = tuple(float(b) for b in band_hz)
+    key = (frozenset(_members(state, k)), band)
+    return _kept(state, "_analytic", key,
+                 lambda: bandpass(deflated(state, k)[state.start:], state.pre.fs, band, analytic=True))
 
 
 def _noise_spectrum(state):
@@ -82,9 +120,11 @@ def band_signal(state, k: int, max_periods):
     floor), its first ``max_periods`` periods; a ValueError when the band cannot keep enough."""
     pre, band_hz = state.pre, state.candidates[k].band_hz
     noise = band_noise_rms(_noise_spectrum(state), band_hz)
-    return extract_band(deflated(state, k), pre.fs, band_hz, start=state.start, t0=pre.t0,
+    y = deflated(state, k)
+    z = _own_analytic(state, k, band_hz) if 0 < band_hz[0] < band_hz[1] < pre.fs / 2 else None
+    return extract_band(y, pre.fs, band_hz, start=state.start, t0=pre.t0,
                         samples_per_period=state.options.samples_per_period, noise_rms=noise,
-                        max_periods=max_periods)
+                        max_periods=max_periods, analytic_signal=z)
 
 
 def analytic(state, k: int, band_hz) -> tuple[np.ndarray, int]:
@@ -92,11 +132,11 @@ def analytic(state, k: int, band_hz) -> tuple[np.ndarray, int]:
     ``band_hz`` (zero-phase FFT band-pass), the filter's transient trimmed at both ends: ``(z, first)``,
     ``first`` the sample of the free decay ``z`` starts at."""
     pre, start = state.pre, state.start
-    y = deflated(state, k)[start:]
+    size = pre.y.size - start
     trim = transient_samples(pre.fs, band_hz)
-    if y.size <= 2 * trim + 16:
+    if size <= 2 * trim + 16:
         return np.empty(0, complex), trim
-    return bandpass(y, pre.fs, band_hz, analytic=True)[trim: y.size - trim], trim
+    return _own_analytic(state, k, band_hz)[trim: size - trim], trim
 
 
 def free_decay(state, k: int) -> tuple[np.ndarray, np.ndarray]:

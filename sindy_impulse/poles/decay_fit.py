@@ -161,11 +161,17 @@ class _Problem:
     def __init__(self, Y, bins, n, fs, weight):
         self.Y, self.dt, self.w = Y, 1.0 / fs, weight
         self.q = np.exp(-2j * np.pi * bins / n)
+        self._last = None  # the parameters last evaluated and their parts
 
     def parts(self, p, k):
-        sigma, omega, g = _unpack(p, k)
-        a, b = _design((-sigma + 1j * omega) * self.dt, self.q)
-        return g, a, b
+        """Residues and design matrices at ``p``; those of the point last evaluated are kept (the
+        Levenberg-Marquardt iteration takes the Jacobian where it last evaluated the residual)."""
+        key = (k, np.asarray(p, float).tobytes())
+        if self._last is None or self._last[0] != key:
+            sigma, omega, g = _unpack(p, k)
+            a, b = _design((-sigma + 1j * omega) * self.dt, self.q)
+            self._last = key, (g, a, b)
+        return self._last[1]
 
     def residual(self, p, k) -> np.ndarray:
         g, a, b = self.parts(p, k)
@@ -377,19 +383,22 @@ def _fit(spectrum, P, noise, fs, n, f0, s0, reach, max_nfev, passes, estimate) -
     seeded = _design((-sigma + 1j * omega) / fs, np.exp(-2j * np.pi * bins / n))
     g = _amplitudes(spectrum[bins, 0] / scale, *seeded, np.sqrt(2.0 / (noise[bins] / scale**2)))
     first = True
+    Y = spectrum[:, 0] / scale  # the reference's transform in units of the scale, once
     for done in range(1, passes + 1):
+        scaled_noise = noise / scale**2
         for _sweep in range(SWEEPS if len(clusters) > 1 else 1):
             for c in clusters:
-                sigma[c], omega[c], g[c] = _fit_cluster(spectrum[:, 0] / scale, noise / scale**2, ranges, c,
-                                                        (sigma, omega, g), bounds, fs, n, max_nfev, first)
+                sigma[c], omega[c], g[c] = _fit_cluster(Y, scaled_noise, ranges, c, (sigma, omega, g), bounds,
+                                                        fs, n, max_nfev, first)
             first = False
         full = _all_bins_residual(spectrum[:, 0], sigma, omega, g * scale, fs, n)
         if estimate and done < passes:
             noise = _residual_noise(full, noise, sigma, omega, fs, n)
     cov = np.zeros((2 * k, 2 * k))
+    scaled_noise = noise / scale**2
     for c in clusters:
         cov[np.ix_(c + [k + i for i in c], c + [k + i for i in c])] = _cluster_covariance(
-            spectrum[:, 0] / scale, noise / scale**2, ranges, c, (sigma, omega, g), fs, n)
+            Y, scaled_noise, ranges, c, (sigma, omega, g), fs, n)
     g_all = g[:, None] * scale
     if spectrum.shape[1] > 1:  # the other channels: their own amplitudes at the reference's poles
         bins = np.unique(np.concatenate(ranges))

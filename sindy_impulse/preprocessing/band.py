@@ -210,7 +210,8 @@ def _too_short(band: tuple, periods: float, trim: int, min_periods: float):
 def extract_band(y, fs: float, band_hz, *, start: int = 0, t0: float = 0.0, samples_per_period: float = 16.0,
                  min_samples_per_period: float = 8.0, method: str = "fft", order: int = 4,
                  transient_tol: float = 1e-3, noise_rms: float | None = None, end_snr_db: float | None = 10.0,
-                 min_periods: float = 10.0, max_periods: float | None = None) -> BandSignal:
+                 min_periods: float = 10.0, max_periods: float | None = None,
+                 analytic_signal: np.ndarray | None = None) -> BandSignal:
     """Band-pass one band of a record, trim the filter transient, stop at the noise floor and decimate.
 
     See the module docstring for the steps.
@@ -244,6 +245,10 @@ def extract_band(y, fs: float, band_hz, *, start: int = 0, t0: float = 0.0, samp
     max_periods : float, optional
         Most periods kept (``end_reason`` "max_periods" when they end the band): the strongest part of a
         long ring-down, at a bounded cost.
+    analytic_signal : ndarray of complex, optional
+        The band-pass of ``y[start:]`` as an analytic signal (:func:`~.filters.bandpass` with
+        ``analytic=True``, this ``method`` and ``order``) when the caller has it already: it is used
+        instead of filtering again.
 
     Returns
     -------
@@ -273,7 +278,12 @@ def extract_band(y, fs: float, band_hz, *, start: int = 0, t0: float = 0.0, samp
     check_param("max_periods", max_periods, [None, Interval(Real, 0, None, "neither")], "extract_band")
     segment = arr[start:]
     trim = transient_samples(rate, band, method=method, order=order, tol=transient_tol)
-    z = bandpass(segment, rate, band, method=method, order=order, analytic=True)
+    if analytic_signal is None:
+        z = bandpass(segment, rate, band, method=method, order=order, analytic=True)
+    else:
+        z = np.asarray(analytic_signal)
+        if z.shape != segment.shape:
+            raise ValueError(f"analytic_signal holds {z.size} samples, y[start:] {segment.size}")
     env = np.abs(z)
     stop, reason = segment.size - trim, "filter transient"
     if stop - trim < min_periods * rate / centre:
