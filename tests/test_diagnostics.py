@@ -384,11 +384,13 @@ def test_the_residuals_colour_is_read_per_direction():
 
 
 def test_term_tests_compile_one_model_per_new_term(monkeypatch):
-    """A tested term enters every equation's model (at 1e-300 where it is not tested): the tests of the
-    same term in different equations share that model, with the same statistics as separate ones."""
+    """Where the columns are differences of simulations, a tested term enters every equation's model (at
+    1e-300 where it is not tested): the tests of the same term in different equations share that model,
+    with the same statistics as separate ones."""
     from sindy_impulse.diagnostics import terms
 
     ring = damped_oscillator(snr_db=40, random_state=0)
+    monkeypatch.setattr(terms, "linear_sensitivities", lambda *args, **kwargs: None)  # differences only
     model = ImpulseSINDy().fit(ring.x, t=ring.t)
     tried = []
     column, compile_ = terms._Sensitivity.column, terms._Sensitivity.model
@@ -400,3 +402,53 @@ def test_term_tests_compile_one_model_per_new_term(monkeypatch):
     assert len(compiled) == 1 + len(new_terms) < len(tried)  # the base model, then one per new term
     assert shared.term_statistics == model.diagnostics_.term_statistics
     assert shared.missing_terms == model.diagnostics_.missing_terms
+
+
+def _sensitivity(model):
+    from sindy_impulse.diagnostics import terms
+    from sindy_impulse.diagnostics.model import Fitted
+
+    checks = model._screening
+    fitted = Fitted(model, rings_down=bool(np.any(checks.rest.rings_down)))
+    raw = checks.raw if checks.noise_known else None
+    return terms._Sensitivity(fitted, checks.rest.shift, checks.noise_ratio, raw)
+
+
+def test_a_linear_models_sensitivities_to_new_terms_match_differences_on_its_own_grid(monkeypatch):
+    """The linearised recursion (one pass for every term tried) gives the derivative the finite differences
+    approximate, once both simulations take the linear model's own sub-steps."""
+    from sindy_impulse.diagnostics import terms
+
+    ring = damped_oscillator(snr_db=40, random_state=0)
+    s = _sensitivity(ImpulseSINDy().fit(ring.x, t=ring.t))
+    pairs = s.candidates(s.coef != 0)
+    s.prepare(pairs)
+    assert sorted(s._linearised) == sorted(pairs)
+    linearised = [s._linearised.pop(p) for p in pairs]
+    model = terms._Sensitivity.model
+
+    def same_grid(self, columns):  # the model with a new term integrated at the linear model's sub-steps
+        out = model(self, columns)
+        out.step_scale = self.base_model.step_scale
+        return out
+
+    monkeypatch.setattr(terms._Sensitivity, "model", same_grid)
+    s._with_term.clear()
+    for p, column in zip(pairs, linearised):
+        differenced = s.column(*p)
+        assert np.linalg.norm(column - differenced) < 3e-3 * np.linalg.norm(differenced)
+
+
+def test_a_nonlinear_models_sensitivities_are_differenced():
+    """The recursion needs a linear model: a model with a cubic term keeps the finite differences."""
+    import pysindy as ps
+
+    ring = damped_oscillator(k_nl=0.064, x0=(10.0, 0.0), snr_db=40, random_state=0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = ImpulseSINDy(feature_library=ps.PolynomialLibrary(degree=3)).fit(ring.x, t=ring.t)
+    assert np.count_nonzero(fit.coef_[:, 6:])  # a cubic term
+    s = _sensitivity(fit)
+    s.prepare(s.candidates(s.coef != 0))
+    assert s._linearised == {}
+

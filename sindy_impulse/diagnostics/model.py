@@ -17,6 +17,7 @@ __all__ = [
     "Fitted",
     "segments",
     "simulate_residuals",
+    "simulation_grid",
     "simulation_residuals",
     "fit_error",
     "regression",
@@ -87,13 +88,7 @@ def simulate_residuals(
     """
     extra = {} if coef is None else {"coef": coef}
     out = []
-    for ref, t, u, starts in zip(fitted.filtered, fitted.times, fitted.inputs, segments(fitted)):
-        compared = None
-        if stride > 1 and u is None:
-            compared = np.arange(0, ref.shape[0], stride)
-            keep = np.union1d(compared, starts)
-            compared = np.searchsorted(keep, compared)
-            ref, t, starts = ref[keep], t[keep], np.searchsorted(keep, starts)
+    for (ref, t, starts, compared), u in zip(simulation_grid(fitted, stride), fitted.inputs):
         if u is None and starts.size > 1 and hasattr(model, "simulate_segments"):  # one run of the kernel
             x0s = ref[starts] if start_offset is None else ref[starts] + start_offset
             residual = model.simulate_segments(x0s, t, starts, **extra) - ref
@@ -105,11 +100,25 @@ def simulate_residuals(
                 x0 = ref[a] if start_offset is None else ref[a] + start_offset
                 sim[a : b + 1] = model.simulate(x0, t[a : b + 1], u=inputs, **extra)
             residual = sim - ref
-        if compared is not None:
-            residual = residual[compared]
-        elif stride > 1:
-            residual = residual[::stride]
-        out.append(residual)
+        out.append(residual if compared is None else residual[compared])
+    return out
+
+
+def simulation_grid(fitted: Fitted, stride: int = 1) -> list[tuple]:
+    """Per trajectory, the samples :func:`simulate_residuals` simulates and those it returns:
+    ``(ref, t, starts, compared)``, the filtered states and times on the simulated samples, the segments'
+    first samples among them, and which of them are compared (None: all)."""
+    out = []
+    for ref, t, u, starts in zip(fitted.filtered, fitted.times, fitted.inputs, segments(fitted)):
+        compared = None
+        if stride > 1 and u is None:  # simulated on the compared samples and the segments' starts
+            compared = np.arange(0, ref.shape[0], stride)
+            keep = np.union1d(compared, starts)
+            compared = np.searchsorted(keep, compared)
+            ref, t, starts = ref[keep], t[keep], np.searchsorted(keep, starts)
+        elif stride > 1:  # inputs: simulated at every sample
+            compared = np.arange(0, ref.shape[0], stride)
+        out.append((ref, t, starts, compared))
     return out
 
 

@@ -3,8 +3,9 @@
 Around the fitted coefficients the simulation is linearised: ``r(b + d) ~ r0 + J d``, where ``r0`` is the
 model's simulation minus the measured states (each state in units of its noise level) and ``J`` the
 sensitivity of the simulation to each coefficient of the model and to each library term it lacks (finite
-differences: one simulation per coefficient). Every neighbouring support is then refitted by linear least
-squares on ``J`` (Gauss-Newton from the fitted model), and its least squared error compared with the
+differences: one simulation per coefficient; for a linear model, the terms it lacks all at once by the
+linearised recursion of :mod:`.linear_sensitivity`). Every neighbouring support is then refitted by linear
+least squares on ``J`` (Gauss-Newton from the fitted model), and its least squared error compared with the
 model's own support refitted the same way:
 
 - **drop** a term (its coefficient forced to 0, the others refitted): a rise below :data:`SUPPORT_CHI2`
@@ -48,6 +49,7 @@ from ..exceptions import DataWarning
 from ..feature_library.terms import library_terms
 from ..simulation import WORK_BUDGET, Reference, WorkBudget, at_rest_level, compile_model
 from ..simulation.scoring import compare_stride
+from .linear_sensitivity import linear_sensitivities
 from .model import Fitted, regression, segments, simulate_residuals
 
 __all__ = ["TermTests", "term_tests", "SUPPORT_CHI2", "FALSE_ALARM", "WORK_FRACTION", "MAX_TEST_SAMPLES"]
@@ -152,6 +154,7 @@ class _Sensitivity:
         self.steps = STEP * np.where(ratio > 0, ratio, STEP)
         self.base_model = self.model(np.flatnonzero(np.any(self.coef != 0, axis=0)))
         self._with_term = {}  # term -> the base model with that term added (:meth:`column`)
+        self._linearised = {}  # (i, j) -> its column from the linearised recursion (:meth:`prepare`)
         centred = np.vstack(fitted.filtered) - np.median(np.vstack(fitted.filtered), axis=0)
         scale = np.sqrt(np.mean(centred**2, axis=0))
         floor = np.maximum(np.asarray(noise_ratio, float), NOISE_FLOOR) * np.where(scale > 0, scale, 1.0)
@@ -211,8 +214,25 @@ class _Sensitivity:
             out.append(r - self.r0)
         return _Segments(owner, np.column_stack(out))
 
+    def prepare(self, pairs: list) -> None:
+        """The columns of the coefficients ``pairs`` from the linearised recursion of a linear model
+        (:func:`.linear_sensitivity.linear_sensitivities`: one pass for all, where each column otherwise
+        takes a simulation), kept for :meth:`column`; nothing where the recursion does not apply."""
+        if self.budget.exhausted or not pairs:
+            return
+        found = linear_sensitivities(self.base_model, self.fitted, self.terms, self.shift, pairs, self.stride)
+        self.budget.charge_model(self.base_model)
+        if found is None or not np.all(np.isfinite(found[0])):
+            return
+        S, done = found
+        for c, (i, j) in enumerate(done):
+            self._linearised[(i, j)] = (self.steps[i, j] * S[:, :, c] / self.sigma).ravel()
+
     def column(self, i: int, j: int):
-        """Sensitivity of the residual to coefficient (i, j), per step (None if diverged or over budget)."""
+        """Sensitivity of the residual to coefficient (i, j), per step (None if diverged or over budget):
+        the difference of two simulations, or the linearised one :meth:`prepare` computed."""
+        if (i, j) in self._linearised:
+            return self._linearised[(i, j)]
         if self.budget.exhausted:
             return None
         used = np.any(self.coef != 0, axis=0)
@@ -405,6 +425,7 @@ def _drops(fitted, s, active, gram, base):
 def _candidate_tests(fitted, s, support, active, gram, base):
     """Add and swap tests of the promising library terms; ``(missing, alternatives, complete)``."""
     candidates = s.candidates(support)
+    s.prepare(candidates)
     colour = _Colour(gram.residual(), s.sigma.size, s.floor / s.sigma)
     threshold = float(chi2.isf(FALSE_ALARM / max(len(candidates), 1), 1))
     everything = np.arange(gram.G.shape[0] + 1)
