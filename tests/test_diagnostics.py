@@ -452,3 +452,25 @@ def test_a_nonlinear_models_sensitivities_are_differenced():
     s.prepare(s.candidates(s.coef != 0))
     assert s._linearised == {}
 
+
+def test_closed_form_add_and_swap_statistics_match_refits():
+    """The add and swap statistics of one more column, from the model's own fit (rank-one update), are
+    those of refitting on the extended Gram matrix."""
+    from sindy_impulse.diagnostics import terms
+
+    rng = np.random.default_rng(1)
+    n_rows = 500
+    owner = np.repeat(np.arange(4), n_rows // 4)
+    gram = terms._Gram(rng.standard_normal(n_rows), [rng.standard_normal(n_rows) for _ in range(4)],
+                       terms._Segments(owner, rng.standard_normal((n_rows, 1))))
+    base = gram.ssr(np.arange(4))
+    extra = rng.standard_normal(n_rows) + 0.5 * gram.J[:, 1]
+    fixes = [(1, 0.7), (3, -2.0)]
+    gain, direction, rises = gram.candidate(extra, fixes)
+    G, b = gram.extended(extra)
+    everything = np.arange(5)
+    assert gain == pytest.approx(base - gram.ssr(everything, G=G, b=b), rel=1e-9)
+    assert np.allclose(direction, gram.orthogonal(extra))
+    for (n, v), rise in zip(fixes, rises):
+        assert rise == pytest.approx(gram.ssr(everything[everything != n], (n, v), G, b) - base, rel=1e-9)
+    assert gram.candidate(gram.J[:, 2] * 3.0, fixes) is None  # a copy of a column: refitted by the caller

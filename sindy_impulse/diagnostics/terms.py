@@ -304,6 +304,12 @@ class _Gram:
         self.G = self.J.T @ self.J
         self.b = self.J.T @ self.r0
         self.rr = float(self.r0 @ self.r0)
+        # the model's own fit for :meth:`candidate` (None when G fails :func:`_solve_gram`'s Cholesky test)
+        self._factor = _cholesky(self.G)
+        if self._factor is not None:
+            self._beta = scipy.linalg.cho_solve(self._factor, self.b, check_finite=False)
+            eye = np.eye(self.G.shape[0])
+            self._inverse_diagonal = np.diag(scipy.linalg.cho_solve(self._factor, eye, check_finite=False))
 
     def _projected(self, x: np.ndarray) -> np.ndarray:
         return x if self.nuisance is None else self.nuisance.project(x)
@@ -324,6 +330,35 @@ class _Gram:
         cross = self.J.T @ column
         G = np.block([[self.G, cross[:, None]], [cross[None, :], np.array([[column @ column]])]])
         return G, np.append(self.b, column @ self.r0)
+
+    def candidate(self, column: np.ndarray, fixes: list):
+        """The add and swap statistics of one more column, in closed form from the model's own fit.
+
+        With ``o`` the column's part orthogonal to the nuisance columns and to ``J`` (:meth:`orthogonal`),
+        adding it lowers the least squared residual by ``(o . r0)^2 / (o . o)``; holding column ``j``'s
+        coefficient at ``v`` (``fixes``: ``(j, v)`` as :meth:`ssr`'s ``fix``) in the extended fit raises it
+        from the extended least by ``(beta_j + v)^2 / (G_ext^-1)_jj``, where the extended fit's ``beta``
+        and inverse follow from the model's own by the column's coefficient ``(o . r0) / (o . o)`` and its
+        regression on ``J`` (a rank-one update: the same numbers as refitting on the extended Gram matrix,
+        without a factorisation per test). Returns ``(gain, o, [rise over the model's least per fix])``,
+        or None where the extended Gram matrix is singular to within :func:`_solve_gram`'s test (the
+        caller refits).
+        """
+        if self._factor is None:
+            return None
+        column = self._projected(column)
+        q = scipy.linalg.cho_solve(self._factor, self.J.T @ column, check_finite=False)
+        o = column - self.J @ q
+        d = float(o @ o)
+        if not d > 1e-12 * max(float(column @ column), float(np.max(np.diag(self.G)))):
+            return None
+        gamma = float(o @ self.r0) / d
+        gain = gamma * gamma * d
+        rises = []
+        for j, v in fixes:
+            beta = self._beta[j] - q[j] * gamma
+            rises.append((beta + v) ** 2 / (self._inverse_diagonal[j] + q[j] * q[j] / d) - gain)
+        return gain, o, rises
 
     def ssr(self, keep, fix=None, G=None, b=None) -> float:
         """Least squared residual over the columns ``keep``; ``fix=(j, v)`` holds column ``j``'s
@@ -392,15 +427,21 @@ class _Colour:
         return float(self.weights @ quad) / total if total > 0 else 1.0
 
 
+def _cholesky(G: np.ndarray):
+    """The Cholesky factor of a Gram matrix (``cho_factor``), None when ``G`` is singular or nearly so."""
+    try:
+        factor = scipy.linalg.cho_factor(G, check_finite=False)
+    except np.linalg.LinAlgError:
+        return None
+    return factor if np.min(np.abs(np.diag(factor[0]))) ** 2 > 1e-12 * np.max(np.diag(G)) else None
+
+
 def _solve_gram(G: np.ndarray, b: np.ndarray) -> np.ndarray:
     """``G x = b`` for a Gram matrix: Cholesky (a few hundred columns when every segment's start is a
     column: 20x faster than an SVD), least squares when ``G`` is singular or nearly so."""
-    try:
-        factor = scipy.linalg.cho_factor(G, check_finite=False)
-        if np.min(np.abs(np.diag(factor[0]))) ** 2 > 1e-12 * np.max(np.diag(G)):
-            return scipy.linalg.cho_solve(factor, b, check_finite=False)
-    except np.linalg.LinAlgError:
-        pass
+    factor = _cholesky(G)
+    if factor is not None:
+        return scipy.linalg.cho_solve(factor, b, check_finite=False)
     return np.linalg.lstsq(G, b, rcond=None)[0]
 
 
@@ -435,13 +476,18 @@ def _candidate_tests(fitted, s, support, active, gram, base):
         if col is None:
             complete = complete and not s.budget.exhausted
             continue
-        G, b = gram.extended(col)
-        if (base - gram.ssr(everything, G=G, b=b)) / colour.ratio(gram.orthogonal(col)) > threshold:
+        fixes = [(active.index((i, j)), -s.coef[i, j] / s.steps[i, j]) for j in np.flatnonzero(support[i])]
+        found = gram.candidate(col, fixes)
+        if found is None:  # a singular extended Gram matrix: refitted by least squares
+            G, b = gram.extended(col)
+            gain, o = base - gram.ssr(everything, G=G, b=b), gram.orthogonal(col)
+            rises = [gram.ssr(everything[everything != n], (n, v), G, b) - base for n, v in fixes]
+        else:
+            gain, o, rises = found
+        if gain / colour.ratio(o) > threshold:
             missing.append(_name(fitted, i, k))
-        for j in np.flatnonzero(support[i]):
-            n = active.index((i, j))
-            value = -s.coef[i, j] / s.steps[i, j]
-            if gram.ssr(everything[everything != n], (n, value), G, b) - base < SUPPORT_CHI2:
+        for j, rise in zip(np.flatnonzero(support[i]), rises):
+            if rise < SUPPORT_CHI2:
                 alternatives.append((_name(fitted, i, j), _name(fitted, i, k)))
     return missing, alternatives, complete
 
