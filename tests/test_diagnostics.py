@@ -474,3 +474,23 @@ def test_closed_form_add_and_swap_statistics_match_refits():
     for (n, v), rise in zip(fixes, rises):
         assert rise == pytest.approx(gram.ssr(everything[everything != n], (n, v), G, b) - base, rel=1e-9)
     assert gram.candidate(gram.J[:, 2] * 3.0, fixes) is None  # a copy of a column: refitted by the caller
+
+
+@pytest.mark.parametrize("library", ["polynomial", "fourier"])
+def test_the_checks_regression_is_the_librarys_own_matrix(library):
+    """The term tests' and the conditioning check's library matrix, built from the library's terms, is
+    its ``transform`` bit for bit."""
+    import pysindy as ps
+    from pysindy.utils import AxesArray
+
+    from sindy_impulse.diagnostics.model import Fitted, regression
+
+    lib = ps.PolynomialLibrary(degree=3) if library == "polynomial" else ps.FourierLibrary(n_frequencies=2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = ImpulseSINDy(feature_library=lib).fit(RING.x, t=RING.t)
+    shift = np.array([0.01, -0.02])
+    theta, _ = regression(Fitted(model), shift, stride=3)
+    own = model.feature_library_.transform([AxesArray((model.x_filtered_ - shift)[::3],
+                                                      {"ax_time": 0, "ax_coord": 1})])
+    assert np.array_equal(theta, np.vstack([np.asarray(a) for a in own]))

@@ -7,10 +7,11 @@ Each function returns numbers; :mod:`.verdict` words them.
 from __future__ import annotations
 
 import numpy as np
-from pysindy.utils import AxesArray
 
+from ..feature_library.terms import library_terms
 from ..poles.modal import MIN_LINEAR_SHARE, model_modes
 from ..preprocessing.peaks import spectral_peaks
+from ..simulation import TermTable
 from ..simulation.scoring import AUTO_PERIODS, Segmented, compare_stride, oscillation_count
 
 __all__ = [
@@ -174,13 +175,15 @@ def _gradient_at(x: np.ndarray, t: np.ndarray, rows: np.ndarray) -> np.ndarray:
 def regression(fitted: Fitted, shift: np.ndarray, order: int = 2, stride: int = 1):
     """Library matrix on the (shifted) filtered states and their derivatives by central differences, at
     every ``stride``-th sample."""
-    library = fitted.estimator.feature_library_
     joined = [
         (f - shift if u is None else np.hstack([f - shift, u]))[::stride]
         for f, u in zip(fitted.filtered, fitted.inputs)
     ]
-    theta = library.transform([AxesArray(j, {"ax_time": 0, "ax_coord": 1}) for j in joined])
-    theta = np.vstack([np.asarray(th) for th in theta])
+    # as the fit builds it (stages.prepare): from the library's terms where the simulator knows them (a
+    # polynomial library's matrix bit for bit, without PySINDy's per-call overhead), else its transform
+    terms = library_terms(fitted.estimator.feature_library_, joined[0].shape[1])
+    evaluate = terms.evaluate if isinstance(terms, TermTable) else terms
+    theta = np.vstack([np.asarray(evaluate(j)) for j in joined])
     y = np.vstack([_derivative(f, t, order, stride) for f, t in zip(fitted.filtered, fitted.times)])
     return theta, y
 
