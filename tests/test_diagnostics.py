@@ -494,3 +494,18 @@ def test_the_checks_regression_is_the_librarys_own_matrix(library):
     own = model.feature_library_.transform([AxesArray((model.x_filtered_ - shift)[::3],
                                                       {"ax_time": 0, "ax_coord": 1})])
     assert np.array_equal(theta, np.vstack([np.asarray(a) for a in own]))
+
+
+def test_the_frequencies_a_model_explains_are_every_small_combination():
+    """Sums and differences of up to three of a model's frequencies: the vectors enumerated directly are
+    those of the full grid of coefficients, filtered."""
+    from sindy_impulse.diagnostics.model import _explained
+
+    rng = np.random.default_rng(3)
+    for size in (1, 3, 6):
+        base = rng.uniform(0.5, 40.0, size)
+        grids = np.meshgrid(*[np.arange(-3, 4)] * size, indexing="ij")
+        n = np.stack([g.ravel() for g in grids], axis=1)
+        n = n[(np.abs(n).sum(axis=1) <= 3) & (np.abs(n).sum(axis=1) > 0)]
+        combos = n @ np.unique(np.round(base, 9))
+        assert np.array_equal(_explained(base), np.unique(combos[combos > 0]))

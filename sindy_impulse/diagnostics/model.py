@@ -6,6 +6,8 @@ Each function returns numbers; :mod:`.verdict` words them.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from ..feature_library.terms import library_terms
@@ -192,11 +194,24 @@ def _explained(base: np.ndarray, order: int = 3) -> np.ndarray:
     """Frequencies a model's response may show: sums and differences of up to ``order`` of its own
     frequencies (harmonics and intermodulation products of a nonlinear model)."""
     base = np.unique(np.round(base, 9))[:6]
-    grids = np.meshgrid(*[np.arange(-order, order + 1)] * base.size, indexing="ij")
-    n = np.stack([g.ravel() for g in grids], axis=1)
-    n = n[(np.abs(n).sum(axis=1) <= order) & (np.abs(n).sum(axis=1) > 0)]
+    n = _small_integer_vectors(base.size, order)
+    n = n[np.any(n != 0, axis=1)]  # without the zero vector
     combos = n @ base
     return np.unique(combos[combos > 0])
+
+
+@functools.lru_cache(maxsize=32)
+def _small_integer_vectors(size: int, order: int) -> np.ndarray:
+    """Every integer vector of ``size`` entries whose absolute values sum to at most ``order``, in
+    lexicographic order: a few hundred of the ``(2 order + 1)^size`` a full grid would enumerate and
+    filter."""
+    if size == 0:
+        return np.zeros((1, 0), dtype=np.int64)
+    blocks = []
+    for v in range(-order, order + 1):
+        rest = _small_integer_vectors(size - 1, order - abs(v))
+        blocks.append(np.hstack([np.full((rest.shape[0], 1), v, dtype=np.int64), rest]))
+    return np.vstack(blocks)
 
 
 def _response_peaks(fitted: Fitted, residuals) -> np.ndarray:
