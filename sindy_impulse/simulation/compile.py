@@ -167,7 +167,9 @@ class CompiledModel(_SparseModel):
         # read-only arrays (e.g. memory-mapped data) would compile another kernel: copy them
         arrays = (ref, t, starts, weights, uu)
         ref, t, starts, weights, uu = (a if a.flags.writeable else a.copy() for a in arrays)
-        if dense is not None:
+        if props.size:  # a linear model: its propagators (two-state ones too)
+            kernels.integrate_linear(ref, t, starts, weights, props, bound, out, errors, rows)
+        elif dense is not None:
             scratch = self._scratch
             integrate_cubic2(ref, t, starts, weights, steps, props, dense, bound, scratch, out, errors, rows)
         elif vals.shape[0] > 2 and props.size == 0 and out.size == 0:  # models stepped together
