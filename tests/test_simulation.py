@@ -249,3 +249,16 @@ def test_the_linear_kernel_is_the_general_loop_with_propagators(affine):
         for a, b in zip(got, want):
             assert np.array_equal(a, b, equal_nan=True)
     assert not np.isfinite(got[0][0]) and np.isnan(got[2][-1]).all()  # the diverging model
+
+
+def test_a_linear_batch_is_scored_by_its_propagators_alone():
+    """A linear model's batch on a uniform grid needs no kernel program (not packed), and scores as its
+    models one by one."""
+    t, x, _ = damped_oscillator()
+    model = CompiledModel([[0.0, 1.0], [-64.0, -3.2]], TermTable.polynomial([[1, 0], [0, 1]]), x)
+    batch = model.coef[None] * np.array([1.0, 1.01, 0.99])[:, None, None]
+    prog, vals, props, dense = model._packed(batch, 0.01, model.substeps(t))
+    assert prog is None and dense is None and props.shape == (3, 2, 2)
+    together = model.weighted_l1(x, t, [0], np.ones((1, 2)), batch)[0]
+    alone = [model.weighted_l1(x, t, [0], np.ones((1, 2)), c[None])[0][0] for c in batch]
+    assert np.array_equal(together, alone)
