@@ -509,3 +509,19 @@ def test_the_frequencies_a_model_explains_are_every_small_combination():
         n = n[(np.abs(n).sum(axis=1) <= 3) & (np.abs(n).sum(axis=1) > 0)]
         combos = n @ np.unique(np.round(base, 9))
         assert np.array_equal(_explained(base), np.unique(combos[combos > 0]))
+
+
+def test_long_records_sensitivities_are_taken_in_chunks_with_the_same_values(monkeypatch):
+    """The recursion's forcing holds a bounded number of values at once: in small chunks it is the same."""
+    from sindy_impulse.diagnostics import linear_sensitivity
+    from sindy_impulse.diagnostics.model import Fitted
+    from sindy_impulse.feature_library.terms import library_terms
+
+    ring = damped_oscillator(snr_db=40, random_state=0)
+    fitted = Fitted(ImpulseSINDy().fit(ring.x, t=ring.t))
+    terms = library_terms(fitted.estimator.feature_library_, 2)
+    pairs = [(0, 3), (1, 6), (1, 7), (0, 9)]
+    whole, done = linear_sensitivity.linear_sensitivities(fitted.model, fitted, terms, np.zeros(2), pairs)
+    monkeypatch.setattr(linear_sensitivity, "CHUNK_VALUES", 500)
+    chunked, _ = linear_sensitivity.linear_sensitivities(fitted.model, fitted, terms, np.zeros(2), pairs)
+    assert done == pairs and np.array_equal(whole, chunked)

@@ -44,6 +44,8 @@ NODES = 3
 PANEL_PHASE = 1.0
 #: Most panels per sample interval (beyond, a stiff or coarsely sampled model: finite differences).
 MAX_PANELS = 64
+#: Most values (node states and term values) held at once: long records are taken in chunks of intervals.
+CHUNK_VALUES = 2_000_000
 
 
 def _linear_part(model, shift: np.ndarray, n: int):
@@ -98,12 +100,17 @@ def _trajectory_sensitivities(model, ref, t, starts, A, b, shift, evaluate, eq, 
         return None
     E, e, carry, Phi = rule
     x = model.simulate_segments(ref[starts], t, starts) - shift  # the model's own trajectory
-    nodes = np.einsum("gab,rb->rga", E, x[:-1]) + e[None]  # (intervals, nodes, n)
-    theta = evaluate(nodes.reshape(-1, n)).reshape(x.shape[0] - 1, E.shape[0], -1)
     forcing = np.zeros((x.shape[0], n, eq.size))  # forcing[s]: the response over interval s-1 -> s
-    for i in np.unique(eq):
-        mine = np.flatnonzero(eq == i)
-        forcing[1:, :, mine] = np.einsum("rgc,ga->rac", theta[:, :, ks[mine]], carry[:, :, i], optimize=True)
+    chunk = max(1, CHUNK_VALUES // (E.shape[0] * (n + ks.max() + 1)))  # intervals held at once
+    for lo in range(0, x.shape[0] - 1, chunk):
+        hi = min(lo + chunk, x.shape[0] - 1)
+        nodes = np.einsum("gab,rb->rga", E, x[lo:hi]) + e[None]  # (intervals, nodes, n)
+        theta = evaluate(nodes.reshape(-1, n)).reshape(hi - lo, E.shape[0], -1)
+        for i in np.unique(eq):
+            mine = np.flatnonzero(eq == i)
+            forcing[lo + 1 : hi + 1, :, mine] = np.einsum(
+                "rgc,ga->rac", theta[:, :, ks[mine]], carry[:, :, i], optimize=True
+            )
     forcing[starts] = 0.0  # a segment starts from the data: S = 0 there
     bounds = np.append(starts, x.shape[0])
     return np.concatenate([_recursion(Phi, forcing[a:b]) for a, b in zip(bounds[:-1], bounds[1:])])
