@@ -384,11 +384,13 @@ def test_the_residuals_colour_is_read_per_direction():
 
 
 def test_term_tests_compile_one_model_per_new_term(monkeypatch):
-    """A tested term enters every equation's model (at 1e-300 where it is not tested): the tests of the
-    same term in different equations share that model, with the same statistics as separate ones."""
+    """Where the columns are differences of simulations, a tested term enters every equation's model (at
+    1e-300 where it is not tested): the tests of the same term in different equations share that model,
+    with the same statistics as separate ones."""
     from sindy_impulse.diagnostics import terms
 
     ring = damped_oscillator(snr_db=40, random_state=0)
+    monkeypatch.setattr(terms, "linear_sensitivities", lambda *args, **kwargs: None)  # differences only
     model = ImpulseSINDy().fit(ring.x, t=ring.t)
     tried = []
     column, compile_ = terms._Sensitivity.column, terms._Sensitivity.model
@@ -400,3 +402,126 @@ def test_term_tests_compile_one_model_per_new_term(monkeypatch):
     assert len(compiled) == 1 + len(new_terms) < len(tried)  # the base model, then one per new term
     assert shared.term_statistics == model.diagnostics_.term_statistics
     assert shared.missing_terms == model.diagnostics_.missing_terms
+
+
+def _sensitivity(model):
+    from sindy_impulse.diagnostics import terms
+    from sindy_impulse.diagnostics.model import Fitted
+
+    checks = model._screening
+    fitted = Fitted(model, rings_down=bool(np.any(checks.rest.rings_down)))
+    raw = checks.raw if checks.noise_known else None
+    return terms._Sensitivity(fitted, checks.rest.shift, checks.noise_ratio, raw)
+
+
+def test_a_linear_models_sensitivities_to_new_terms_match_differences_on_its_own_grid(monkeypatch):
+    """The linearised recursion (one pass for every term tried) gives the derivative the finite differences
+    approximate, once both simulations take the linear model's own sub-steps."""
+    from sindy_impulse.diagnostics import terms
+
+    ring = damped_oscillator(snr_db=40, random_state=0)
+    s = _sensitivity(ImpulseSINDy().fit(ring.x, t=ring.t))
+    pairs = s.candidates(s.coef != 0)
+    s.prepare(pairs)
+    assert sorted(s._linearised) == sorted(pairs)
+    linearised = [s._linearised.pop(p) for p in pairs]
+    model = terms._Sensitivity.model
+
+    def same_grid(self, columns):  # the model with a new term integrated at the linear model's sub-steps
+        out = model(self, columns)
+        out.step_scale = self.base_model.step_scale
+        return out
+
+    monkeypatch.setattr(terms._Sensitivity, "model", same_grid)
+    s._with_term.clear()
+    for p, column in zip(pairs, linearised):
+        differenced = s.column(*p)
+        assert np.linalg.norm(column - differenced) < 3e-3 * np.linalg.norm(differenced)
+
+
+def test_a_nonlinear_models_sensitivities_are_differenced():
+    """The recursion needs a linear model: a model with a cubic term keeps the finite differences."""
+    import pysindy as ps
+
+    ring = damped_oscillator(k_nl=0.064, x0=(10.0, 0.0), snr_db=40, random_state=0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = ImpulseSINDy(feature_library=ps.PolynomialLibrary(degree=3)).fit(ring.x, t=ring.t)
+    assert np.count_nonzero(fit.coef_[:, 6:])  # a cubic term
+    s = _sensitivity(fit)
+    s.prepare(s.candidates(s.coef != 0))
+    assert s._linearised == {}
+
+
+def test_closed_form_add_and_swap_statistics_match_refits():
+    """The add and swap statistics of one more column, from the model's own fit (rank-one update), are
+    those of refitting on the extended Gram matrix."""
+    from sindy_impulse.diagnostics import terms
+
+    rng = np.random.default_rng(1)
+    n_rows = 500
+    owner = np.repeat(np.arange(4), n_rows // 4)
+    gram = terms._Gram(rng.standard_normal(n_rows), [rng.standard_normal(n_rows) for _ in range(4)],
+                       terms._Segments(owner, rng.standard_normal((n_rows, 1))))
+    base = gram.ssr(np.arange(4))
+    extra = rng.standard_normal(n_rows) + 0.5 * gram.J[:, 1]
+    fixes = [(1, 0.7), (3, -2.0)]
+    gain, direction, rises = gram.candidate(extra, fixes)
+    G, b = gram.extended(extra)
+    everything = np.arange(5)
+    assert gain == pytest.approx(base - gram.ssr(everything, G=G, b=b), rel=1e-9)
+    assert np.allclose(direction, gram.orthogonal(extra))
+    for (n, v), rise in zip(fixes, rises):
+        assert rise == pytest.approx(gram.ssr(everything[everything != n], (n, v), G, b) - base, rel=1e-9)
+    assert gram.candidate(gram.J[:, 2] * 3.0, fixes) is None  # a copy of a column: refitted by the caller
+
+
+@pytest.mark.parametrize("library", ["polynomial", "fourier"])
+def test_the_checks_regression_is_the_librarys_own_matrix(library):
+    """The term tests' and the conditioning check's library matrix, built from the library's terms, is
+    its ``transform`` bit for bit."""
+    import pysindy as ps
+    from pysindy.utils import AxesArray
+
+    from sindy_impulse.diagnostics.model import Fitted, regression
+
+    lib = ps.PolynomialLibrary(degree=3) if library == "polynomial" else ps.FourierLibrary(n_frequencies=2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = ImpulseSINDy(feature_library=lib).fit(RING.x, t=RING.t)
+    shift = np.array([0.01, -0.02])
+    theta, _ = regression(Fitted(model), shift, stride=3)
+    own = model.feature_library_.transform([AxesArray((model.x_filtered_ - shift)[::3],
+                                                      {"ax_time": 0, "ax_coord": 1})])
+    assert np.array_equal(theta, np.vstack([np.asarray(a) for a in own]))
+
+
+def test_the_frequencies_a_model_explains_are_every_small_combination():
+    """Sums and differences of up to three of a model's frequencies: the vectors enumerated directly are
+    those of the full grid of coefficients, filtered."""
+    from sindy_impulse.diagnostics.model import _explained
+
+    rng = np.random.default_rng(3)
+    for size in (1, 3, 6):
+        base = rng.uniform(0.5, 40.0, size)
+        grids = np.meshgrid(*[np.arange(-3, 4)] * size, indexing="ij")
+        n = np.stack([g.ravel() for g in grids], axis=1)
+        n = n[(np.abs(n).sum(axis=1) <= 3) & (np.abs(n).sum(axis=1) > 0)]
+        combos = n @ np.unique(np.round(base, 9))
+        assert np.array_equal(_explained(base), np.unique(combos[combos > 0]))
+
+
+def test_long_records_sensitivities_are_taken_in_chunks_with_the_same_values(monkeypatch):
+    """The recursion's forcing holds a bounded number of values at once: in small chunks it is the same."""
+    from sindy_impulse.diagnostics import linear_sensitivity
+    from sindy_impulse.diagnostics.model import Fitted
+    from sindy_impulse.feature_library.terms import library_terms
+
+    ring = damped_oscillator(snr_db=40, random_state=0)
+    fitted = Fitted(ImpulseSINDy().fit(ring.x, t=ring.t))
+    terms = library_terms(fitted.estimator.feature_library_, 2)
+    pairs = [(0, 3), (1, 6), (1, 7), (0, 9)]
+    whole, done = linear_sensitivity.linear_sensitivities(fitted.model, fitted, terms, np.zeros(2), pairs)
+    monkeypatch.setattr(linear_sensitivity, "CHUNK_VALUES", 500)
+    chunked, _ = linear_sensitivity.linear_sensitivities(fitted.model, fitted, terms, np.zeros(2), pairs)
+    assert done == pairs and np.array_equal(whole, chunked)

@@ -213,3 +213,52 @@ def test_two_state_cubic_models_are_integrated_as_rk4_on_their_equations(entries
     together, _ = model.weighted_l1(x, t, starts, weights, coefs=batch)
     alone, _ = model.weighted_l1(x, t, starts, weights, coefs=batch[:1])
     np.testing.assert_array_equal(together, np.full(4, alone[0]))
+
+
+@pytest.mark.parametrize("affine", [False, True])
+def test_the_linear_kernel_is_the_general_loop_with_propagators(affine):
+    """integrate_linear (every linear model's simulation) gives the general kernel's errors, rows and
+    trajectories bit for bit: segments, a constant term, a batch, and a model that diverges."""
+    from sindy_impulse.simulation import integrators
+    from sindy_impulse.simulation.program import build_program, pack, propagators
+
+    rng = np.random.default_rng(5)
+    n, n_t = 3, 400
+    powers = np.vstack([np.zeros((1, n), int), np.eye(n, dtype=int)]) if affine else np.eye(n, dtype=int)
+    program = build_program(TermTable.polynomial(powers), n)
+    A = rng.standard_normal((4, n, n)) - 3 * np.eye(n)
+    A[-1] += 8 * np.eye(n)  # the batch's last model grows until it leaves the bounds
+    coefs = np.concatenate([rng.standard_normal((4, n, 1)), A], axis=2) if affine else A
+    t = np.arange(n_t) * 0.01
+    props = propagators(program, coefs, 0.01, 3)
+    ref = rng.standard_normal((n_t, n))
+    starts, weights = np.array([0, 150, 290]), rng.uniform(0.5, 2, (3, n))
+    bound = np.full(n, 50.0)
+    for batch, out in ((slice(None), np.empty((0, 0))), (slice(0, 1), np.empty((n_t, n))),
+                       (slice(3, 4), np.empty((n_t, n)))):
+        if out.size:  # a simulation from one state: ref holds the start only
+            ref, starts = ref[:1], np.zeros(1, np.int64)
+        p = np.ascontiguousarray(props[batch])
+        got = [np.empty(p.shape[0]), np.empty(p.shape[0], dtype=np.int64), out.copy()]
+        want = [np.empty(p.shape[0]), np.empty(p.shape[0], dtype=np.int64), out.copy()]
+        integrators.integrate_linear(ref, t, starts, weights, p, bound, got[2], got[0], got[1])
+        work = np.empty(integrators.scratch_size(n, program.n_values))
+        prog, vals = pack(program, np.ascontiguousarray(coefs[batch]))
+        integrators.integrate(ref, t, starts, weights, 3, prog, vals, p, bound, np.empty((n_t, 0)), work,
+                              want[2], want[0], want[1])
+        for a, b in zip(got, want):
+            assert np.array_equal(a, b, equal_nan=True)
+    assert not np.isfinite(got[0][0]) and np.isnan(got[2][-1]).all()  # the diverging model
+
+
+def test_a_linear_batch_is_scored_by_its_propagators_alone():
+    """A linear model's batch on a uniform grid needs no kernel program (not packed), and scores as its
+    models one by one."""
+    t, x, _ = damped_oscillator()
+    model = CompiledModel([[0.0, 1.0], [-64.0, -3.2]], TermTable.polynomial([[1, 0], [0, 1]]), x)
+    batch = model.coef[None] * np.array([1.0, 1.01, 0.99])[:, None, None]
+    prog, vals, props, dense = model._packed(batch, 0.01, model.substeps(t))
+    assert prog is None and dense is None and props.shape == (3, 2, 2)
+    together = model.weighted_l1(x, t, [0], np.ones((1, 2)), batch)[0]
+    alone = [model.weighted_l1(x, t, [0], np.ones((1, 2)), c[None])[0][0] for c in batch]
+    assert np.array_equal(together, alone)

@@ -6,17 +6,21 @@ Each function returns numbers; :mod:`.verdict` words them.
 
 from __future__ import annotations
 
-import numpy as np
-from pysindy.utils import AxesArray
+import functools
 
+import numpy as np
+
+from ..feature_library.terms import library_terms
 from ..poles.modal import MIN_LINEAR_SHARE, model_modes
 from ..preprocessing.peaks import spectral_peaks
+from ..simulation import TermTable
 from ..simulation.scoring import AUTO_PERIODS, Segmented, compare_stride, oscillation_count
 
 __all__ = [
     "Fitted",
     "segments",
     "simulate_residuals",
+    "simulation_grid",
     "simulation_residuals",
     "fit_error",
     "regression",
@@ -87,13 +91,7 @@ def simulate_residuals(
     """
     extra = {} if coef is None else {"coef": coef}
     out = []
-    for ref, t, u, starts in zip(fitted.filtered, fitted.times, fitted.inputs, segments(fitted)):
-        compared = None
-        if stride > 1 and u is None:
-            compared = np.arange(0, ref.shape[0], stride)
-            keep = np.union1d(compared, starts)
-            compared = np.searchsorted(keep, compared)
-            ref, t, starts = ref[keep], t[keep], np.searchsorted(keep, starts)
+    for (ref, t, starts, compared), u in zip(simulation_grid(fitted, stride), fitted.inputs):
         if u is None and starts.size > 1 and hasattr(model, "simulate_segments"):  # one run of the kernel
             x0s = ref[starts] if start_offset is None else ref[starts] + start_offset
             residual = model.simulate_segments(x0s, t, starts, **extra) - ref
@@ -105,11 +103,25 @@ def simulate_residuals(
                 x0 = ref[a] if start_offset is None else ref[a] + start_offset
                 sim[a : b + 1] = model.simulate(x0, t[a : b + 1], u=inputs, **extra)
             residual = sim - ref
-        if compared is not None:
-            residual = residual[compared]
-        elif stride > 1:
-            residual = residual[::stride]
-        out.append(residual)
+        out.append(residual if compared is None else residual[compared])
+    return out
+
+
+def simulation_grid(fitted: Fitted, stride: int = 1) -> list[tuple]:
+    """Per trajectory, the samples :func:`simulate_residuals` simulates and those it returns:
+    ``(ref, t, starts, compared)``, the filtered states and times on the simulated samples, the segments'
+    first samples among them, and which of them are compared (None: all)."""
+    out = []
+    for ref, t, u, starts in zip(fitted.filtered, fitted.times, fitted.inputs, segments(fitted)):
+        compared = None
+        if stride > 1 and u is None:  # simulated on the compared samples and the segments' starts
+            compared = np.arange(0, ref.shape[0], stride)
+            keep = np.union1d(compared, starts)
+            compared = np.searchsorted(keep, compared)
+            ref, t, starts = ref[keep], t[keep], np.searchsorted(keep, starts)
+        elif stride > 1:  # inputs: simulated at every sample
+            compared = np.arange(0, ref.shape[0], stride)
+        out.append((ref, t, starts, compared))
     return out
 
 
@@ -165,13 +177,15 @@ def _gradient_at(x: np.ndarray, t: np.ndarray, rows: np.ndarray) -> np.ndarray:
 def regression(fitted: Fitted, shift: np.ndarray, order: int = 2, stride: int = 1):
     """Library matrix on the (shifted) filtered states and their derivatives by central differences, at
     every ``stride``-th sample."""
-    library = fitted.estimator.feature_library_
     joined = [
         (f - shift if u is None else np.hstack([f - shift, u]))[::stride]
         for f, u in zip(fitted.filtered, fitted.inputs)
     ]
-    theta = library.transform([AxesArray(j, {"ax_time": 0, "ax_coord": 1}) for j in joined])
-    theta = np.vstack([np.asarray(th) for th in theta])
+    # as the fit builds it (stages.prepare): from the library's terms where the simulator knows them (a
+    # polynomial library's matrix bit for bit, without PySINDy's per-call overhead), else its transform
+    terms = library_terms(fitted.estimator.feature_library_, joined[0].shape[1])
+    evaluate = terms.evaluate if isinstance(terms, TermTable) else terms
+    theta = np.vstack([np.asarray(evaluate(j)) for j in joined])
     y = np.vstack([_derivative(f, t, order, stride) for f, t in zip(fitted.filtered, fitted.times)])
     return theta, y
 
@@ -180,11 +194,24 @@ def _explained(base: np.ndarray, order: int = 3) -> np.ndarray:
     """Frequencies a model's response may show: sums and differences of up to ``order`` of its own
     frequencies (harmonics and intermodulation products of a nonlinear model)."""
     base = np.unique(np.round(base, 9))[:6]
-    grids = np.meshgrid(*[np.arange(-order, order + 1)] * base.size, indexing="ij")
-    n = np.stack([g.ravel() for g in grids], axis=1)
-    n = n[(np.abs(n).sum(axis=1) <= order) & (np.abs(n).sum(axis=1) > 0)]
+    n = _small_integer_vectors(base.size, order)
+    n = n[np.any(n != 0, axis=1)]  # without the zero vector
     combos = n @ base
     return np.unique(combos[combos > 0])
+
+
+@functools.lru_cache(maxsize=32)
+def _small_integer_vectors(size: int, order: int) -> np.ndarray:
+    """Every integer vector of ``size`` entries whose absolute values sum to at most ``order``, in
+    lexicographic order: a few hundred of the ``(2 order + 1)^size`` a full grid would enumerate and
+    filter."""
+    if size == 0:
+        return np.zeros((1, 0), dtype=np.int64)
+    blocks = []
+    for v in range(-order, order + 1):
+        rest = _small_integer_vectors(size - 1, order - abs(v))
+        blocks.append(np.hstack([np.full((rest.shape[0], 1), v, dtype=np.int64), rest]))
+    return np.vstack(blocks)
 
 
 def _response_peaks(fitted: Fitted, residuals) -> np.ndarray:

@@ -3,8 +3,9 @@
 Around the fitted coefficients the simulation is linearised: ``r(b + d) ~ r0 + J d``, where ``r0`` is the
 model's simulation minus the measured states (each state in units of its noise level) and ``J`` the
 sensitivity of the simulation to each coefficient of the model and to each library term it lacks (finite
-differences: one simulation per coefficient). Every neighbouring support is then refitted by linear least
-squares on ``J`` (Gauss-Newton from the fitted model), and its least squared error compared with the
+differences: one simulation per coefficient; for a linear model, the terms it lacks all at once by the
+linearised recursion of :mod:`.linear_sensitivity`). Every neighbouring support is then refitted by linear
+least squares on ``J`` (Gauss-Newton from the fitted model), and its least squared error compared with the
 model's own support refitted the same way:
 
 - **drop** a term (its coefficient forced to 0, the others refitted): a rise below :data:`SUPPORT_CHI2`
@@ -48,6 +49,7 @@ from ..exceptions import DataWarning
 from ..feature_library.terms import library_terms
 from ..simulation import WORK_BUDGET, Reference, WorkBudget, at_rest_level, compile_model
 from ..simulation.scoring import compare_stride
+from .linear_sensitivity import linear_sensitivities
 from .model import Fitted, regression, segments, simulate_residuals
 
 __all__ = ["TermTests", "term_tests", "SUPPORT_CHI2", "FALSE_ALARM", "WORK_FRACTION", "MAX_TEST_SAMPLES"]
@@ -152,6 +154,7 @@ class _Sensitivity:
         self.steps = STEP * np.where(ratio > 0, ratio, STEP)
         self.base_model = self.model(np.flatnonzero(np.any(self.coef != 0, axis=0)))
         self._with_term = {}  # term -> the base model with that term added (:meth:`column`)
+        self._linearised = {}  # (i, j) -> its column from the linearised recursion (:meth:`prepare`)
         centred = np.vstack(fitted.filtered) - np.median(np.vstack(fitted.filtered), axis=0)
         scale = np.sqrt(np.mean(centred**2, axis=0))
         floor = np.maximum(np.asarray(noise_ratio, float), NOISE_FLOOR) * np.where(scale > 0, scale, 1.0)
@@ -211,8 +214,25 @@ class _Sensitivity:
             out.append(r - self.r0)
         return _Segments(owner, np.column_stack(out))
 
+    def prepare(self, pairs: list) -> None:
+        """The columns of the coefficients ``pairs`` from the linearised recursion of a linear model
+        (:func:`.linear_sensitivity.linear_sensitivities`: one pass for all, where each column otherwise
+        takes a simulation), kept for :meth:`column`; nothing where the recursion does not apply."""
+        if self.budget.exhausted or not pairs:
+            return
+        found = linear_sensitivities(self.base_model, self.fitted, self.terms, self.shift, pairs, self.stride)
+        self.budget.charge_model(self.base_model)
+        if found is None or not np.all(np.isfinite(found[0])):
+            return
+        S, done = found
+        for c, (i, j) in enumerate(done):
+            self._linearised[(i, j)] = (self.steps[i, j] * S[:, :, c] / self.sigma).ravel()
+
     def column(self, i: int, j: int):
-        """Sensitivity of the residual to coefficient (i, j), per step (None if diverged or over budget)."""
+        """Sensitivity of the residual to coefficient (i, j), per step (None if diverged or over budget):
+        the difference of two simulations, or the linearised one :meth:`prepare` computed."""
+        if (i, j) in self._linearised:
+            return self._linearised[(i, j)]
         if self.budget.exhausted:
             return None
         used = np.any(self.coef != 0, axis=0)
@@ -284,6 +304,12 @@ class _Gram:
         self.G = self.J.T @ self.J
         self.b = self.J.T @ self.r0
         self.rr = float(self.r0 @ self.r0)
+        # the model's own fit for :meth:`candidate` (None when G fails :func:`_solve_gram`'s Cholesky test)
+        self._factor = _cholesky(self.G)
+        if self._factor is not None:
+            self._beta = scipy.linalg.cho_solve(self._factor, self.b, check_finite=False)
+            eye = np.eye(self.G.shape[0])
+            self._inverse_diagonal = np.diag(scipy.linalg.cho_solve(self._factor, eye, check_finite=False))
 
     def _projected(self, x: np.ndarray) -> np.ndarray:
         return x if self.nuisance is None else self.nuisance.project(x)
@@ -304,6 +330,35 @@ class _Gram:
         cross = self.J.T @ column
         G = np.block([[self.G, cross[:, None]], [cross[None, :], np.array([[column @ column]])]])
         return G, np.append(self.b, column @ self.r0)
+
+    def candidate(self, column: np.ndarray, fixes: list):
+        """The add and swap statistics of one more column, in closed form from the model's own fit.
+
+        With ``o`` the column's part orthogonal to the nuisance columns and to ``J`` (:meth:`orthogonal`),
+        adding it lowers the least squared residual by ``(o . r0)^2 / (o . o)``; holding column ``j``'s
+        coefficient at ``v`` (``fixes``: ``(j, v)`` as :meth:`ssr`'s ``fix``) in the extended fit raises it
+        from the extended least by ``(beta_j + v)^2 / (G_ext^-1)_jj``, where the extended fit's ``beta``
+        and inverse follow from the model's own by the column's coefficient ``(o . r0) / (o . o)`` and its
+        regression on ``J`` (a rank-one update: the same numbers as refitting on the extended Gram matrix,
+        without a factorisation per test). Returns ``(gain, o, [rise over the model's least per fix])``,
+        or None where the extended Gram matrix is singular to within :func:`_solve_gram`'s test (the
+        caller refits).
+        """
+        if self._factor is None:
+            return None
+        column = self._projected(column)
+        q = scipy.linalg.cho_solve(self._factor, self.J.T @ column, check_finite=False)
+        o = column - self.J @ q
+        d = float(o @ o)
+        if not d > 1e-12 * max(float(column @ column), float(np.max(np.diag(self.G)))):
+            return None
+        gamma = float(o @ self.r0) / d
+        gain = gamma * gamma * d
+        rises = []
+        for j, v in fixes:
+            beta = self._beta[j] - q[j] * gamma
+            rises.append((beta + v) ** 2 / (self._inverse_diagonal[j] + q[j] * q[j] / d) - gain)
+        return gain, o, rises
 
     def ssr(self, keep, fix=None, G=None, b=None) -> float:
         """Least squared residual over the columns ``keep``; ``fix=(j, v)`` holds column ``j``'s
@@ -372,15 +427,21 @@ class _Colour:
         return float(self.weights @ quad) / total if total > 0 else 1.0
 
 
+def _cholesky(G: np.ndarray):
+    """The Cholesky factor of a Gram matrix (``cho_factor``), None when ``G`` is singular or nearly so."""
+    try:
+        factor = scipy.linalg.cho_factor(G, check_finite=False)
+    except np.linalg.LinAlgError:
+        return None
+    return factor if np.min(np.abs(np.diag(factor[0]))) ** 2 > 1e-12 * np.max(np.diag(G)) else None
+
+
 def _solve_gram(G: np.ndarray, b: np.ndarray) -> np.ndarray:
     """``G x = b`` for a Gram matrix: Cholesky (a few hundred columns when every segment's start is a
     column: 20x faster than an SVD), least squares when ``G`` is singular or nearly so."""
-    try:
-        factor = scipy.linalg.cho_factor(G, check_finite=False)
-        if np.min(np.abs(np.diag(factor[0]))) ** 2 > 1e-12 * np.max(np.diag(G)):
-            return scipy.linalg.cho_solve(factor, b, check_finite=False)
-    except np.linalg.LinAlgError:
-        pass
+    factor = _cholesky(G)
+    if factor is not None:
+        return scipy.linalg.cho_solve(factor, b, check_finite=False)
     return np.linalg.lstsq(G, b, rcond=None)[0]
 
 
@@ -405,6 +466,7 @@ def _drops(fitted, s, active, gram, base):
 def _candidate_tests(fitted, s, support, active, gram, base):
     """Add and swap tests of the promising library terms; ``(missing, alternatives, complete)``."""
     candidates = s.candidates(support)
+    s.prepare(candidates)
     colour = _Colour(gram.residual(), s.sigma.size, s.floor / s.sigma)
     threshold = float(chi2.isf(FALSE_ALARM / max(len(candidates), 1), 1))
     everything = np.arange(gram.G.shape[0] + 1)
@@ -414,13 +476,18 @@ def _candidate_tests(fitted, s, support, active, gram, base):
         if col is None:
             complete = complete and not s.budget.exhausted
             continue
-        G, b = gram.extended(col)
-        if (base - gram.ssr(everything, G=G, b=b)) / colour.ratio(gram.orthogonal(col)) > threshold:
+        fixes = [(active.index((i, j)), -s.coef[i, j] / s.steps[i, j]) for j in np.flatnonzero(support[i])]
+        found = gram.candidate(col, fixes)
+        if found is None:  # a singular extended Gram matrix: refitted by least squares
+            G, b = gram.extended(col)
+            gain, o = base - gram.ssr(everything, G=G, b=b), gram.orthogonal(col)
+            rises = [gram.ssr(everything[everything != n], (n, v), G, b) - base for n, v in fixes]
+        else:
+            gain, o, rises = found
+        if gain / colour.ratio(o) > threshold:
             missing.append(_name(fitted, i, k))
-        for j in np.flatnonzero(support[i]):
-            n = active.index((i, j))
-            value = -s.coef[i, j] / s.steps[i, j]
-            if gram.ssr(everything[everything != n], (n, value), G, b) - base < SUPPORT_CHI2:
+        for j, rise in zip(np.flatnonzero(support[i]), rises):
+            if rise < SUPPORT_CHI2:
                 alternatives.append((_name(fitted, i, j), _name(fitted, i, k)))
     return missing, alternatives, complete
 

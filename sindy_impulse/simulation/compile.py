@@ -17,7 +17,7 @@ from .base import SMOOTH_STEP_SCALE, STEP_SCALE, Reference, _as_inputs, _SparseM
 from .integrators import NO_PROPAGATOR, scratch_size
 from .program import build_program, pack, propagators, term_values
 from .terms import PLAIN, TermTable
-from .two_state_cubic import CUBIC2, dense_coefficients, dense_positions, integrate_cubic2, is_cubic2
+from .two_state_cubic import dense_coefficients, dense_positions, integrate_cubic2, is_cubic2
 
 __all__ = [
     "CompiledModel",
@@ -43,7 +43,6 @@ ADAPTIVE_COST = 25.0
 _FIRST = np.zeros(1, dtype=np.int64)  # one segment from the first sample
 _NO_WEIGHTS = np.zeros((1, 0))
 _NO_OUTPUT = np.empty((0, 0))
-_NO_DENSE = np.zeros((0, CUBIC2))  # a linear two-state model: stepped by its propagators only
 
 
 class CompiledModel(_SparseModel):
@@ -144,13 +143,15 @@ class CompiledModel(_SparseModel):
             return self._own[1]
         batch = self.coef[None] if own else c
         props = propagators(self.program, batch, dt, steps)
-        if self._dense_positions is None:
+        if props.size:  # a linear model: stepped by its propagators alone (integrate_linear)
+            prog, vals, dense = None, batch, None
+        elif self._dense_positions is None:
             prog, vals = pack(self.program, batch)
             dense = None
-        else:  # a two-state cubic model: its dense rows (stepped by integrate_cubic2; a linear one by its
-            # propagators), no program (the batch stands for the values: one row per model)
+        else:  # a two-state cubic model: its dense rows (stepped by integrate_cubic2), no program (the batch
+            # stands for the values: one row per model)
             prog, vals = None, batch
-            dense = _NO_DENSE if props.size else dense_coefficients(batch, self._dense_positions)
+            dense = dense_coefficients(batch, self._dense_positions)
         packed = (prog, vals, props, dense)
         if own:
             self._own = ((dt, steps), packed)
@@ -167,7 +168,9 @@ class CompiledModel(_SparseModel):
         # read-only arrays (e.g. memory-mapped data) would compile another kernel: copy them
         arrays = (ref, t, starts, weights, uu)
         ref, t, starts, weights, uu = (a if a.flags.writeable else a.copy() for a in arrays)
-        if dense is not None:
+        if props.size:  # a linear model: its propagators (two-state ones too)
+            kernels.integrate_linear(ref, t, starts, weights, props, bound, out, errors, rows)
+        elif dense is not None:
             scratch = self._scratch
             integrate_cubic2(ref, t, starts, weights, steps, props, dense, bound, scratch, out, errors, rows)
         elif vals.shape[0] > 2 and props.size == 0 and out.size == 0:  # models stepped together
