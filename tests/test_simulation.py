@@ -217,7 +217,7 @@ def test_two_state_cubic_models_are_integrated_as_rk4_on_their_equations(entries
 
 @pytest.mark.parametrize("affine", [False, True])
 def test_the_linear_kernel_is_the_general_loop_with_propagators(affine):
-    """integrate_linear (every linear model's simulation) gives the general kernel's errors, rows and
+    """integrate_linear (a linear model's simulation beyond two states) gives the general kernel's errors, rows and
     trajectories bit for bit: segments, a constant term, a batch, and a model that diverges."""
     from sindy_impulse.simulation import integrators
     from sindy_impulse.simulation.program import build_program, pack, propagators
@@ -252,13 +252,17 @@ def test_the_linear_kernel_is_the_general_loop_with_propagators(affine):
 
 
 def test_a_linear_batch_is_scored_by_its_propagators_alone():
-    """A linear model's batch on a uniform grid needs no kernel program (not packed), and scores as its
-    models one by one."""
-    t, x, _ = damped_oscillator()
-    model = CompiledModel([[0.0, 1.0], [-64.0, -3.2]], TermTable.polynomial([[1, 0], [0, 1]]), x)
+    """A linear model's batch of three states on a uniform grid needs no kernel program (not packed), and
+    scores as its models one by one; a two-state one keeps the two-state kernel (the first fit's)."""
+    t, x2, _ = damped_oscillator()
+    x = np.column_stack([x2, np.exp(-t)])
+    terms = TermTable.polynomial([[1, 0, 0], [0, 1, 0], [0, 0, 1]])
+    model = CompiledModel([[0.0, 1.0, 0.0], [-64.0, -3.2, 0.0], [0.0, 0.0, -1.0]], terms, x)
     batch = model.coef[None] * np.array([1.0, 1.01, 0.99])[:, None, None]
     prog, vals, props, dense = model._packed(batch, 0.01, model.substeps(t))
-    assert prog is None and dense is None and props.shape == (3, 2, 2)
-    together = model.weighted_l1(x, t, [0], np.ones((1, 2)), batch)[0]
-    alone = [model.weighted_l1(x, t, [0], np.ones((1, 2)), c[None])[0][0] for c in batch]
+    assert prog is None and dense is None and props.shape == (3, 3, 3)
+    together = model.weighted_l1(x, t, [0], np.ones((1, 3)), batch)[0]
+    alone = [model.weighted_l1(x, t, [0], np.ones((1, 3)), c[None])[0][0] for c in batch]
     assert np.array_equal(together, alone)
+    two = CompiledModel([[0.0, 1.0], [-64.0, -3.2]], TermTable.polynomial([[1, 0], [0, 1]]), x2)
+    assert two._packed(two.coef[None], 0.01, two.substeps(t))[3] is not None

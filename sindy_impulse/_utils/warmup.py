@@ -109,16 +109,19 @@ def build(group: str, mark=lambda entry: None) -> None:
     from ..simulation import CompiledModel, TermTable, integrators, two_state_cubic
 
     grid = np.linspace(0.0, 1.0, 5)
-    # linear models (by their propagators: the paper's first fit needs only this kernel), then two-state
-    # cubic ones
+    # two-state cubic models (the paper's first fit needs only this kernel): linear and nonlinear
     linear = CompiledModel([[0.0, 1.0], [-1.0, -0.1]], TermTable.polynomial([[1, 0], [0, 1]]), [[1.0, 1.0]])
     linear.simulate([1.0, 0.0], grid)
-    linear.weighted_l1(np.ones((5, 2)), grid, [0], np.ones((1, 2)))
-    mark(integrators.integrate_linear)
     duffing = TermTable.polynomial([[1, 0], [0, 1], [3, 0]])
     cubic = CompiledModel([[0.0, 1.0, 0.0], [-1.0, -0.1, -0.01]], duffing, [[1.0, 1.0]])
     cubic.simulate([1.0, 0.0], grid)
     mark(two_state_cubic.integrate_cubic2)
+    # linear models of more states (by their propagators alone)
+    terms = TermTable.polynomial([[1, 0, 0], [0, 1, 0], [0, 0, 1]])
+    chain = CompiledModel([[0.0, 1.0, 0.0], [-1.0, -0.1, 0.1], [0.0, 0.1, -1.0]], terms, [[1.0, 1.0, 1.0]])
+    chain.simulate([1.0, 0.0, 0.0], grid)
+    chain.weighted_l1(np.ones((5, 3)), grid, [0], np.ones((1, 3)))
+    mark(integrators.integrate_linear)
     # three states: the general kernel, then the refinement's batch kernel
     terms = TermTable.polynomial([[1, 0, 0], [0, 0, 1], [2, 1, 0]])
     coef = [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [-1.0, -0.1, 0.01]]

@@ -143,8 +143,8 @@ class CompiledModel(_SparseModel):
             return self._own[1]
         batch = self.coef[None] if own else c
         props = propagators(self.program, batch, dt, steps)
-        if props.size:  # a linear model: stepped by its propagators alone (integrate_linear)
-            prog, vals, dense = None, batch, None
+        if props.size and self._dense_positions is None:  # a linear model: by its propagators alone
+            prog, vals, dense = None, batch, None  # (integrate_linear; a two-state one as below)
         elif self._dense_positions is None:
             prog, vals = pack(self.program, batch)
             dense = None
@@ -168,11 +168,11 @@ class CompiledModel(_SparseModel):
         # read-only arrays (e.g. memory-mapped data) would compile another kernel: copy them
         arrays = (ref, t, starts, weights, uu)
         ref, t, starts, weights, uu = (a if a.flags.writeable else a.copy() for a in arrays)
-        if props.size:  # a linear model: its propagators (two-state ones too)
-            kernels.integrate_linear(ref, t, starts, weights, props, bound, out, errors, rows)
-        elif dense is not None:
+        if dense is not None:  # a two-state cubic model (linear ones too: the kernel the first fit needs)
             scratch = self._scratch
             integrate_cubic2(ref, t, starts, weights, steps, props, dense, bound, scratch, out, errors, rows)
+        elif props.size:  # a linear model of more states: its propagators alone
+            kernels.integrate_linear(ref, t, starts, weights, props, bound, out, errors, rows)
         elif vals.shape[0] > 2 and props.size == 0 and out.size == 0:  # models stepped together
             work = np.empty((self._scratch.shape[0], vals.shape[0]))
             kernels.integrate_batch(ref, t, starts, weights, steps, prog, np.ascontiguousarray(vals.T), bound,
