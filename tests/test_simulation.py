@@ -217,8 +217,8 @@ def test_two_state_cubic_models_are_integrated_as_rk4_on_their_equations(entries
 
 @pytest.mark.parametrize("affine", [False, True])
 def test_the_linear_kernel_is_the_general_loop_with_propagators(affine):
-    """integrate_linear (a linear model's simulation beyond two states) gives the general kernel's errors, rows and
-    trajectories bit for bit: segments, a constant term, a batch, and a model that diverges."""
+    """integrate_linear (a linear model's simulation beyond two states) gives the general kernel's errors,
+    rows and trajectories bit for bit: segments, a constant term, a batch, and a model that diverges."""
     from sindy_impulse.simulation import integrators
     from sindy_impulse.simulation.program import build_program, pack, propagators
 
