@@ -115,52 +115,14 @@ def integrate_linear(ref, t, starts, weights, props, bound, out, errors, rows):
     """:func:`integrate` for linear models, by their propagators ``props`` (one per model of the batch,
     for the grid intervals of ``t``).
 
-    The same loop over models, segments and grid intervals as :func:`segment_loop`'s, with
-    :func:`propagate`'s product and :func:`account`'s error (or stored trajectory) and divergence test
-    written out in it, in the same order: the same errors, rows and trajectories to the last bit, in half
-    the time (a linear model's interval is a few multiplications: calls and scratch views cost as much).
+    :func:`segment_loop`'s loop on its own, its :func:`propagate` and :func:`account` inlined: the same
+    errors, rows and trajectories to the last bit as the general kernel's, in half the time (a linear
+    model's interval is a few multiplications: the general kernel's calls cost as much).
     """
     n = ref.shape[1]
-    store = out.shape[0] > 0
-    affine = props.shape[2] > n
     x = np.empty(n)
     x_old = np.empty(n)
-    for b in range(props.shape[0]):
-        total = 0.0
-        done = 0
-        for k in range(starts.shape[0]):
-            s0 = starts[k]
-            s1 = starts[k + 1] if k + 1 < starts.shape[0] else t.shape[0] - 1
-            for i in range(n):
-                x[i] = ref[s0, i]
-                if store:
-                    out[s0, i] = x[i]
-            for s in range(s0 + 1, s1 + 1):
-                for i in range(n):
-                    x_old[i] = x[i]
-                for i in range(n):
-                    d = props[b, i, n] if affine else 0.0
-                    for q in range(n):
-                        d += props[b, i, q] * x_old[q]
-                    x[i] = d
-                done += 1
-                for i in range(n):
-                    if not (abs(x[i]) <= bound[i]):  # diverged (also true for NaN)
-                        for r in range(s, out.shape[0]):
-                            for q in range(n):
-                                out[r, q] = np.nan
-                        total = np.inf
-                        break
-                    if store:
-                        out[s, i] = x[i]
-                    else:
-                        total += weights[k, i] * abs(x[i] - ref[s, i])
-                if total == np.inf:
-                    break
-            if total == np.inf:
-                break
-        errors[b] = total
-        rows[b] = done
+    _propagated(ref, t, starts, weights, 0, props.shape[0], 0, props, bound, x, x_old, out, errors, rows)
 
 
 def segment_loop(interval):
@@ -212,7 +174,7 @@ def segment_loop(interval):
     return loop
 
 
-@jit(_nrt=False)
+@jit(cache=False, _nrt=False, inline="always")
 def propagate(x, x_old, props, b):
     """One grid interval of a linear model: ``x <- props[b] @ [x, 1]`` (RK4's map, see the module)."""
     n = x.shape[0]
@@ -225,7 +187,7 @@ def propagate(x, x_old, props, b):
         x[i] = d
 
 
-@jit(_nrt=False)
+@jit(cache=False, _nrt=False, inline="always")
 def account(x, s, k, ref, weights, bound, out, total):
     """The state ``x`` at sample ``s`` of segment ``k``: stored in ``out`` (if not empty) or its weighted
     error added to ``total``; ``inf`` (and NaN rows from ``s`` on) once it left the bounds."""
@@ -287,6 +249,14 @@ def _rk4_interval(x, t, s, substeps, model, b):
 
 
 _integrate_program = segment_loop(_rk4_interval)
+
+
+@jit(cache=False, inline="always")
+def _no_interval(x, t, s, substeps, model, b):
+    """The interval step of a loop over linear models only (never called: they take their propagators)."""
+
+
+_propagated = segment_loop(_no_interval)
 
 
 @kernel
