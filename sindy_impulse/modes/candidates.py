@@ -274,17 +274,24 @@ def _ring(state) -> np.ndarray:
 
 
 
-def _searched(fit, lo: float, hi: float, threshold_db: float) -> tuple[np.ndarray, np.ndarray]:
-    """Peaks of what the fit leaves, away from the modes it does not explain (:data:`MISFIT_REACH`)."""
-    f, s = missing_peaks(fit, threshold_db, lo, hi)
-    misfit = [k for k in range(len(fit)) if fit.lack_of_fit_p[k] < NONLINEAR_P]
-    for k in misfit:
+def _away_from_misfits(fit, frequency_hz: np.ndarray) -> np.ndarray:
+    """Which of ``frequency_hz`` lie beyond the reach of every component the fit does not explain
+    (:data:`MISFIT_REACH` half-power half-widths, :data:`MISFIT_SHARE` of its frequency, 8 bins): there
+    what the fit leaves is that mode's own amplitude dependence, not another mode."""
+    away = np.ones(len(frequency_hz), bool)
+    for k in np.flatnonzero(np.asarray(fit.lack_of_fit_p) < NONLINEAR_P):
         fk = fit.damped_frequency_hz[k]
         width = fit.decay_rate[k] / (2 * np.pi)
         reach = max(MISFIT_REACH * width, MISFIT_SHARE * fk, 8 * fit.fs / fit.n_samples)
-        away = np.abs(f - fk) > reach
-        f, s = f[away], s[away]
-    return f[:NEW_PER_ROUND], s[:NEW_PER_ROUND]
+        away &= np.abs(np.asarray(frequency_hz) - fk) > reach
+    return away
+
+
+def _searched(fit, lo: float, hi: float, threshold_db: float) -> tuple[np.ndarray, np.ndarray]:
+    """Peaks of what the fit leaves, away from the modes it does not explain (:func:`_away_from_misfits`)."""
+    f, s = missing_peaks(fit, threshold_db, lo, hi)
+    away = _away_from_misfits(fit, f)
+    return f[away][:NEW_PER_ROUND], s[away][:NEW_PER_ROUND]
 
 
 def fit_candidates(state) -> None:
@@ -365,7 +372,7 @@ def _with_hidden(fit, ring: np.ndarray, fs: float, table, noise, threshold_db: f
         rates = np.concatenate([fit.decay_rate, sa])
         trial = fit_decay(ring, fs, seeds, rates, noise=noise)
         where = np.sort(seeds).searchsorted(fa)  # one component per seed, sorted by frequency
-        stands = _standing(trial, where, resolution, threshold_db)
+        stands = _standing(trial, where, threshold_db)
         if stands.all():
             mask = np.zeros(len(trial), bool)
             mask[where] = True
@@ -374,14 +381,10 @@ def _with_hidden(fit, ring: np.ndarray, fs: float, table, noise, threshold_db: f
     return fit, np.zeros(len(fit), bool)
 
 
-def _standing(fit, hidden: np.ndarray, resolution: float, threshold_db: float) -> np.ndarray:
+def _standing(fit, hidden: np.ndarray, threshold_db: float) -> np.ndarray:
     """Which of the components ``hidden`` (indices) stand as hidden components (:func:`_with_hidden`)."""
-    fd = np.asarray(fit.damped_frequency_hz, float)
     ok = ~_misfit(fit.lack_of_fit, fit.lack_of_fit_p) & (fit.damping_ratio < TRANSIENT * MAX_DAMPING)
-    ok &= np.asarray(fit.height_db) < threshold_db
-    for j in np.flatnonzero(np.asarray(fit.lack_of_fit_p) < NONLINEAR_P):
-        reach = max(MISFIT_REACH * fit.decay_rate[j] / (2 * np.pi), MISFIT_SHARE * fd[j], 8 * resolution)
-        ok &= np.abs(fd - fd[j]) > reach
+    ok &= (np.asarray(fit.height_db) < threshold_db) & _away_from_misfits(fit, fit.damped_frequency_hz)
     return ok[hidden]
 
 
