@@ -132,12 +132,18 @@ def _heard(cand, noise: float, fs: float, bands) -> int | None:
     return next_fast_len(int(seconds * fs) + 2 * max(transient_samples(fs, b) for b in bands) + 16)
 
 
-def _own(state, k: int, band) -> tuple:
-    """Candidate ``k``'s own signal from the decay's start (the other components removed) and its noise
-    in ``band``."""
+def _own(state, k: int, band, keep=()) -> tuple:
+    """Candidate ``k``'s own signal from the decay's start (the other components but ``keep`` removed) and
+    its noise in ``band``."""
     cand, fs = state.candidates[k], state.pre.fs
     noise = cand.noise_std * np.sqrt(2 * (band[1] - band[0]) / fs)
-    return deflated(state, k)[state.start:], noise
+    return deflated(state, k, keep)[state.start:], noise
+
+
+def _siblings(state, i: int, order: int) -> list:
+    """The candidates named harmonic ``order`` of candidate ``i`` so far."""
+    return [k for k, c in enumerate(state.candidates) if c.kind is Kind.HARMONIC and c.parent == i
+            and c.evidence["harmonic"]["order"] == order]
 
 
 def _harmonics(state) -> None:
@@ -162,7 +168,10 @@ def _harmonics(state) -> None:
             if order is None or _energy(cand) > order**4 * _energy(parent):  # stronger than a harmonic can be
                 continue
             band1, band2 = _pair_bands(state, i, j, order)
-            (y1, noise1), (y2, noise2) = _own(state, i, band1), _own(state, j, band2)
+            # a piece of a harmonic named already is tested with it: a chirping harmonic is fitted as a run
+            # of pieces, and a piece's envelope and phase alone, its neighbours removed, are not the chirp's
+            siblings = _siblings(state, i, order)
+            (y1, noise1), (y2, noise2) = _own(state, i, band1), _own(state, j, band2, siblings)
             stop = _heard(cand, noise2, state.pre.fs, (band1, band2))
             y1, y2 = y1[:stop], y2[:stop]
             try:

@@ -51,11 +51,12 @@ def _members(state, k: int) -> list:
     return [j for j, c in enumerate(state.candidates) if j == k or (c.kind is Kind.MERGED and c.parent == k)]
 
 
-def deflated(state, k: int) -> np.ndarray:
+def deflated(state, k: int, keep=()) -> np.ndarray:
     """The prepared record with every candidate but ``k`` (and its merged pieces) removed from the free
     decay on, and the hidden components under the detection threshold (``state.hidden``); once per set of
-    members (:func:`_kept`: read-only)."""
-    members = _members(state, k)
+    members (:func:`_kept`: read-only). ``keep``: other candidates left in it with their merged pieces (the
+    pieces of one chirping signal)."""
+    members = [m for j in (k, *keep) for m in _members(state, j)]
     return _kept(state, "_deflated", frozenset(members), lambda: _deflate(state, members))
 
 
