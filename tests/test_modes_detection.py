@@ -47,6 +47,24 @@ def test_noise_alone_gives_no_mode():
         assert len(survey) == 0
 
 
+
+def test_a_component_that_does_not_decay_and_that_nothing_confirms_is_not_a_mode():
+    """A 15 ms record of two strongly damped modes: after they die out, the decay fit gives components of
+    the noise that do not decay at all (damping ratio 0), which no stable pole confirms and whose bands the
+    linear decay does not explain. They are named, not reported as modes with a damping ratio of 0."""
+    from sindy_impulse.modes.kinds import Reason
+
+    rec = impact_record([290.2537796809218, 394.49374288521307], [0.022807334702375528, 0.023812583307074194],
+                        [0.8654280294064918, 0.7511720165813819], fs=10000.0, duration=0.015,
+                        sensor="acceleration", pre_trigger=0.027740480215439192, offset=0.31262923082758465,
+                        snr_db=51.2072197087901, random_state=870296877)
+    survey = _survey(rec)
+    found = [m.frequency_hz for m in survey.modes]
+    assert all(any(abs(f / g - 1) < 3e-3 for f in found) for g in rec.modes.frequency_hz)
+    assert all(m.damping_ratio > 0 for m in survey.modes)
+    unsupported = [r for r in survey.rejected if r.code is Reason.UNSUPPORTED]
+    assert unsupported and all("does not decay measurably" in r.reason for r in unsupported)
+
 @pytest.mark.parametrize("seed", [41, 43, 45])
 def test_a_mode_with_amplitude_dependent_damping_is_one_mode(seed):
     """``x^2 x'`` damping (the damping ratio 1.6 times its small-amplitude value at the hit): its record's

@@ -27,6 +27,11 @@ The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence;
   mode (no record tells such modes apart; a sum of close damped sinusoids is how a linear fit follows a
   chirp or a decay rate that changes): the strongest stands for them, the others are
   :attr:`Kind.MERGED` into it.
+- **unsupported** (:attr:`Kind.UNSUPPORTED`): a component that does not decay measurably (as a tone), but
+  whose band the linear decay does not explain (no steady sinusoid either), nor an amplitude dependence,
+  and that no stable pole of the diagram confirms: nothing says it is a mode's free decay (what a short,
+  strongly damped record's decay fit leaves in the noise after its modes have died out). It is named, not
+  reported as a mode with a damping ratio of zero from poles it does not have.
 - **linear** (:attr:`Kind.LINEAR`): everything else; its equation comes from its poles.
 """
 
@@ -66,8 +71,18 @@ def classify_candidates(state) -> None:
     _amplitude_dependent(state)
     _unconfirmed(cands)
     _harmonics(state)  # of whole modes: a chirp's pieces are one parent
+    _unsupported(cands)
     counts = {k: sum(c.kind is k for c in cands) for k in Kind}
     state.decide(", ".join(f"{n} {k.value}" for k, n in counts.items() if n) or "no candidate")
+
+
+def _unsupported(cands: list) -> None:
+    """Linear candidates without a stable pole, whose band the linear decay does not explain and which do
+    not decay measurably (decay rate within :data:`TONE_SIGMAS` standard deviations of zero): unsupported."""
+    for c in cands:
+        still = not c.decay_rate > TONE_SIGMAS * c.decay_rate_std
+        if c.kind is Kind.LINEAR and not c.stable and not c.explained and still:
+            c.kind = Kind.UNSUPPORTED
 
 
 def _pre_trigger_amplitude(state, frequency_hz: float) -> float | None:

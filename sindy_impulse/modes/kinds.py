@@ -26,6 +26,7 @@ class Kind(str, Enum):
     MERGED = "merged"
     HARMONIC = "harmonic"
     TONE = "tone"
+    UNSUPPORTED = "unsupported"
 
     @property
     def words(self) -> str:
@@ -38,6 +39,7 @@ _KIND_WORDS = {
     Kind.MERGED: "a piece of a nonlinear mode fitted with it",
     Kind.HARMONIC: "a harmonic of a lower, nonlinear mode, not a mode",
     Kind.TONE: "a tone that does not decay (hum, a rotating machine), not a mode",
+    Kind.UNSUPPORTED: "does not decay, and neither a stable pole nor a sinusoid describes it: not a mode",
 }
 
 
@@ -58,6 +60,7 @@ class Reason(str, Enum):
     TOO_SHORT = "too_short"
     FIT_FAILED = "fit_failed"
     NO_SIGNAL = "no_signal"
+    UNSUPPORTED = "unsupported"
 
     @property
     def words(self) -> str:
@@ -73,4 +76,5 @@ _REASON_WORDS = {
     Reason.TOO_SHORT: "too few periods of the mode are left to identify it",
     Reason.FIT_FAILED: "the identification failed",
     Reason.NO_SIGNAL: "no ring-down above the noise",
+    Reason.UNSUPPORTED: "does not decay, and neither a stable pole nor a sinusoid describes it: not a mode",
 }

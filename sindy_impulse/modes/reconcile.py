@@ -1,7 +1,7 @@
 """One answer per mode, the candidates that are not modes named, and the notes a user should read.
 
-- Tones and harmonics (:mod:`.classify`) become :class:`~.result.Rejected` rows with their code and the
-  evidence (decay rate, phase locking, amplitude exponent).
+- Tones, harmonics and unsupported components (:mod:`.classify`) become :class:`~.result.Rejected` rows
+  with their code and the evidence (decay rate, phase locking, amplitude exponent).
 - A harmonic the record could not decide on its own (its phase locking unresolved: a few dB over the noise,
   or seen only just after the hit) is decided by its parent's equation once fitted: at ``n`` times a
   frequency the nonlinear parent's backbone passes, it is the parent's harmonic
@@ -45,7 +45,7 @@ def reconcile(state) -> None:
 
 
 def _named(state) -> None:
-    """Rows for the tones and the harmonics; notes for merged pieces."""
+    """Rows for the tones, the harmonics and the unsupported components; notes for merged pieces."""
     cands = state.candidates
     for c in cands:
         if c.kind is Kind.TONE:
@@ -57,6 +57,13 @@ def _named(state) -> None:
                    "this record; not reported as a mode")
             state.rejected.append(Rejected(c.band_hz, why, state.index, dict(c.evidence), Reason.TONE))
             state.note(why)
+        elif c.kind is Kind.UNSUPPORTED:
+            why = (f"a component at {c.damped_frequency_hz:.5g} Hz ({c.height_db:.0f} dB) that does not "
+                   f"decay measurably (decay rate {c.decay_rate:.3g} +- {c.decay_rate_std:.2g} 1/s), that no "
+                   "stable pole of the diagram confirms and whose band the linear decay does not explain: "
+                   "not a mode's free decay (noise the decay fit absorbed after the modes died out); not "
+                   "reported as a mode")
+            state.rejected.append(Rejected(c.band_hz, why, state.index, dict(c.evidence), Reason.UNSUPPORTED))
         elif c.kind is Kind.HARMONIC:
             e = c.evidence["harmonic"]
             parent = next((m for k, m in zip(state.origin, state.modes) if k == c.parent), cands[c.parent])
