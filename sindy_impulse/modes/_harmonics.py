@@ -130,8 +130,9 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
         (of the candidate, measured), ``locked``, ``locked_within_errors`` and ``harmonic`` (bool),
         ``parent_sweep`` (the parent's relative frequency change over the stretch's pieces) and
         ``locking_proven`` (locked within errors while that change would have moved a mode of its own
-        off ``n`` by more than twice :data:`SIGMAS` standard errors). Too short a stretch: the ratio and
-        exponent are NaN and nothing is decided.
+        off ``n`` by more than twice :data:`SIGMAS` standard errors), ``resolved`` (the ratio's standard
+        error at most :data:`RESOLVED` times ``n``: else nothing is decided from the phases). Too short a
+        stretch: the ratio and exponent are NaN and nothing is decided.
 
     Examples
     --------
@@ -161,7 +162,8 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
     f2 = order * 0.5 * (parent_band[0] + parent_band[1])
     nan = dict(order=order, frequency_ratio=np.nan, ratio_sigma=np.nan, phase_drift_rad=np.nan,
                exponent=np.nan, exponent_sigma=np.nan, periods=float(t.size / fs * f2), locked=False,
-               locked_within_errors=False, parent_sweep=np.nan, locking_proven=False, harmonic=False)
+               locked_within_errors=False, parent_sweep=np.nan, locking_proven=False, resolved=False,
+               harmonic=False)
     if t.size < 8 or t.size / fs * f2 < _MIN_PERIODS:
         return nan
     z1, z2, a1, a2 = z1[keep], z2[keep], a1[keep], a2[keep]
@@ -174,8 +176,13 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
     stretches = [np.arange(t.size)] + np.array_split(np.arange(t.size), _SEGMENTS)
     pieces = [(*_ratio(t[k], psi[k], w[k], bandwidth * k.size / fs, order, f1)[:2], bandwidth * k.size / fs)
               for k in stretches]
-    locked = sigma <= RESOLVED * order and all(_near_order(*piece, order) for piece in pieces)
-    within_errors = locked and all(_near_order(*piece, order, tol=0.0) for piece in pieces)
+    # the whole stretch's ratio, resolved, is tested at SIGMAS of its standard error (its pieces, of fewer
+    # independent samples each, at their Student-t quantiles): over a stretch of few independent samples (a
+    # fast-decaying mode seen for 18 of its periods) the quantile let a ratio 35 standard errors off n pass
+    resolved = sigma <= RESOLVED * order
+    whole = (ratio, sigma, np.inf)
+    locked = resolved and all(_near_order(*piece, order) for piece in [whole, *pieces[1:]])
+    within_errors = locked and all(_near_order(*piece, order, tol=0.0) for piece in [whole, *pieces[1:]])
     # the parent's frequency over the pieces: a mode of its own at n f_1 would stay where it is while the
     # parent moves, and its ratio would move by n times the parent's relative change
     f_pieces = [np.polyfit(t[k], np.unwrap(np.angle(z1[k])), 1)[0] / (2 * np.pi) for k in stretches[1:]]
@@ -194,6 +201,7 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
                 phase_drift_rad=float(slope * (t[-1] - t[0])), exponent=float(p), exponent_sigma=p_sigma,
                 periods=float(t.size / fs * f2), locked=bool(locked),
                 locked_within_errors=bool(within_errors), parent_sweep=sweep, locking_proven=bool(proven),
+                resolved=bool(resolved),
                 harmonic=bool(locked and _whole_power(p, order)))
 
 
@@ -204,8 +212,13 @@ def _near_order(ratio: float, sigma: float, n_eff: float, order: int, tol: float
     quantile of the same probability with ``n_eff - 2`` degrees of freedom (3.0 for long stretches; the
     quarters of a harmonic 20 dB over the noise hold 1.4-3.8 such samples, and the frequency ratios of a
     true second harmonic's quarters to its mode strayed 3-7 standard errors from 2)."""
-    sigmas = float(stdtrit(max(n_eff - 2.0, 1.0), _SIGMAS_P))  # the quantile (scipy.stats.t.ppf's own)
-    return abs(ratio - order) <= max(sigmas * sigma, tol * order)
+    return abs(ratio - order) <= max(_quantile(n_eff) * sigma, tol * order)
+
+
+def _quantile(n_eff: float) -> float:
+    """The Student-t quantile of :data:`SIGMAS`'s probability for a line through ``n_eff`` independent
+    samples (``n_eff - 2`` degrees of freedom, at least 1); scipy.stats.t.ppf's own value."""
+    return float(stdtrit(max(n_eff - 2.0, 1.0), _SIGMAS_P))
 
 
 #: The normal's probability within :data:`SIGMAS` standard deviations (one-sided), for
@@ -291,10 +304,29 @@ def _on_backbone(parent, candidate, order: int) -> bool:
     if not f.size:
         return False
     margin = max(_BACKBONE_MARGIN, 2 * candidate.damping_ratio)
-    reach = _BACKBONE_REACH * (f.max() - f.min())  # either way: a hardening or a softening mode
-    at_hit = _at_hit(f, a, parent.amplitude)
-    lo, hi = min(f.min() - reach, at_hit), max(f.max() + reach, at_hit)
+    lo, hi = _span(f, a, parent.amplitude)
     return bool(lo * (1 - margin) <= candidate.frequency_hz / order <= hi * (1 + margin))
+
+
+def _span(f: np.ndarray, a: np.ndarray, amplitude: float) -> tuple[float, float]:
+    """The frequencies a backbone ``f(a)`` passes, its top (the end of largest amplitude) extended by
+    :data:`_BACKBONE_REACH` of its span and to the mode's amplitude at the hit (:func:`_at_hit`); its
+    small-amplitude end is where it is (a hardening mode's backbone never falls below it, a softening one's
+    never rises above it).
+
+    Examples
+    --------
+    A hardening backbone from 100 to 102 Hz, a softening one from 100 down to 98 Hz:
+
+    >>> a = np.array([0.1, 0.5, 1.0])
+    >>> _span(np.array([100.0, 100.5, 102.0]), a, 1.0), _span(np.array([100.0, 99.5, 98.0]), a, 1.0)
+    ((100.0, 102.5), (97.5, 100.0))
+    """
+    reach = _BACKBONE_REACH * (f.max() - f.min())
+    at_hit = _at_hit(f, a, amplitude)
+    if f[np.argmax(a)] >= f[np.argmin(a)]:  # hardening: the top is its highest frequency
+        return float(f.min()), float(max(f.max() + reach, at_hit))
+    return float(min(f.min() - reach, at_hit)), float(f.max())
 
 
 def _at_hit(f: np.ndarray, a: np.ndarray, amplitude: float) -> float:
@@ -418,7 +450,7 @@ def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: in
         # allow; the envelopes then only need to decay faster than the parent's: a sensor's frequency
         # weighting steepens an exponent as the frequency moves)
         e.update(harmonic=True)
-    unresolved = not e["ratio_sigma"] <= RESOLVED * order
+    unresolved = not e["resolved"]
     e.update(undecided=bool(unresolved and not e["harmonic"]))
     if unresolved and nonlinear is None and _on_backbone(parent, candidate, order):
         e.update(harmonic=True, by_backbone=True, undecided=False)
