@@ -177,8 +177,8 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
     pieces = [(*_ratio(t[k], psi[k], w[k], bandwidth * k.size / fs, order, f1)[:2], bandwidth * k.size / fs)
               for k in stretches]
     # the whole stretch's ratio, resolved, is tested at SIGMAS of its standard error (its pieces, of fewer
-    # independent samples each, at their Student-t quantiles): over a stretch of few independent samples (a
-    # fast-decaying mode seen for 18 of its periods) the quantile let a ratio 35 standard errors off n pass
+    # independent samples each, at their Student-t quantiles): where a fast-decaying mode leaves a stretch of
+    # few independent samples, the quantile of one degree of freedom passes ratios tens of errors off n
     resolved = sigma <= RESOLVED * order
     whole = (ratio, sigma, np.inf)
     locked = resolved and all(_near_order(*piece, order) for piece in [whole, *pieces[1:]])
