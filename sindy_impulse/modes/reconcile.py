@@ -18,7 +18,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ._envelope import _missing_damping
+from ._envelope import DOUBT_SIGMAS, ENVELOPE_MISFIT, _missing_damping
 from ._harmonics import _on_backbone, _reason, _unseen_harmonics
 from ._nonlinear import has_nonlinear_terms
 from .candidates import persistent_modes
@@ -80,6 +80,14 @@ def _named(state) -> None:
                        f"amplitude)")
 
 
+def _steady_decay(cand) -> bool:
+    """Whether the candidate's free decay, described by the averaged equations, shows no change of its
+    decay rate."""
+    e = cand.evidence.get("amplitude_dependence")
+    return (e is not None and e.misfit <= ENVELOPE_MISFIT
+            and not e.changes(DOUBT_SIGMAS, frequency=False))
+
+
 def _decided_by_backbones(state) -> None:
     """Modes left undecided by the harmonic test that lie on a nonlinear parent's backbone times ``n``."""
     by_candidate = dict(zip(state.origin, state.modes))
@@ -106,8 +114,14 @@ def _decided_by_backbones(state) -> None:
 
 
 def _envelope_damping(state) -> None:
+    """The envelope's damping ratio at zero amplitude for a nonlinear mode whose equation lacks the change
+    of the decay rate its band's envelope shows (:func:`~._envelope._missing_damping`), unless its free
+    decay, read against the averaged equations that describe it, showed a decay rate that does not change
+    (within :data:`~._envelope.DOUBT_SIGMAS` standard errors or :data:`~._envelope.DECAY_CHANGE`): two
+    readings of one decay rate, the one of the whole free decay the sharper."""
     for i, (k, mode) in enumerate(zip(state.origin, state.modes)):
-        if state.candidates[k].kind is not Kind.NONLINEAR or mode.source != "equation":
+        cand = state.candidates[k]
+        if cand.kind is not Kind.NONLINEAR or mode.source != "equation" or _steady_decay(cand):
             continue
         found = _missing_damping(mode)
         if found is None:
