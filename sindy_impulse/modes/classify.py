@@ -27,11 +27,12 @@ The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence;
   mode (no record tells such modes apart; a sum of close damped sinusoids is how a linear fit follows a
   chirp or a decay rate that changes): the strongest stands for them, the others are
   :attr:`Kind.MERGED` into it.
-- **unsupported** (:attr:`Kind.UNSUPPORTED`): a component that does not decay measurably (as a tone), but
-  whose band the linear decay does not explain (no steady sinusoid either), nor an amplitude dependence,
-  and that no stable pole of the diagram confirms: nothing says it is a mode's free decay (what a short,
-  strongly damped record's decay fit leaves in the noise after its modes have died out). It is named, not
-  reported as a mode with a damping ratio of zero from poles it does not have.
+- **unsupported** (:attr:`Kind.UNSUPPORTED`): a component whose decay the record does not measure (its
+  decay rate within three standard deviations of zero), that is no tone (the linear decay does not explain
+  it, or the record is too short to show it steady) and that no stable pole of the diagram confirms:
+  nothing says it is a mode's free decay (what a short, strongly damped record's decay fit leaves in the
+  noise after its modes have died out; a slow wander of a few periods). It is named, not reported as a
+  mode with a damping ratio the record does not give, from poles it does not have.
 - **linear** (:attr:`Kind.LINEAR`): everything else; its equation comes from its poles.
 """
 
@@ -77,11 +78,11 @@ def classify_candidates(state) -> None:
 
 
 def _unsupported(cands: list) -> None:
-    """Linear candidates without a stable pole, whose band the linear decay does not explain and which do
-    not decay measurably (decay rate within :data:`TONE_SIGMAS` standard deviations of zero): unsupported."""
+    """Linear candidates without a stable pole that do not decay measurably (decay rate within
+    :data:`TONE_SIGMAS` standard deviations of zero) and that are not tones: unsupported."""
     for c in cands:
         still = not c.decay_rate > TONE_SIGMAS * c.decay_rate_std
-        if c.kind is Kind.LINEAR and not c.stable and not c.explained and still:
+        if c.kind is Kind.LINEAR and not c.stable and still:
             c.kind = Kind.UNSUPPORTED
 
 

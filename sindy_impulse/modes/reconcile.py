@@ -60,9 +60,9 @@ def _named(state) -> None:
         elif c.kind is Kind.UNSUPPORTED:
             why = (f"a component at {c.damped_frequency_hz:.5g} Hz ({c.height_db:.0f} dB) that does not "
                    f"decay measurably (decay rate {c.decay_rate:.3g} +- {c.decay_rate_std:.2g} 1/s), that no "
-                   "stable pole of the diagram confirms and whose band the linear decay does not explain: "
-                   "not a mode's free decay (noise the decay fit absorbed after the modes died out); not "
-                   "reported as a mode")
+                   "stable pole of the diagram confirms and that the record does not show to be a steady "
+                   "tone: not a mode's free decay (noise the decay fit absorbed after the modes died out, a "
+                   "slow wander); not reported as a mode")
             state.rejected.append(Rejected(c.band_hz, why, state.index, dict(c.evidence), Reason.UNSUPPORTED))
         elif c.kind is Kind.HARMONIC:
             e = c.evidence["harmonic"]
