@@ -173,21 +173,21 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
     bandwidth = min(parent_band[1] - parent_band[0], candidate_band[1] - candidate_band[0])
     f1 = float(np.polyfit(t, np.unwrap(np.angle(z1)), 1)[0] / (2 * np.pi))
     ratio, sigma, slope = _ratio(t, psi, w, bandwidth * t.size / fs, order, f1)
-    stretches = [np.arange(t.size)] + np.array_split(np.arange(t.size), _SEGMENTS)
+    quarters = np.array_split(np.arange(t.size), _SEGMENTS)
     pieces = [(*_ratio(t[k], psi[k], w[k], bandwidth * k.size / fs, order, f1)[:2], bandwidth * k.size / fs)
-              for k in stretches]
+              for k in quarters]
     # the whole stretch's ratio, resolved, is tested at SIGMAS of its standard error (its pieces, of fewer
     # independent samples each, at their Student-t quantiles): where a fast-decaying mode leaves a stretch of
     # few independent samples, the quantile of one degree of freedom passes ratios tens of errors off n
     resolved = sigma <= RESOLVED * order
-    whole = (ratio, sigma, np.inf)
-    locked = resolved and all(_near_order(*piece, order) for piece in [whole, *pieces[1:]])
-    within_errors = locked and all(_near_order(*piece, order, tol=0.0) for piece in [whole, *pieces[1:]])
+    tested = [(ratio, sigma, np.inf), *pieces]
+    locked = resolved and all(_near_order(*piece, order) for piece in tested)
+    within_errors = locked and all(_near_order(*piece, order, tol=0.0) for piece in tested)
     # the parent's frequency over the pieces: a mode of its own at n f_1 would stay where it is while the
     # parent moves, and its ratio would move by n times the parent's relative change
-    f_pieces = [np.polyfit(t[k], np.unwrap(np.angle(z1[k])), 1)[0] / (2 * np.pi) for k in stretches[1:]]
+    f_pieces = [np.polyfit(t[k], np.unwrap(np.angle(z1[k])), 1)[0] / (2 * np.pi) for k in quarters]
     sweep = float((max(f_pieces) - min(f_pieces)) / f1)
-    proven = within_errors and order * sweep > 2 * SIGMAS * max(piece[1] for piece in pieces[1:])
+    proven = within_errors and order * sweep > 2 * SIGMAS * max(piece[1] for piece in pieces)
     n_eff = max(t.size * bandwidth / fs, 2.0)
     # log a_2 against log a_1, each envelope's power less the noise's (the analytic noise adds 2 sigma^2 on
     # average), weighted as the phases are (by each sample's SNR): the samples near the floor, which the
@@ -212,13 +212,8 @@ def _near_order(ratio: float, sigma: float, n_eff: float, order: int, tol: float
     quantile of the same probability with ``n_eff - 2`` degrees of freedom (3.0 for long stretches; the
     quarters of a harmonic 20 dB over the noise hold 1.4-3.8 such samples, and the frequency ratios of a
     true second harmonic's quarters to its mode strayed 3-7 standard errors from 2)."""
-    return abs(ratio - order) <= max(_quantile(n_eff) * sigma, tol * order)
-
-
-def _quantile(n_eff: float) -> float:
-    """The Student-t quantile of :data:`SIGMAS`'s probability for a line through ``n_eff`` independent
-    samples (``n_eff - 2`` degrees of freedom, at least 1); scipy.stats.t.ppf's own value."""
-    return float(stdtrit(max(n_eff - 2.0, 1.0), _SIGMAS_P))
+    sigmas = float(stdtrit(max(n_eff - 2.0, 1.0), _SIGMAS_P))  # the quantile (scipy.stats.t.ppf's own)
+    return abs(ratio - order) <= max(sigmas * sigma, tol * order)
 
 
 #: The normal's probability within :data:`SIGMAS` standard deviations (one-sided), for

@@ -81,9 +81,13 @@ def _unsupported(cands: list) -> None:
     """Linear candidates without a stable pole that do not decay measurably (decay rate within
     :data:`TONE_SIGMAS` standard deviations of zero) and that are not tones: unsupported."""
     for c in cands:
-        still = not c.decay_rate > TONE_SIGMAS * c.decay_rate_std
-        if c.kind is Kind.LINEAR and not c.stable and still:
+        if c.kind is Kind.LINEAR and not c.stable and not _decays(c):
             c.kind = Kind.UNSUPPORTED
+
+
+def _decays(c) -> bool:
+    """Whether a candidate's decay rate stands :data:`TONE_SIGMAS` standard deviations over zero."""
+    return bool(c.decay_rate > TONE_SIGMAS * c.decay_rate_std)
 
 
 def _pre_trigger_amplitude(state, frequency_hz: float) -> float | None:
@@ -101,7 +105,7 @@ def _tones(state) -> None:
     duration = (state.pre.y.size - state.start) / state.pre.fs
     for c in state.candidates:
         upper = (c.decay_rate + TONE_SIGMAS * c.decay_rate_std) * duration
-        still = not c.decay_rate > TONE_SIGMAS * c.decay_rate_std and upper < TONE_DECAY and c.explained
+        still = not _decays(c) and upper < TONE_DECAY and c.explained
         before = _pre_trigger_amplitude(state, c.damped_frequency_hz)
         at_start = float(np.abs(c.amplitude[0]))
         there = before is not None and before >= TONE_SHARE * at_start
