@@ -120,8 +120,12 @@ def envelope_mode(state, k: int, e) -> Mode | None:
     y^3 + c_3 y^2 y' = 0`` with ``k_3 = 8 omega_0 omega_2 / 3`` and ``c_3 = 8 sigma_2`` (first order in
     the nonlinear terms), each nonlinear term where its change stands out (:meth:`~._envelope.
     AmplitudeDependence.changes`); its frequency and damping ratio are the small-amplitude ones. None when
-    the estimator's library lacks those terms."""
+    the estimator's library lacks those terms, or when the equations do not decay at small amplitude
+    (``sigma_0 <= 0``: a growing oscillation is no mode of a free decay, as the paper's fit refuses an
+    undamped one, and the caller keeps what it had)."""
     (w0, w2, s0, s2), (w0_std, w2_std, s0_std, s2_std) = e.coefficients, e.coefficients_std
+    if not s0 > 0:
+        return None
     wn, wn_std = math.hypot(w0, s0), math.hypot(w0 * w0_std, s0 * s0_std) / math.hypot(w0, s0)
     terms = {(1, 0): (wn**2, 2 * wn * wn_std), (0, 1): (2 * s0, 2 * s0_std)}
     if e.changes(CHANGE_SIGMAS, decay=False):
