@@ -416,3 +416,22 @@ def test_averaged_equations_that_grow_at_small_amplitude_give_no_mode():
     assert not any(m.source == "envelope" and 190 < m.frequency_hz < 210 for m in found.modes)
     true = (123.479, 219.189, 238.836)
     assert sum(min(abs(m.frequency_hz / f - 1) for f in true) < 3e-3 for m in found.modes) == 3
+
+
+def test_a_mode_whose_frequency_stays_while_its_would_be_parent_sweeps_is_not_its_harmonic():
+    """A softening mode at 208.6 Hz and a linear mode at 420.8 Hz (2.02 times as high, 47 dB, decaying 6.3
+    times as fast): the record cannot resolve their phase locking, and the 208.6 Hz mode's backbone passes
+    210.4 Hz, so the backbone named the 420.8 Hz mode harmonic 2. Over the test's stretch the 208.6 Hz mode
+    swept 2.2 %, and a harmonic sweeps as its mode does; the 420.8 Hz mode's own free decay holds its
+    frequency within 0.03 % +- 0.03 %: a mode of its own."""
+    rec = impact_record([190.63812759971267, 208.6482761729715, 420.79777436230296],
+                        [0.001766241893451894, 0.006121581252534044, 0.01885449222279507],
+                        [0.2590908605919307, 0.2875599563770585, 0.2956223039956329], fs=5000.0,
+                        duration=2.8612, sensor="velocity", pre_trigger=0.07601597695748756,
+                        offset=2.7477662946423855, snr_db=59.091359352468224, random_state=2045647918,
+                        cubic_stiffness=-63915825372031.24)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        found = identify_modes(rec.y, fs=rec.fs)
+    assert [round(m.frequency_hz) for m in found.modes] == [191, 209, 421]
+    assert not any("harmonic 2" in r.reason for r in found.rejected)
