@@ -94,18 +94,31 @@ def _one(state, k: int) -> list:
 
 def _kept(state, k: int, out) -> list:
     """What nonlinear candidate ``k``'s paper's fit ``out`` gives: its unconfirmed neighbours apart where it
-    has no nonlinear equation (:func:`_apart`), else ``out`` or the averaged equations' mode
-    (:func:`_envelope_instead`). The fit's standard deviations are computed for a mode that is kept
+    has no nonlinear equation (:func:`_apart`), else ``out``, the averaged equations' mode
+    (:func:`_envelope_instead`) or, where both readings call it linear, its poles' mode
+    (:func:`_linear_after_all`). The fit's standard deviations are computed for a mode that is kept
     only (:func:`~.band_fit.with_uncertainty`); where that fails, the fit failed (as if inside it: the
     decay fit's values instead, :func:`_linear_instead`)."""
     if "unconfirmed" in state.candidates[k].evidence and not _nonlinear_equation(out):
         return _apart(state, k)
     kept = _envelope_instead(state, k, out)
+    if kept is out and _linear_after_all(state, k, out):
+        return [(k, linear_mode(state, k) or out)]
     if kept is out:
         done = with_uncertainty(out, state.index)
         if done is not out:  # the standard deviations failed: the fit failed
             return _kept(state, k, _linear_instead(state, k, f"the paper's fit gave no mode ({done.reason})"))
     return [(k, kept)]
+
+
+def _linear_after_all(state, k: int, out) -> bool:
+    """Whether the paper's fit of a single component that the linear decay explains gave an equation
+    without nonlinear terms (a candidate sent to it because its frequency's change with amplitude was
+    doubtful): both readings then call the mode linear, and its poles' values, the sharper reading with
+    their calibrated standard deviations, are its answer, as for any linear mode."""
+    cand = state.candidates[k]
+    return (isinstance(out, Mode) and out.source == "equation" and not _nonlinear_equation(out)
+            and cand.explained and len(_members(state, k)) == 1)
 
 
 def _envelope_instead(state, k: int, out):
