@@ -33,7 +33,7 @@ from ..preprocessing.states import leave_out_clipped
 from ..simulation import Reference, TermTable, WorkBudget, at_rest_level, compile_model, oscillation_count
 from .output_error import OutputErrorResult, fit_output_error
 from .refinement import REFINE_FTOL, refine
-from .selection import exact_scores_needed, reads_bounds, select_candidate
+from .selection import decision_bound, exact_scores_needed, reads_bounds, select_candidate
 
 __all__ = [
     "Problem",
@@ -327,8 +327,10 @@ def run_stages(
         first), when the selection rule is one whose choice such lower bounds do not change
         (:func:`~.selection.exact_scores_needed`); the candidates the rule then reads are finished. The
         same selection and coefficients, at a fraction of the simulation: on a noisy record most dense
-        candidates fall behind a sparse one within the first part of the record. The stopped candidates'
-        ``scores`` are lower bounds; ``unfinished`` finishes them.
+        candidates fall behind a sparse one within the first part of the record. Before the costly
+        (non-linear) candidates, the rule's decision bound (:func:`~.selection.decision_bound`) may lower
+        that stop: the score a denser candidate must fall below to change the choice. The stopped
+        candidates' ``scores`` are lower bounds; ``unfinished`` finishes them.
 
     Returns
     -------
@@ -355,21 +357,15 @@ def run_stages(
     candidates = [np.asarray(c, dtype=float) for c in candidates]
     n_terms = np.array([np.count_nonzero(c) for c in candidates])
     bounded = bounded_scores and reads_bounds(selection) and hasattr(measure, "bounded")
-    scores, unfinished = _score(problem, candidates, n_terms, measure, budget, bounded)
     noise = measure.noise_level(problem.data.x, problem.filtered, problem.data.t)
-    if unfinished:  # finish the stopped candidates whose exact score the rule reads
-        needed = exact_scores_needed(selection, scores, n_terms, noise, problem.n_values, measure.floor)
-        for i in [i for i in unfinished if needed[i]]:
-            model, progress = unfinished.pop(i)
-            scores[i] = measure.bounded(model, np.inf, progress)[0]
-            if budget is not None:
-                budget.charge_model(model)
-    usable = _usable(scores, n_terms, all_diverged)
     refine_budget = WorkBudget() if budget is None else budget
     may_refine = refine_selected
+    screened_results: dict[int, tuple] = {}
+    scored = [None]  # the scores as the sweep fills them in (the refinement reads the candidate's own)
 
     def refined(i: int, ftol: float = REFINE_FTOL):
         """The candidate refined on the measure (paper section 2.5); never worse than unrefined."""
+        scores = scored[0]
         if not may_refine or not np.isfinite(scores[i]):
             return candidates[i], scores[i], {"score": [], "coefficients": []}
         res = refine(
@@ -380,11 +376,41 @@ def run_stages(
             return candidates[i], scores[i], res.history
         return res.coefficients, res.score, res.history
 
+    def finish_read(scores, unfinished):
+        """Finish the stopped candidates whose exact score the rule reads."""
+        needed = exact_scores_needed(selection, scores, n_terms, noise, problem.n_values, measure.floor)
+        for i in [i for i in unfinished if needed[i]]:
+            model, progress = unfinished.pop(i)
+            scores[i] = measure.bounded(model, np.inf, progress)[0]
+            if budget is not None:
+                budget.charge_model(model)
+
+    def screened(i: int):
+        """The candidate refined to the precision the rule compares (once per candidate)."""
+        if i not in screened_results:
+            screened_results[i] = refined(i, SCREEN_FTOL)
+        return screened_results[i]
+
+    def decide(scores, unfinished) -> float:
+        """The rule's decision bound on the candidates scored so far (:func:`.selection.decision_bound`)."""
+        scored[0] = scores
+        finish_read(scores, unfinished)
+        return decision_bound(selection, np.where(n_terms > 0, scores, np.inf), n_terms, screened, noise,
+                              problem.n_values, measure.floor)
+
+    scores, unfinished, decided = _score(
+        problem, candidates, n_terms, measure, budget, bounded, decide if bounded else None
+    )
+    scored[0] = scores
+    if unfinished and not decided:
+        finish_read(scores, unfinished)
+    usable = _usable(scores, n_terms, all_diverged)
+
     index, (coef, score, history) = select_candidate(
         selection,
         np.where(usable, scores, np.inf),
         n_terms,
-        lambda i: refined(i, SCREEN_FTOL),
+        screened,
         noise,
         problem.n_values,
         measure.floor,
@@ -409,23 +435,41 @@ def run_stages(
     )
 
 
-def _score(problem, candidates, n_terms, measure, budget, bounded: bool = False):
+def _score(problem, candidates, n_terms, measure, budget, bounded: bool = False, decide=None):
     """Score of every candidate's simulation, sparsest first; past the budget, inf (not simulated).
 
     ``bounded``: a candidate's simulation stops once its error passes the least error of a candidate
     with terms so far (:meth:`~sindy_impulse.simulation.WeightedL1.bounded`); it then has a lower bound
     above that least error, and its model and where its simulation stopped are returned in
     ``{index: (model, progress)}`` (the unfinished candidates).
+
+    ``decide(scores, unfinished) -> bound``: called before a candidate whose simulation is not a linear
+    model's (a propagator per interval: the costly ones), with every sparser candidate scored, while no
+    bound holds and the least score is new since the last call; it returns the selection rule's decision
+    bound (:func:`.selection.decision_bound`, may finish some of ``unfinished``). The simulations that
+    follow stop once their error passes the lesser of that bound and the least error. Unless one of them
+    ends below the bound, the rule's choice is the one on the candidates scored before it, whatever the
+    scores that stopped there: ``decided`` (the third value returned) is then True, and no stopped
+    candidate's exact score is needed. One that ends below it drops the bound (the scores are then read
+    as without one).
     """
     scores = np.full(len(candidates), np.inf)
     unfinished = {}
     least = np.inf  # the least finished score of a candidate with terms
-    for i in np.argsort(n_terms, kind="stable"):
+    bound = -np.inf  # the rule's decision bound (-inf: none)
+    asked = np.inf  # the least score when the bound was last asked for
+    order = np.argsort(n_terms, kind="stable")
+    for position, i in enumerate(order):
         if budget is not None and budget.exhausted:
             continue
         model = problem.compile(candidates[i])
-        if bounded and np.isfinite(least):
-            scores[i], finished, progress = measure.bounded(model, least)
+        boundary = position > 0 and n_terms[i] > n_terms[order[position - 1]]  # every sparser one scored
+        if (decide is not None and bound == -np.inf and least < asked and boundary
+                and not getattr(model, "is_linear", False)):
+            bound, asked = decide(scores, unfinished), least  # again only for a new least score
+        cutoff = min(least, bound) if bound > -np.inf else least
+        if bounded and np.isfinite(cutoff):
+            scores[i], finished, progress = measure.bounded(model, cutoff)
             if not finished:
                 unfinished[int(i)] = (model, progress)
         else:
@@ -434,7 +478,9 @@ def _score(problem, candidates, n_terms, measure, budget, bounded: bool = False)
             budget.charge_model(model)
         if n_terms[i] > 0 and int(i) not in unfinished:
             least = min(least, scores[i])
-    return scores, unfinished
+            if least < bound:  # a denser candidate below the bound: the rule reads the scores as usual
+                bound = -np.inf
+    return scores, unfinished, bound > -np.inf
 
 
 def _usable(scores, n_terms, all_diverged: str) -> np.ndarray:
