@@ -122,3 +122,35 @@ def test_output_error_fit_of_a_model_without_terms_returns_it():
     res = fit_output_error(start, [x], [t])
     assert not res.success and res.message == "nothing to fit" and res.cost == res.cost_initial
     np.testing.assert_array_equal(res.coefficients, 0.0)
+
+
+def test_a_shared_memo_repeats_no_simulation_and_changes_nothing():
+    """A finer refinement from the same start repeats the coarser one's iterations: with their memo it
+    simulates only the rest, and gives the same coefficients, scores and budget as without it."""
+    from sindy_impulse.identification.refinement import refine
+    from sindy_impulse.simulation import WorkBudget, get_error_measure
+
+    t, x, _ = damped_oscillator(snr_db=40, random_state=0)
+    measure = get_error_measure("gamma", [x]).bind([x], [t], None)
+    calls = []
+
+    def counted(model, coefs):
+        calls.append(1)
+        return measure(model, coefs)
+
+    def start():
+        return CompiledModel([[0, 1.0, 0], [-58.0, -4.0, -0.5]], TERMS, x)
+
+    runs = {}
+    for shared in (False, True):
+        memo, budget, calls[:] = ({} if shared else None), WorkBudget(), []
+        coarse = refine(start(), counted, budget=budget, ftol=1e-4, memo=memo)
+        n_coarse = len(calls)
+        fine = refine(start(), counted, budget=budget, ftol=1e-7, memo=memo)
+        runs[shared] = (coarse, fine, budget.used, n_coarse, len(calls) - n_coarse)
+    (c0, f0, used0, _, n0), (c1, f1, used1, _, n1) = runs[False], runs[True]
+    for a, b in ((c0, c1), (f0, f1)):
+        np.testing.assert_array_equal(a.coefficients, b.coefficients)
+        assert a.score == b.score and a.history["score"] == b.history["score"]
+    assert used0 == used1
+    assert n1 < n0

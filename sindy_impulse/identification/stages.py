@@ -361,6 +361,7 @@ def run_stages(
     refine_budget = WorkBudget() if budget is None else budget
     may_refine = refine_selected
     screened_results: dict[int, tuple] = {}
+    memos: dict[int, dict] = {}  # per candidate: its refinements' scores (the final one repeats the screen)
     scored = [None]  # the scores as the sweep fills them in (the refinement reads the candidate's own)
 
     def refined(i: int, ftol: float = REFINE_FTOL):
@@ -370,7 +371,7 @@ def run_stages(
             return candidates[i], scores[i], {"score": [], "coefficients": []}
         res = refine(
             problem.compile(candidates[i]), measure, bound_factor, max_iter, budget=refine_budget, ftol=ftol,
-            resolution=measure.floor * problem.n_values,
+            resolution=measure.floor * problem.n_values, memo=memos.setdefault(i, {}),
         )
         if not res.score <= scores[i]:
             return candidates[i], scores[i], res.history
