@@ -358,24 +358,7 @@ def run_stages(
     n_terms = np.array([np.count_nonzero(c) for c in candidates])
     bounded = bounded_scores and reads_bounds(selection) and hasattr(measure, "bounded")
     noise = measure.noise_level(problem.data.x, problem.filtered, problem.data.t)
-    refine_budget = WorkBudget() if budget is None else budget
-    may_refine = refine_selected
-    screened_results: dict[int, tuple] = {}
-    memos: dict[int, dict] = {}  # per candidate: its refinements' scores (the final one repeats the screen)
-    scored = [None]  # the scores as the sweep fills them in (the refinement reads the candidate's own)
-
-    def refined(i: int, ftol: float = REFINE_FTOL):
-        """The candidate refined on the measure (paper section 2.5); never worse than unrefined."""
-        scores = scored[0]
-        if not may_refine or not np.isfinite(scores[i]):
-            return candidates[i], scores[i], {"score": [], "coefficients": []}
-        res = refine(
-            problem.compile(candidates[i]), measure, bound_factor, max_iter, budget=refine_budget, ftol=ftol,
-            resolution=measure.floor * problem.n_values, memo=memos.setdefault(i, {}),
-        )
-        if not res.score <= scores[i]:
-            return candidates[i], scores[i], res.history
-        return res.coefficients, res.score, res.history
+    refiner = _Refiner(problem, candidates, measure, bound_factor, max_iter, budget, refine_selected)
 
     def finish_read(scores, unfinished):
         """Finish the stopped candidates whose exact score the rule reads."""
@@ -386,23 +369,17 @@ def run_stages(
             if budget is not None:
                 budget.charge_model(model)
 
-    def screened(i: int):
-        """The candidate refined to the precision the rule compares (once per candidate)."""
-        if i not in screened_results:
-            screened_results[i] = refined(i, SCREEN_FTOL)
-        return screened_results[i]
-
     def decide(scores, unfinished) -> float:
         """The rule's decision bound on the candidates scored so far (:func:`.selection.decision_bound`)."""
-        scored[0] = scores
+        refiner.scores = scores
         finish_read(scores, unfinished)
-        return decision_bound(selection, np.where(n_terms > 0, scores, np.inf), n_terms, screened, noise,
-                              problem.n_values, measure.floor)
+        return decision_bound(selection, np.where(n_terms > 0, scores, np.inf), n_terms, refiner.screened,
+                              noise, problem.n_values, measure.floor)
 
     scores, unfinished, decided = _score(
         problem, candidates, n_terms, measure, budget, bounded, decide if bounded else None
     )
-    scored[0] = scores
+    refiner.scores = scores
     if unfinished and not decided:
         finish_read(scores, unfinished)
     usable = _usable(scores, n_terms, all_diverged)
@@ -411,11 +388,11 @@ def run_stages(
         selection,
         np.where(usable, scores, np.inf),
         n_terms,
-        screened,
+        refiner.screened,
         noise,
         problem.n_values,
         measure.floor,
-        final=refined,
+        final=refiner.refined,
     )
     fit = None
     if refine_selected and _output_error_on(output_error, problem.filtered) and np.any(coef):
@@ -423,17 +400,50 @@ def run_stages(
         fit = fit_output_error(problem.compile(coef), problem.filtered, data.t, data.u, bound_factor)
         coef = fit.coefficients
     used = 0.0 if budget is None else budget.used
-    return StageResult(
-        index,
-        np.asarray(coef, dtype=float),
-        float(score),
-        scores,
-        history,
-        noise,
-        used,
-        fit,
-        UnfinishedScores(unfinished, measure) if unfinished else None,
-    )
+    unfinished = UnfinishedScores(unfinished, measure) if unfinished else None
+    return StageResult(index, np.asarray(coef, dtype=float), float(score), scores, history, noise, used, fit,
+                       unfinished)
+
+
+class _Refiner:
+    """The refinements of a sweep's candidates (paper section 2.5) for :func:`run_stages`.
+
+    ``screened(i)``: candidate ``i`` refined to the precision the selection rule compares
+    (:data:`SCREEN_FTOL`), once per candidate; ``refined(i)``: refined to :data:`.refinement.REFINE_FTOL`
+    (the selected one). Either is never worse than the unrefined candidate. A candidate's refinements
+    share a memo of the coefficients they scored (:func:`~.refinement.refine`'s ``memo``): the final
+    refinement starts where the screening did and repeats its iterations before it goes on, so those are
+    not simulated twice. ``scores`` are the candidates' unrefined scores as the sweep fills them in (a
+    refinement reads its candidate's own).
+    """
+
+    def __init__(self, problem, candidates, measure, bound_factor, max_iter, budget, may_refine: bool):
+        self.problem, self.candidates, self.measure = problem, candidates, measure
+        self.bound_factor, self.max_iter, self.may_refine = bound_factor, max_iter, may_refine
+        self.budget = WorkBudget() if budget is None else budget
+        self.scores = None
+        self._screened: dict[int, tuple] = {}
+        self._memos: dict[int, dict] = {}
+
+    def refined(self, i: int, ftol: float = REFINE_FTOL):
+        """``(coefficients, score, history)`` of candidate ``i`` refined on the measure to ``ftol``."""
+        candidate, score = self.candidates[i], self.scores[i]
+        if not self.may_refine or not np.isfinite(score):
+            return candidate, score, {"score": [], "coefficients": []}
+        resolution = self.measure.floor * self.problem.n_values
+        res = refine(
+            self.problem.compile(candidate), self.measure, self.bound_factor, self.max_iter,
+            budget=self.budget, ftol=ftol, resolution=resolution, memo=self._memos.setdefault(i, {}),
+        )
+        if not res.score <= score:
+            return candidate, score, res.history
+        return res.coefficients, res.score, res.history
+
+    def screened(self, i: int):
+        """:meth:`refined` to :data:`SCREEN_FTOL`, once per candidate."""
+        if i not in self._screened:
+            self._screened[i] = self.refined(i, SCREEN_FTOL)
+        return self._screened[i]
 
 
 def _score(problem, candidates, n_terms, measure, budget, bounded: bool = False, decide=None):
