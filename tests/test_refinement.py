@@ -131,12 +131,9 @@ def test_a_shared_memo_repeats_no_simulation_and_changes_nothing():
     from sindy_impulse.simulation import WorkBudget, get_error_measure
 
     t, x, _ = damped_oscillator(snr_db=40, random_state=0)
-    measure = get_error_measure("gamma", [x]).bind([x], [t], None)
-    calls = []
-
-    def counted(model, coefs):
-        calls.append(1)
-        return measure(model, coefs)
+    counted = get_error_measure("gamma", [x]).bind([x], [t], None)
+    calls, evaluate = [], counted.evaluate
+    counted.evaluate = lambda *args: (calls.append(1), evaluate(*args))[1]
 
     def start():
         return CompiledModel([[0, 1.0, 0], [-58.0, -4.0, -0.5]], TERMS, x)
@@ -154,3 +151,21 @@ def test_a_shared_memo_repeats_no_simulation_and_changes_nothing():
         assert a.score == b.score and a.history["score"] == b.history["score"]
     assert used0 == used1
     assert n1 < n0
+
+
+def test_a_memo_serves_only_scores_that_depend_on_the_coefficients_alone():
+    """An adaptive simulation stops where the work budget does: a fallback (or stiff) model, or a measure
+    that is not a bound one, is scored anew every time."""
+    from sindy_impulse.identification.refinement import _reproducible
+    from sindy_impulse.simulation import FallbackModel, get_error_measure
+
+    t, x, _ = damped_oscillator()
+    measure = get_error_measure("gamma", [x]).bind([x], [t], None)
+    compiled = CompiledModel([[0, 1.0, 0], [-64.0, -3.2, 0]], TERMS, x)
+    assert _reproducible(compiled, measure)
+    assert not _reproducible(compiled, lambda model, coefs: measure(model, coefs))
+    fallback = FallbackModel([[0.0, 1.0], [-64.0, -3.2]], lambda Z: Z, n_inputs_total=2)
+    assert not _reproducible(fallback, measure)
+    stiff = CompiledModel([[0, 1.0, 0], [-64.0, -3.2, 0]], TERMS, x)
+    stiff.spectral_radius = 1e9  # more RK4 sub-steps than MAX_SUBSTEPS: the adaptive integrator
+    assert not _reproducible(stiff, measure)

@@ -256,7 +256,8 @@ def refine(
         model (the same starting coefficients and bounds, compiled the same way) on the same measure may
         share one. SLSQP is deterministic, so a refinement to a finer ``ftol`` from the same start repeats
         a coarser one's iterations before it goes on: with a shared memo those are not simulated again.
-        The same scores, coefficients and work charged to ``budget`` as without it.
+        The same scores, coefficients and work charged to ``budget`` as without it (used only where the
+        scores depend on the coefficients alone: a compiled model integrated by RK4 on a bound measure).
 
     Returns
     -------
@@ -267,6 +268,7 @@ def refine(
     _check(bound_factor, max_iter)
     model.spectral_radius = model.spectral_radius * max(1.0, bound_factor)
     budget = WorkBudget() if budget is None else budget
+    memo = memo if memo is not None and _reproducible(model, measure) else None
     objective = _Objective(model, measure, budget, np.inf, memo)
     start = model.full_coefficients.copy()
     try:
@@ -308,6 +310,17 @@ def refine(
         warnings.warn(f"refinement failed ({keep.message}); keeping the unrefined model", RuntimeWarning, 2)
         return keep
     return _finish(objective, w, g0, history, success, message, zero_tol, keep)
+
+
+def _reproducible(model, measure) -> bool:
+    """Whether ``measure``'s scores of ``model`` depend on the coefficients alone (then a memo may serve
+    them): a compiled model integrated by RK4 (not stiff) on every grid of a bound measure. An adaptive
+    simulation (a stiff or a fallback model) stops where the remaining work budget does, so the same
+    coefficients scored later may come out otherwise: those are scored anew."""
+    trajectories = getattr(measure, "trajectories_", None)
+    if trajectories is None or getattr(model, "program", None) is None:
+        return False
+    return not any(model.is_stiff(t) for _, t, _ in trajectories)
 
 
 def _finish(objective, w, g0, history, success, message, zero_tol, keep) -> RefinementResult:
