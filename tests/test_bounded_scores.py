@@ -8,12 +8,7 @@ import numpy as np
 import pytest
 
 from sindy_impulse import ImpulseSINDy
-from sindy_impulse.identification.selection import (
-    SELECTION_RULES,
-    decision_bound,
-    exact_scores_needed,
-    reads_bounds,
-)
+from sindy_impulse.identification.selection import SELECTION_RULES, exact_scores_needed, reads_bounds
 from sindy_impulse.simulation import CompiledModel, Gamma, Segmented, TermTable
 
 from .test_four_states import SYSTEMS, ring_down
@@ -89,30 +84,3 @@ def test_bounded_sweep_selects_and_scores_as_the_full_one(four_state_fits):
     np.testing.assert_array_equal(again.path_.score, full.path_.score)
     assert bounded._unfinished_scores is None
     assert bounded.diagnostics_.verdict == full.diagnostics_.verdict
-
-
-def test_decision_bound_keeps_the_choice_of_auto():
-    """A denser candidate scoring anywhere from the bound up changes nothing; one scoring below the bound
-    as the least score may (here it does: the selected candidate then misses the target)."""
-    auto = SELECTION_RULES["auto"]
-    g, k = np.array([1.0, 1.02, 5.0]), np.array([5, 3, 1])
-    refined = {0: 0.98, 1: 1.0, 2: 4.0}  # refined scores
-    refine = lambda i: (None, refined.get(i, g[i] if i < len(g) else 0.0), {})  # noqa: E731
-    tol = lambda s: 0.1 * s + 0.01  # noqa: E731
-    chosen = auto(g, k, refine, tol)
-    bound = decision_bound("auto", g, k, refine, noise_gamma=0.1, n_values=0)
-    assert chosen == 1 and 0.8 < bound < 1.0
-    for denser in (bound, 0.5 * (bound + 1.0), 0.999):
-        scores = np.append(g, denser)
-        refined[3] = denser
-        assert auto(scores, np.append(k, 9), refine, tol) == chosen
-    below = np.append(g, np.nextafter(bound, 0.0) * 0.99)
-    refined[3] = below[-1]
-    assert auto(below, np.append(k, 9), refine, tol) != chosen
-
-
-def test_no_decision_bound_when_auto_selects_the_best():
-    g, k = np.array([1.0, 3.0]), np.array([5, 3])
-    assert decision_bound("auto", g, k, lambda i: (None, g[i], {})) == -np.inf
-    assert decision_bound("min_gamma", np.array([1.0, 1.02]), np.array([5, 3]),
-                          lambda i: (None, 1.0, {})) == -np.inf

@@ -36,7 +36,6 @@ __all__ = [
     "select_candidate",
     "register_selection_rule",
     "exact_scores_needed",
-    "decision_bound",
     "reads_bounds",
     "tolerance",
     "REL_TOL",
@@ -86,10 +85,10 @@ def min_score(scores, n_terms, refine, tolerance) -> int:
     return _least(scores, n_terms)
 
 
-def _walk(scores, n_terms, best: int, target: float) -> list:
-    """The candidates "auto" walks for the least-score candidate ``best`` and its ``target``: the sparser
-    ones within :data:`HOPELESS` times the target, sparsest first (ties: lesser score, then index), then
-    ``best``."""
+def auto(scores, n_terms, refine, tolerance) -> int:
+    """The sparsest candidate that matches the best within tolerance and passes the knee test."""
+    best = _least(scores, n_terms)
+    target = scores[best] + tolerance(scores[best])
     walk = sorted(
         (
             int(i)
@@ -99,14 +98,6 @@ def _walk(scores, n_terms, best: int, target: float) -> list:
         key=lambda i: (n_terms[i], scores[i]),
     )
     walk.append(best)
-    return walk
-
-
-def auto(scores, n_terms, refine, tolerance) -> int:
-    """The sparsest candidate that matches the best within tolerance and passes the knee test."""
-    best = _least(scores, n_terms)
-    target = scores[best] + tolerance(scores[best])
-    walk = _walk(scores, n_terms, best, target)
     for position, i in enumerate(walk[:-1]):
         g = refine(i)[1]
         if g > target:
@@ -168,75 +159,6 @@ def exact_scores_needed(rule, scores, n_terms, noise_gamma=0.0, n_values=0, floo
         return tolerance(g, noise_gamma, n_values, floor)
 
     return _READS[rule](scores, np.asarray(n_terms), tolerance_at)
-
-
-def _auto_decision_bound(scores, n_terms, refine, tolerance) -> float:
-    best = _least(scores, n_terms)
-    if not np.isfinite(scores[best]):
-        return -np.inf
-    selected = auto(scores, n_terms, refine, tolerance)
-    if selected == best:
-        return -np.inf
-    walk = _walk(scores, n_terms, best, scores[best] + tolerance(scores[best]))
-    read = walk[: walk.index(selected) + 2]  # through the knee test's neighbour of the selected one
-    g = refine(selected)[1]
-
-    def keeps(bound: float) -> bool:  # a best of score ``bound`` keeps the walk's read part and passes g
-        target = bound + tolerance(bound)
-        return g <= target and all(scores[i] <= HOPELESS * target for i in read)
-
-    # the least such score: tolerance is affine and increasing (the target too, also in rounding)
-    need = max(g, max(scores[i] for i in read) / HOPELESS)
-    slope = tolerance(1.0) - tolerance(0.0)
-    bound = (need - tolerance(0.0)) / (1.0 + slope)
-    for _ in range(64):
-        if keeps(bound):
-            break
-        bound = np.nextafter(bound, np.inf) if bound else np.finfo(float).tiny
-    else:
-        return -np.inf
-    return float(bound) if bound < scores[best] else -np.inf
-
-
-#: For the rules whose choice a denser candidate can change only by scoring below a bound computed from the
-#: sparser ones (``decision_bound(scores, n_terms, refine, tolerance) -> float``). See :func:`decision_bound`.
-_DECISIONS = {auto: _auto_decision_bound}
-
-
-def decision_bound(
-    rule, scores, n_terms, refine, noise_gamma: float = 0.0, n_values: int = 0, floor: float = FLOOR
-) -> float:
-    """The score a candidate denser than every scored one must fall below to change ``rule``'s choice.
-
-    ``scores`` holds the candidates scored so far (exactly where the rule reads them, see
-    :func:`exact_scores_needed`; ``inf`` for the others), all of them with fewer terms than any candidate
-    still to score. A candidate to come changes the choice only by becoming the least score. For
-    ``"auto"`` it then sets the target, and the walk over the sparser candidates is the same up to the
-    selected one and its knee-test neighbour (the candidates to come are denser than all of them): the
-    choice stays as long as the selected candidate's refined score is within the target and the candidates
-    read so far stay within :data:`HOPELESS` times it. The least score with both is returned (``-inf``:
-    none, e.g. when the rule selects the least-score candidate itself, or for rules without such a bound).
-    A sweep may then stop a denser candidate's simulation once its error passes this bound instead of the
-    least score: if none of them ends below the bound, the rule selects the same candidate whatever their
-    scores above it. ``refine`` is the rule's refinement (called on the candidates the rule reads; their
-    results serve the final selection as well).
-
-    Examples
-    --------
-    >>> g = np.array([1.0, 1.02, 5.0, np.inf]); k = np.array([5, 3, 1, 9])
-    >>> bound = decision_bound("auto", g, k, lambda i: (None, g[i], {}))
-    >>> bool(0.9 < bound < 1.0)  # a best below 1.02 / 1.1 would fail the selected candidate's target
-    True
-    """
-    rule = SELECTION_RULES.get(rule) if isinstance(rule, str) else rule
-    if rule not in _DECISIONS:
-        return -np.inf
-    scores = np.asarray(scores, dtype=float)
-
-    def tolerance_at(g: float) -> float:
-        return tolerance(g, noise_gamma, n_values, floor)
-
-    return _DECISIONS[rule](scores, np.asarray(n_terms), refine, tolerance_at)
 
 
 def register_selection_rule(name: str, rule: Callable) -> Callable:

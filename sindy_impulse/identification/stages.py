@@ -33,7 +33,7 @@ from ..preprocessing.states import leave_out_clipped
 from ..simulation import Reference, TermTable, WorkBudget, at_rest_level, compile_model, oscillation_count
 from .output_error import OutputErrorResult, fit_output_error
 from .refinement import REFINE_FTOL, refine
-from .selection import decision_bound, exact_scores_needed, reads_bounds, select_candidate
+from .selection import exact_scores_needed, reads_bounds, select_candidate
 
 __all__ = [
     "Problem",
@@ -327,10 +327,8 @@ def run_stages(
         first), when the selection rule is one whose choice such lower bounds do not change
         (:func:`~.selection.exact_scores_needed`); the candidates the rule then reads are finished. The
         same selection and coefficients, at a fraction of the simulation: on a noisy record most dense
-        candidates fall behind a sparse one within the first part of the record. Before the costly
-        (non-linear) candidates, the rule's decision bound (:func:`~.selection.decision_bound`) may lower
-        that stop: the score a denser candidate must fall below to change the choice. The stopped
-        candidates' ``scores`` are lower bounds; ``unfinished`` finishes them.
+        candidates fall behind a sparse one within the first part of the record. The stopped candidates'
+        ``scores`` are lower bounds; ``unfinished`` finishes them.
 
     Returns
     -------
@@ -357,32 +355,17 @@ def run_stages(
     candidates = [np.asarray(c, dtype=float) for c in candidates]
     n_terms = np.array([np.count_nonzero(c) for c in candidates])
     bounded = bounded_scores and reads_bounds(selection) and hasattr(measure, "bounded")
+    scores, unfinished = _score(problem, candidates, n_terms, measure, budget, bounded)
     noise = measure.noise_level(problem.data.x, problem.filtered, problem.data.t)
-    refiner = _Refiner(problem, candidates, measure, bound_factor, max_iter, budget, refine_selected)
-
-    def finish_read(scores, unfinished):
-        """Finish the stopped candidates whose exact score the rule reads."""
+    if unfinished:  # finish the stopped candidates whose exact score the rule reads
         needed = exact_scores_needed(selection, scores, n_terms, noise, problem.n_values, measure.floor)
         for i in [i for i in unfinished if needed[i]]:
             model, progress = unfinished.pop(i)
             scores[i] = measure.bounded(model, np.inf, progress)[0]
             if budget is not None:
                 budget.charge_model(model)
-
-    def decide(scores, unfinished) -> float:
-        """The rule's decision bound on the candidates scored so far (:func:`.selection.decision_bound`)."""
-        refiner.scores = scores
-        finish_read(scores, unfinished)
-        return decision_bound(selection, np.where(n_terms > 0, scores, np.inf), n_terms, refiner.screened,
-                              noise, problem.n_values, measure.floor)
-
-    scores, unfinished, decided = _score(
-        problem, candidates, n_terms, measure, budget, bounded, decide if bounded else None
-    )
-    refiner.scores = scores
-    if unfinished and not decided:
-        finish_read(scores, unfinished)
     usable = _usable(scores, n_terms, all_diverged)
+    refiner = _Refiner(problem, candidates, scores, measure, bound_factor, max_iter, budget, refine_selected)
 
     index, (coef, score, history) = select_candidate(
         selection,
@@ -413,15 +396,14 @@ class _Refiner:
     (the selected one). Either is never worse than the unrefined candidate. A candidate's refinements
     share a memo of the coefficients they scored (:func:`~.refinement.refine`'s ``memo``): the final
     refinement starts where the screening did and repeats its iterations before it goes on, so those are
-    not simulated twice. ``scores`` are the candidates' unrefined scores as the sweep fills them in (a
-    refinement reads its candidate's own).
+    not simulated twice. ``scores`` are the candidates' unrefined scores.
     """
 
-    def __init__(self, problem, candidates, measure, bound_factor, max_iter, budget, may_refine: bool):
-        self.problem, self.candidates, self.measure = problem, candidates, measure
+    def __init__(self, problem, candidates, scores, measure, bound_factor, max_iter, budget,
+                 may_refine: bool):
+        self.problem, self.candidates, self.scores, self.measure = problem, candidates, scores, measure
         self.bound_factor, self.max_iter, self.may_refine = bound_factor, max_iter, may_refine
         self.budget = WorkBudget() if budget is None else budget
-        self.scores = None
         self._screened: dict[int, tuple] = {}
         self._memos: dict[int, dict] = {}
 
@@ -446,41 +428,23 @@ class _Refiner:
         return self._screened[i]
 
 
-def _score(problem, candidates, n_terms, measure, budget, bounded: bool = False, decide=None):
+def _score(problem, candidates, n_terms, measure, budget, bounded: bool = False):
     """Score of every candidate's simulation, sparsest first; past the budget, inf (not simulated).
 
     ``bounded``: a candidate's simulation stops once its error passes the least error of a candidate
     with terms so far (:meth:`~sindy_impulse.simulation.WeightedL1.bounded`); it then has a lower bound
     above that least error, and its model and where its simulation stopped are returned in
     ``{index: (model, progress)}`` (the unfinished candidates).
-
-    ``decide(scores, unfinished) -> bound``: called before a candidate whose simulation is not a linear
-    model's (a propagator per interval: the costly ones), with every sparser candidate scored, while no
-    bound holds and the least score is new since the last call; it returns the selection rule's decision
-    bound (:func:`.selection.decision_bound`, may finish some of ``unfinished``). The simulations that
-    follow stop once their error passes the lesser of that bound and the least error. Unless one of them
-    ends below the bound, the rule's choice is the one on the candidates scored before it, whatever the
-    scores that stopped there: ``decided`` (the third value returned) is then True, and no stopped
-    candidate's exact score is needed. One that ends below it drops the bound (the scores are then read
-    as without one).
     """
     scores = np.full(len(candidates), np.inf)
     unfinished = {}
     least = np.inf  # the least finished score of a candidate with terms
-    bound = -np.inf  # the rule's decision bound (-inf: none)
-    asked = np.inf  # the least score when the bound was last asked for
-    order = np.argsort(n_terms, kind="stable")
-    for position, i in enumerate(order):
+    for i in np.argsort(n_terms, kind="stable"):
         if budget is not None and budget.exhausted:
             continue
         model = problem.compile(candidates[i])
-        boundary = position > 0 and n_terms[i] > n_terms[order[position - 1]]  # every sparser one scored
-        if (decide is not None and bound == -np.inf and least < asked and boundary
-                and not getattr(model, "is_linear", False)):
-            bound, asked = decide(scores, unfinished), least  # again only for a new least score
-        cutoff = min(least, bound) if bound > -np.inf else least
-        if bounded and np.isfinite(cutoff):
-            scores[i], finished, progress = measure.bounded(model, cutoff)
+        if bounded and np.isfinite(least):
+            scores[i], finished, progress = measure.bounded(model, least)
             if not finished:
                 unfinished[int(i)] = (model, progress)
         else:
@@ -489,9 +453,7 @@ def _score(problem, candidates, n_terms, measure, budget, bounded: bool = False,
             budget.charge_model(model)
         if n_terms[i] > 0 and int(i) not in unfinished:
             least = min(least, scores[i])
-            if least < bound:  # a denser candidate below the bound: the rule reads the scores as usual
-                bound = -np.inf
-    return scores, unfinished, bound > -np.inf
+    return scores, unfinished
 
 
 def _usable(scores, n_terms, all_diverged: str) -> np.ndarray:
