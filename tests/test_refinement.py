@@ -122,3 +122,50 @@ def test_output_error_fit_of_a_model_without_terms_returns_it():
     res = fit_output_error(start, [x], [t])
     assert not res.success and res.message == "nothing to fit" and res.cost == res.cost_initial
     np.testing.assert_array_equal(res.coefficients, 0.0)
+
+
+def test_a_shared_memo_repeats_no_simulation_and_changes_nothing():
+    """A finer refinement from the same start repeats the coarser one's iterations: with their memo it
+    simulates only the rest, and gives the same coefficients, scores and budget as without it."""
+    from sindy_impulse.identification.refinement import refine
+    from sindy_impulse.simulation import WorkBudget, get_error_measure
+
+    t, x, _ = damped_oscillator(snr_db=40, random_state=0)
+    counted = get_error_measure("gamma", [x]).bind([x], [t], None)
+    calls, evaluate = [], counted.evaluate
+    counted.evaluate = lambda *args: (calls.append(1), evaluate(*args))[1]
+
+    def start():
+        return CompiledModel([[0, 1.0, 0], [-58.0, -4.0, -0.5]], TERMS, x)
+
+    runs = {}
+    for shared in (False, True):
+        memo, budget, calls[:] = ({} if shared else None), WorkBudget(), []
+        coarse = refine(start(), counted, budget=budget, ftol=1e-4, memo=memo)
+        n_coarse = len(calls)
+        fine = refine(start(), counted, budget=budget, ftol=1e-7, memo=memo)
+        runs[shared] = (coarse, fine, budget.used, n_coarse, len(calls) - n_coarse)
+    (c0, f0, used0, _, n0), (c1, f1, used1, _, n1) = runs[False], runs[True]
+    for a, b in ((c0, c1), (f0, f1)):
+        np.testing.assert_array_equal(a.coefficients, b.coefficients)
+        assert a.score == b.score and a.history["score"] == b.history["score"]
+    assert used0 == used1
+    assert n1 < n0
+
+
+def test_a_memo_serves_only_scores_that_depend_on_the_coefficients_alone():
+    """An adaptive simulation stops where the work budget does: a fallback (or stiff) model, or a measure
+    that is not a bound one, is scored anew every time."""
+    from sindy_impulse.identification.refinement import _reproducible
+    from sindy_impulse.simulation import FallbackModel, get_error_measure
+
+    t, x, _ = damped_oscillator()
+    measure = get_error_measure("gamma", [x]).bind([x], [t], None)
+    compiled = CompiledModel([[0, 1.0, 0], [-64.0, -3.2, 0]], TERMS, x)
+    assert _reproducible(compiled, measure)
+    assert not _reproducible(compiled, lambda model, coefs: measure(model, coefs))
+    fallback = FallbackModel([[0.0, 1.0], [-64.0, -3.2]], lambda Z: Z, n_inputs_total=2)
+    assert not _reproducible(fallback, measure)
+    stiff = CompiledModel([[0, 1.0, 0], [-64.0, -3.2, 0]], TERMS, x)
+    stiff.spectral_radius = 1e9  # more RK4 sub-steps than MAX_SUBSTEPS: the adaptive integrator
+    assert not _reproducible(stiff, measure)

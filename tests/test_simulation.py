@@ -266,3 +266,28 @@ def test_a_linear_batch_is_scored_by_its_propagators_alone():
     assert np.array_equal(together, alone)
     two = CompiledModel([[0.0, 1.0], [-64.0, -3.2]], TermTable.polynomial([[1, 0], [0, 1]]), x2)
     assert two._packed(two.coef[None], 0.01, two.substeps(t))[3] is not None
+
+
+@pytest.mark.parametrize("affine", [False, True])
+def test_propagators_are_the_rk4_polynomial_power_bit_for_bit(affine):
+    """The propagators' products by the ufunc and their power by the binary decomposition are the stacked
+    identity's ``eye + hA @ (...)`` and ``numpy.linalg.matrix_power`` to the last bit."""
+    from sindy_impulse.simulation.program import build_program, propagators
+
+    powers = [[0, 0, 0, 0]] * affine + [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]
+    program = build_program(TermTable.polynomial(powers), 4)
+    rng = np.random.default_rng(3)
+    for n_models in (1, 7):
+        coefs = 30 * rng.normal(size=(n_models, 4, len(powers)))
+        coefs[rng.random(coefs.shape) < 0.3] = 0.0
+        for substeps in (1, 2, 3, 4, 5, 11, 64):
+            m = 5 if affine else 4
+            A = np.zeros((n_models, m, m))
+            for k, j in enumerate(program.linear_state):
+                if j >= 0 or m > 4:
+                    A[:, :4, 4 if j < 0 else j] += coefs[:, :, k]
+            hA = A * (0.01 / substeps)
+            eye = np.broadcast_to(np.eye(m), A.shape)
+            P = eye + hA @ (eye + hA @ (eye + hA @ (eye + hA / 4.0) / 3.0) / 2.0)
+            expected = np.linalg.matrix_power(P, substeps)
+            np.testing.assert_array_equal(propagators(program, coefs, 0.01, substeps), expected)

@@ -119,9 +119,9 @@ class Multipliers:
 class _Objective(Multipliers):
     """The measure as a function of the multipliers, with the budget charged and the best point kept."""
 
-    def __init__(self, model, measure, budget: WorkBudget, penalty: float):
+    def __init__(self, model, measure, budget: WorkBudget, penalty: float, memo: dict | None = None):
         super().__init__(model)
-        self.measure, self.budget, self.penalty = measure, budget, penalty
+        self.measure, self.budget, self.penalty, self.memo = measure, budget, penalty, memo
         self.best = (np.inf, None)
         self.last = (None, None)
         self.last_gradient = (None, None)
@@ -129,9 +129,27 @@ class _Objective(Multipliers):
         self.exact = None if EXACT_GRADIENTS else False
 
     def scores(self, coefs, check_budget: bool = True) -> np.ndarray:
+        """The measure of a batch of active-coefficient matrices, the model's work charged to the budget.
+
+        With a ``memo``, a batch scored before is not simulated again: its scores are returned and its
+        work is counted and charged as if it had been (the budget runs out where it would without the
+        memo).
+        """
         if check_budget and self.budget.exhausted:
             raise OutOfBudget
+        key = None
+        if self.memo is not None:
+            coefs = np.ascontiguousarray(coefs, dtype=float)
+            key = (coefs.shape, coefs.tobytes())
+            if key in self.memo:
+                out, work = self.memo[key]
+                self.model.work_done += work
+                self.budget.charge_model(self.model)
+                return out.copy()
+        before = self.model.work_done
         out = self.measure(self.model, coefs)
+        if key is not None:
+            self.memo[key] = (np.array(out, dtype=float, copy=True), self.model.work_done - before)
         self.budget.charge_model(self.model)
         return out
 
@@ -199,6 +217,7 @@ def refine(
     penalty: float | None = None,
     ftol: float = REFINE_FTOL,
     resolution: float = 0.0,
+    memo: dict | None = None,
 ) -> RefinementResult:
     """Minimize ``measure(model, coefs)`` over the model's non-zero coefficients within sign-keeping bounds.
 
@@ -232,6 +251,13 @@ def refine(
         runs to ``max_iter`` (the paper's noise-free oscillator: 100 iterations and 1,188 calls of the
         measure, where this stop takes 5 and 47 to the same score, 1.8e-5, and the same coefficients to 7
         digits).
+    memo : dict, optional
+        Scores of the batches of coefficients already simulated, filled in here: refinements of the same
+        model (the same starting coefficients and bounds, compiled the same way) on the same measure may
+        share one. SLSQP is deterministic, so a refinement to a finer ``ftol`` from the same start repeats
+        a coarser one's iterations before it goes on: with a shared memo those are not simulated again.
+        The same scores, coefficients and work charged to ``budget`` as without it (used only where the
+        scores depend on the coefficients alone: a compiled model integrated by RK4 on a bound measure).
 
     Returns
     -------
@@ -242,7 +268,8 @@ def refine(
     _check(bound_factor, max_iter)
     model.spectral_radius = model.spectral_radius * max(1.0, bound_factor)
     budget = WorkBudget() if budget is None else budget
-    objective = _Objective(model, measure, budget, np.inf)
+    memo = memo if memo is not None and _reproducible(model, measure) else None
+    objective = _Objective(model, measure, budget, np.inf, memo)
     start = model.full_coefficients.copy()
     try:
         g0 = float(objective.scores(model.coef[None])[0])
@@ -283,6 +310,17 @@ def refine(
         warnings.warn(f"refinement failed ({keep.message}); keeping the unrefined model", RuntimeWarning, 2)
         return keep
     return _finish(objective, w, g0, history, success, message, zero_tol, keep)
+
+
+def _reproducible(model, measure) -> bool:
+    """Whether ``measure``'s scores of ``model`` depend on the coefficients alone (then a memo may serve
+    them): a compiled model integrated by RK4 (not stiff) on every grid of a bound measure. An adaptive
+    simulation (a stiff or a fallback model) stops where the remaining work budget does, so the same
+    coefficients scored later may come out otherwise: those are scored anew."""
+    trajectories = getattr(measure, "trajectories_", None)
+    if trajectories is None or getattr(model, "program", None) is None:
+        return False
+    return not any(model.is_stiff(t) for _, t, _ in trajectories)
 
 
 def _finish(objective, w, g0, history, success, message, zero_tol, keep) -> RefinementResult:

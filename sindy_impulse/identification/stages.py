@@ -365,30 +365,17 @@ def run_stages(
             if budget is not None:
                 budget.charge_model(model)
     usable = _usable(scores, n_terms, all_diverged)
-    refine_budget = WorkBudget() if budget is None else budget
-    may_refine = refine_selected
-
-    def refined(i: int, ftol: float = REFINE_FTOL):
-        """The candidate refined on the measure (paper section 2.5); never worse than unrefined."""
-        if not may_refine or not np.isfinite(scores[i]):
-            return candidates[i], scores[i], {"score": [], "coefficients": []}
-        res = refine(
-            problem.compile(candidates[i]), measure, bound_factor, max_iter, budget=refine_budget, ftol=ftol,
-            resolution=measure.floor * problem.n_values,
-        )
-        if not res.score <= scores[i]:
-            return candidates[i], scores[i], res.history
-        return res.coefficients, res.score, res.history
+    refiner = _Refiner(problem, candidates, scores, measure, bound_factor, max_iter, budget, refine_selected)
 
     index, (coef, score, history) = select_candidate(
         selection,
         np.where(usable, scores, np.inf),
         n_terms,
-        lambda i: refined(i, SCREEN_FTOL),
+        refiner.screened,
         noise,
         problem.n_values,
         measure.floor,
-        final=refined,
+        final=refiner.refined,
     )
     fit = None
     if refine_selected and _output_error_on(output_error, problem.filtered) and np.any(coef):
@@ -396,17 +383,49 @@ def run_stages(
         fit = fit_output_error(problem.compile(coef), problem.filtered, data.t, data.u, bound_factor)
         coef = fit.coefficients
     used = 0.0 if budget is None else budget.used
-    return StageResult(
-        index,
-        np.asarray(coef, dtype=float),
-        float(score),
-        scores,
-        history,
-        noise,
-        used,
-        fit,
-        UnfinishedScores(unfinished, measure) if unfinished else None,
-    )
+    unfinished = UnfinishedScores(unfinished, measure) if unfinished else None
+    return StageResult(index, np.asarray(coef, dtype=float), float(score), scores, history, noise, used, fit,
+                       unfinished)
+
+
+class _Refiner:
+    """The refinements of a sweep's candidates (paper section 2.5) for :func:`run_stages`.
+
+    ``screened(i)``: candidate ``i`` refined to the precision the selection rule compares
+    (:data:`SCREEN_FTOL`), once per candidate; ``refined(i)``: refined to :data:`.refinement.REFINE_FTOL`
+    (the selected one). Either is never worse than the unrefined candidate. A candidate's refinements
+    share a memo of the coefficients they scored (:func:`~.refinement.refine`'s ``memo``): the final
+    refinement starts where the screening did and repeats its iterations before it goes on, so those are
+    not simulated twice. ``scores`` are the candidates' unrefined scores.
+    """
+
+    def __init__(self, problem, candidates, scores, measure, bound_factor, max_iter, budget,
+                 may_refine: bool):
+        self.problem, self.candidates, self.scores, self.measure = problem, candidates, scores, measure
+        self.bound_factor, self.max_iter, self.may_refine = bound_factor, max_iter, may_refine
+        self.budget = WorkBudget() if budget is None else budget
+        self._screened: dict[int, tuple] = {}
+        self._memos: dict[int, dict] = {}
+
+    def refined(self, i: int, ftol: float = REFINE_FTOL):
+        """``(coefficients, score, history)`` of candidate ``i`` refined on the measure to ``ftol``."""
+        candidate, score = self.candidates[i], self.scores[i]
+        if not self.may_refine or not np.isfinite(score):
+            return candidate, score, {"score": [], "coefficients": []}
+        resolution = self.measure.floor * self.problem.n_values
+        res = refine(
+            self.problem.compile(candidate), self.measure, self.bound_factor, self.max_iter,
+            budget=self.budget, ftol=ftol, resolution=resolution, memo=self._memos.setdefault(i, {}),
+        )
+        if not res.score <= score:
+            return candidate, score, res.history
+        return res.coefficients, res.score, res.history
+
+    def screened(self, i: int):
+        """:meth:`refined` to :data:`SCREEN_FTOL`, once per candidate."""
+        if i not in self._screened:
+            self._screened[i] = self.refined(i, SCREEN_FTOL)
+        return self._screened[i]
 
 
 def _score(problem, candidates, n_terms, measure, budget, bounded: bool = False):
