@@ -270,8 +270,8 @@ def test_a_linear_batch_is_scored_by_its_propagators_alone():
 
 @pytest.mark.parametrize("affine", [False, True])
 def test_propagators_are_the_rk4_polynomial_power_bit_for_bit(affine):
-    """The propagators' products by the ufunc and their power by the binary decomposition are the stacked
-    identity's ``eye + hA @ (...)`` and ``numpy.linalg.matrix_power`` to the last bit."""
+    """The propagators, the identity broadcast by the additions, are the stacked identity's ``eye + hA @
+    (...)`` to the last bit."""
     from sindy_impulse.simulation.program import build_program, propagators
 
     powers = [[0, 0, 0, 0]] * affine + [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]

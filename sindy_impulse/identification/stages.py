@@ -392,7 +392,7 @@ class _Refiner:
     """The refinements of a sweep's candidates (paper section 2.5) for :func:`run_stages`.
 
     ``screened(i)``: candidate ``i`` refined to the precision the selection rule compares
-    (:data:`SCREEN_FTOL`), once per candidate; ``refined(i)``: refined to :data:`.refinement.REFINE_FTOL`
+    (:data:`SCREEN_FTOL`); ``refined(i)``: refined to :data:`.refinement.REFINE_FTOL`
     (the selected one). Either is never worse than the unrefined candidate. A candidate's refinements
     share a memo of the coefficients they scored (:func:`~.refinement.refine`'s ``memo``): the final
     refinement starts where the screening did and repeats its iterations before it goes on, so those are
@@ -404,7 +404,6 @@ class _Refiner:
         self.problem, self.candidates, self.scores, self.measure = problem, candidates, scores, measure
         self.bound_factor, self.max_iter, self.may_refine = bound_factor, max_iter, may_refine
         self.budget = WorkBudget() if budget is None else budget
-        self._screened: dict[int, tuple] = {}
         self._memos: dict[int, dict] = {}
 
     def refined(self, i: int, ftol: float = REFINE_FTOL):
@@ -422,10 +421,9 @@ class _Refiner:
         return res.coefficients, res.score, res.history
 
     def screened(self, i: int):
-        """:meth:`refined` to :data:`SCREEN_FTOL`, once per candidate."""
-        if i not in self._screened:
-            self._screened[i] = self.refined(i, SCREEN_FTOL)
-        return self._screened[i]
+        """:meth:`refined` to :data:`SCREEN_FTOL` (:func:`~.selection.select_candidate` asks once per
+        candidate)."""
+        return self.refined(i, SCREEN_FTOL)
 
 
 def _score(problem, candidates, n_terms, measure, budget, bounded: bool = False):

@@ -102,9 +102,9 @@ def _kept(state, k: int, out) -> list:
     if "unconfirmed" in state.candidates[k].evidence and not _nonlinear_equation(out):
         return _apart(state, k)
     kept = _envelope_instead(state, k, out)
-    if kept is out and _linear_after_all(state, k, out):
-        return [(k, linear_mode(state, k) or out)]
     if kept is out:
+        if _linear_after_all(state, k, out):
+            return [(k, linear_mode(state, k) or out)]
         done = with_uncertainty(out, state.index)
         if done is not out:  # the standard deviations failed: the fit failed
             return _kept(state, k, _linear_instead(state, k, f"the paper's fit gave no mode ({done.reason})"))

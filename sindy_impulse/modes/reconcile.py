@@ -80,12 +80,18 @@ def _named(state) -> None:
                        f"amplitude)")
 
 
+def _described(cand):
+    """The candidate's amplitude dependence where the averaged equations describe its free decay (misfit
+    at most :data:`~._envelope.ENVELOPE_MISFIT`), else None."""
+    e = cand.evidence.get("amplitude_dependence")
+    return e if e is not None and e.misfit <= ENVELOPE_MISFIT else None
+
+
 def _steady_decay(cand) -> bool:
     """Whether the candidate's free decay, described by the averaged equations, shows no change of its
     decay rate."""
-    e = cand.evidence.get("amplitude_dependence")
-    return (e is not None and e.misfit <= ENVELOPE_MISFIT
-            and not e.changes(DOUBT_SIGMAS, frequency=False))
+    e = _described(cand)
+    return e is not None and not e.changes(DOUBT_SIGMAS, frequency=False)
 
 
 def _decided_by_backbones(state) -> None:
@@ -122,9 +128,8 @@ def _steady_frequency(cand, e: dict) -> bool:
     change over its amplitudes, at :data:`~._harmonics.SIGMAS` standard errors, stays under half that
     sweep. The backbone then does not name it (its phase locking unresolved over few independent samples,
     a mode of its own 2.02 times as high as a softening mode that swept 2.2 % read as on its backbone)."""
-    d = cand.evidence.get("amplitude_dependence")
-    sweep = e.get("parent_sweep", np.nan)
-    if d is None or not d.misfit <= ENVELOPE_MISFIT or not np.isfinite(sweep):
+    d, sweep = _described(cand), e.get("parent_sweep", np.nan)
+    if d is None or not np.isfinite(sweep):
         return False
     return bool(abs(d.frequency_change) + SIGMAS * d.frequency_change_std < 0.5 * sweep)
 

@@ -178,37 +178,6 @@ def propagators(program: Program, coefs: np.ndarray, dt: float | None, substeps:
         if j >= 0 or m > n:
             A[:, :n, n if j < 0 else j] += coefs[:, :, k]
     hA = A * (dt / substeps)
-    # the identity broadcast by the additions, and the matrix products by the ufunc itself: the same
-    # operations on the same values as ``eye + hA @ (...)`` with a stacked identity (the refinement calls
-    # this for every batch it scores: their overhead, not their arithmetic, is most of its cost)
-    eye = np.eye(m)
-    mm = np.matmul
-    P = eye + mm(hA, eye + mm(hA, eye + mm(hA, eye + hA / 4.0) / 3.0) / 2.0)
-    return np.ascontiguousarray(_power(P, int(substeps)))
-
-
-def _power(a: np.ndarray, n: int) -> np.ndarray:
-    """``numpy.linalg.matrix_power(a, n)`` for a stack of matrices and ``n >= 1``: its products in its order
-    (the same result to the last bit), without its checks.
-
-    Examples
-    --------
-    >>> a = np.random.default_rng(0).normal(size=(3, 4, 4))
-    >>> all(np.array_equal(_power(a, n), np.linalg.matrix_power(a, n)) for n in range(1, 20))
-    True
-    """
-    if n < 1:
-        return np.linalg.matrix_power(a, n)
-    if n == 1:
-        return a
-    if n == 2:
-        return np.matmul(a, a)
-    if n == 3:
-        return np.matmul(np.matmul(a, a), a)
-    z = result = None
-    while n > 0:  # binary decomposition, from the least significant bit
-        z = a if z is None else np.matmul(z, z)
-        n, bit = divmod(n, 2)
-        if bit:
-            result = z if result is None else np.matmul(result, z)
-    return result
+    eye = np.eye(m)  # broadcast by the additions: the same values as a stacked identity, not built
+    P = eye + hA @ (eye + hA @ (eye + hA @ (eye + hA / 4.0) / 3.0) / 2.0)
+    return np.ascontiguousarray(np.linalg.matrix_power(P, int(substeps)))
