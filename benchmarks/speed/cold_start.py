@@ -4,6 +4,10 @@ An installation is emulated by copying the package (without any ``__pycache__``)
 with a fresh user cache directory (``XDG_CACHE_HOME``) and no ``NUMBA_CACHE_DIR``: nothing compiled
 exists. Each process times ``import sindy_impulse``, then the import of the estimator (PySINDy,
 scikit-learn, numba), then the first and the second ``ImpulseSINDy().fit`` of the paper's oscillator.
+A third new process times the bare import of the same dependencies (every module outside the package that
+the first process had imported), and ``beyond_dependencies`` is issue 36's measure: the first process's
+imports and first fit minus that bare import (the package's own cost on a new machine, compilation and
+the background build's competition for the cores included).
 
 Variants: ``warm-up`` (the package as shipped: the first import builds the kernels in the background),
 ``no warm-up`` (``SINDY_IMPULSE_PRECOMPILE=0``: each kernel compiled at its first call, the baseline),
@@ -35,8 +39,22 @@ ImpulseSINDy().fit(x, t=t)
 t4 = time.perf_counter()
 ImpulseSINDy().fit(x, t=t)
 t5 = time.perf_counter()
+import sys
+modules = [m for m in sys.modules if m.split(".")[0] != "sindy_impulse" and m != "__main__"]
 print(json.dumps({"import": t1 - t0, "import_estimator": t2 - t1, "first_fit": t4 - t3,
-                  "second_fit": t5 - t4}))
+                  "second_fit": t5 - t4, "modules": modules}))
+"""
+
+DEPENDENCIES = r"""
+import importlib, json, sys, time
+modules = json.loads(sys.stdin.read())
+t0 = time.perf_counter()
+for name in modules:
+    try:
+        importlib.import_module(name)
+    except Exception:  # a module only importable as a side effect of another: its parent imports it
+        pass
+print(json.dumps({"dependencies": time.perf_counter() - t0}))
 """
 
 
@@ -50,15 +68,18 @@ def _install(package: Path, target: Path, read_only: bool) -> None:
         (target / package.name / "__pycache__").write_text("")
 
 
-def _run(env: dict, cwd: str) -> dict:
-    out = subprocess.run([sys.executable, "-c", CHILD], env=env, capture_output=True, text=True, cwd=cwd)
+def _run(env: dict, cwd: str, code: str = CHILD, stdin: str | None = None) -> dict:
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, cwd=cwd,
+                         input=stdin)
     if out.returncode != 0:
         raise RuntimeError(out.stderr[-2000:])
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
 def cold_start(package: Path, variant: str = "warm-up") -> dict:
-    """Times of a first process after installation, and of a second one (``second_process``)."""
+    """Times of a first process after installation, of a second one (``second_process``), and of the bare
+    import of the dependencies in a third (``dependencies``, and ``beyond_dependencies``: the first
+    process's imports and first fit minus it)."""
     with tempfile.TemporaryDirectory() as tmp:
         site = Path(tmp) / "site"
         site.mkdir()
@@ -70,6 +91,12 @@ def cold_start(package: Path, variant: str = "warm-up") -> dict:
         first = _run(env, tmp)
         _wait_for_builds(Path(tmp) / "cache" / "sindy_impulse")
         first["second_process"] = _run(env, tmp)
+        first["second_process"].pop("modules")
+        modules = first.pop("modules")
+        first["dependencies"] = _run(env, tmp, DEPENDENCIES, json.dumps(modules))["dependencies"]
+        first["beyond_dependencies"] = (
+            first["import"] + first["import_estimator"] + first["first_fit"] - first["dependencies"]
+        )
         return first
 
 
