@@ -7,8 +7,10 @@
   frequency the nonlinear parent's backbone passes, it is the parent's harmonic
   (:func:`~._harmonics._on_backbone`); harmonics of a nonlinear mode too weak to be candidates are named
   where a spectral peak stands phase-locked at their place (:func:`~._harmonics._unseen_harmonics`).
-- A nonlinear mode whose equation lacks the amplitude-dependent damping its decay envelope shows gets the
-  envelope's damping ratio at zero amplitude (:func:`~._envelope._missing_damping`; ``source`` "envelope").
+- A nonlinear mode whose equation misreads how its decay rate changes with amplitude gets its decay's
+  damping ratio (``source`` "envelope"): the envelope's at zero amplitude where the decay rate changes and
+  the equation lacks that change (:func:`~._envelope._missing_damping`), the free decay's constant rate where
+  the decay rate does not change and the equation's damping terms change it (:func:`_steady_rate`).
 - Pieces merged into a nonlinear mode are said so in a note.
 """
 
@@ -18,7 +20,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ._envelope import DOUBT_SIGMAS, ENVELOPE_MISFIT, _missing_damping
+from ._envelope import DECAY_CHANGE, DOUBT_SIGMAS, ENVELOPE_MISFIT, _missing_damping, _model_rate_change
 from ._harmonics import SIGMAS, _on_backbone, _reason, _unseen_harmonics
 from ._nonlinear import has_nonlinear_terms
 from .candidates import persistent_modes
@@ -135,20 +137,59 @@ def _steady_frequency(cand, e: dict) -> bool:
 
 
 def _envelope_damping(state) -> None:
-    """The envelope's damping ratio at zero amplitude for a nonlinear mode whose equation lacks the change
-    of the decay rate its band's envelope shows (:func:`~._envelope._missing_damping`), unless its free
-    decay, read against the averaged equations that describe it, showed a decay rate that does not change
-    (within :data:`~._envelope.DOUBT_SIGMAS` standard errors or :data:`~._envelope.DECAY_CHANGE`): two
-    readings of one decay rate, the one of the whole free decay the sharper."""
+    """The damping ratio of the decay itself for a nonlinear mode whose equation misreads how its decay rate
+    changes with amplitude; two readings of one decay rate, where the equation's damping terms disagree
+    with the decay they were fitted to, the decay's stands:
+
+    - the decay rate changes (its free decay, read against the averaged equations that describe it, beyond
+      :data:`~._envelope.DOUBT_SIGMAS` standard errors and :data:`~._envelope.DECAY_CHANGE`) and the
+      equation lacks that change (:func:`~._envelope._missing_damping`): the envelope's damping ratio at
+      zero amplitude;
+    - the decay rate does not change, and the equation's damping terms change it over the same amplitudes
+      by more than :data:`~._envelope.DECAY_CHANGE` beyond the decay's own change (:func:`_steady_rate`: a
+      large linear damping and a nonlinear one of opposite sign that average to the decay's rate over the
+      decay, but not at its small-amplitude end): the free decay's constant rate.
+    """
     for i, (k, mode) in enumerate(zip(state.origin, state.modes)):
         cand = state.candidates[k]
-        if cand.kind is not Kind.NONLINEAR or mode.source != "equation" or _steady_decay(cand):
+        if cand.kind is not Kind.NONLINEAR or mode.source != "equation":
             continue
-        found = _missing_damping(mode)
+        steady = _steady_decay(cand)
+        found = _steady_rate(cand, mode) if steady else _missing_damping(mode)
         if found is None:
             continue
         zeta, zeta_std, change, model_change = found
-        state.note(f"mode at {mode.frequency_hz:.6g} Hz: its decay rate changes by {change:+.0%} over the "
-                   f"decay, its model's terms give {model_change:+.0%}; the damping ratio {zeta:.4g} is the "
-                   f"decay envelope's at zero amplitude (the model's linear part: {mode.damping_ratio:.4g})")
+        where = f"mode at {mode.frequency_hz:.6g} Hz"
+        linear = f"the model's linear part: {mode.damping_ratio:.4g}"
+        if steady:
+            state.note(f"{where}: its free decay's rate does not change with its amplitude "
+                       f"({change:+.0%}), its model's damping terms change it by {model_change:+.0%} over "
+                       f"the same amplitudes; the damping ratio {zeta:.4g} is the free decay's ({linear})")
+        else:
+            state.note(f"{where}: its decay rate changes by {change:+.0%} over the decay, its model's "
+                       f"terms give {model_change:+.0%}; the damping ratio {zeta:.4g} is the decay "
+                       f"envelope's at zero amplitude ({linear})")
         state.modes[i] = replace(mode, damping_ratio=zeta, damping_ratio_std=zeta_std, source="envelope")
+
+
+def _steady_rate(cand, mode):
+    """``(damping ratio, its std, the decay's relative change, the model's)`` of a candidate whose steady free
+    decay (:func:`_steady_decay`) its mode's equation contradicts: the equation's damping terms change the
+    decay rate between the largest and the smallest amplitude the averaged equations read by more than
+    :data:`~._envelope.DECAY_CHANGE` plus :data:`~._envelope.DOUBT_SIGMAS` standard errors beyond the
+    decay's change (the model's relative to the free decay's constant rate, the decay's to the averaged
+    equations' rate at zero amplitude: the same rate within the change the test allows); the damping ratio
+    is the constant rate's, the linear decay fit's. Else None (also where the model's change cannot be
+    computed)."""
+    e = _described(cand)
+    if e is None or not cand.decay_rate > 0:
+        return None
+    omega = 2 * np.pi * mode.frequency_hz
+    rates = [_model_rate_change(mode.model, omega, a) for a in (max(e.amplitude), min(e.amplitude))]
+    if None in rates:
+        return None
+    model_change = (rates[0] - rates[1]) / cand.decay_rate
+    if abs(model_change - e.decay_change) <= DECAY_CHANGE + DOUBT_SIGMAS * e.decay_change_std:
+        return None
+    wn = np.hypot(2 * np.pi * cand.damped_frequency_hz, cand.decay_rate)
+    return cand.decay_rate / wn, cand.decay_rate_std / wn, e.decay_change, model_change
