@@ -190,8 +190,9 @@ def _steady_decay_candidate(rate: float = 0.6):
     omega = 2 * np.pi * F_HZ
     e = AmplitudeDependence(0.0015, 3e-5, -0.05, 0.02, (0.5, 0.3), (omega, 1.0, rate, -0.1),
                             (0.01, 0.05, 0.01, 0.05), 0.7)
+    zeta = rate / np.hypot(omega, rate)  # the decay fit's damping ratio of that rate
     return types.SimpleNamespace(evidence={"amplitude_dependence": e}, decay_rate=rate, decay_rate_std=0.01,
-                                 damped_frequency_hz=F_HZ)
+                                 damped_frequency_hz=F_HZ, damping_ratio=zeta, damping_ratio_std=0.01 / omega)
 
 
 def test_an_equation_whose_damping_terms_change_a_steady_decay_gets_the_decays_rate():

@@ -179,8 +179,8 @@ def _steady_rate(cand, mode):
     :data:`~._envelope.DECAY_CHANGE` plus :data:`~._envelope.DOUBT_SIGMAS` standard errors beyond the
     decay's change (the model's relative to the free decay's constant rate, the decay's to the averaged
     equations' rate at zero amplitude: the same rate within the change the test allows); the damping ratio
-    is the constant rate's, the linear decay fit's. Else None (also where the model's change cannot be
-    computed)."""
+    and its std are the constant rate's, the linear decay fit's (the candidate's own). Else None (also where
+    the model's change cannot be computed)."""
     e = _described(cand)
     if e is None or not cand.decay_rate > 0:
         return None
@@ -191,5 +191,4 @@ def _steady_rate(cand, mode):
     model_change = (rates[0] - rates[1]) / cand.decay_rate
     if abs(model_change - e.decay_change) <= DECAY_CHANGE + DOUBT_SIGMAS * e.decay_change_std:
         return None
-    wn = np.hypot(2 * np.pi * cand.damped_frequency_hz, cand.decay_rate)
-    return cand.decay_rate / wn, cand.decay_rate_std / wn, e.decay_change, model_change
+    return cand.damping_ratio, cand.damping_ratio_std, e.decay_change, model_change
