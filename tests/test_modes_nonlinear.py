@@ -435,3 +435,28 @@ def test_a_mode_whose_frequency_stays_while_its_would_be_parent_sweeps_is_not_it
         found = identify_modes(rec.y, fs=rec.fs)
     assert [round(m.frequency_hz) for m in found.modes] == [191, 209, 421]
     assert not any("harmonic 2" in r.reason for r in found.rejected)
+
+
+@pytest.mark.parametrize("ratio, sigma, named",
+                         [(2.37, 0.03, False), (2.98, 0.03, True), (2.37, np.nan, True)])
+def test_a_backbone_names_an_unresolved_harmonic_only_where_its_ratio_does_not_rule_it_out(
+        monkeypatch, ratio, sigma, named):
+    """A nonlinear parent's backbone decides a harmonic the record cannot resolve, unless the measured
+    frequency ratio lies outside the harmonic window beyond its standard errors (2.37 +- 0.03 is no
+    harmonic 3, however wide the backbone); a ratio without a standard error rules nothing out."""
+    from sindy_impulse.modes import _harmonics
+
+    def evidence(*_args):
+        return dict(order=3, frequency_ratio=ratio, ratio_sigma=sigma, resolved=False, locked=False,
+                    locked_within_errors=False, locking_proven=False, harmonic=False, exponent=np.nan)
+
+    monkeypatch.setattr(_harmonics, "harmonic_evidence", evidence)
+    monkeypatch.setattr(_harmonics, "_on_backbone", lambda *_args: True)
+    monkeypatch.setattr(_nonlinear, "has_nonlinear_terms", lambda _model: True)
+    parent = types.SimpleNamespace(frequency_hz=2.2, damping_ratio=0.03, model=None)
+    candidate = types.SimpleNamespace(frequency_hz=6.5, damping_ratio=0.05)
+    pre = types.SimpleNamespace(fs=100.0)
+    e = _harmonics._evidence(pre, None, None, 0, parent, (6.3, 6.7), 0.01, 3, candidate,
+                             own=(np.ones(8), np.ones(8), (2.0, 2.4), 0.01))
+    assert e["harmonic"] is named and bool(e.get("by_backbone")) is named
+    assert e["undecided"] is False

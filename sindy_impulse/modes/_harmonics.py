@@ -23,7 +23,9 @@ whose exponent is at least :data:`MIN_EXPONENT` and at most ``n + 0.5`` (a term 
 harmonic ``n``), the numbers kept as evidence. When the record cannot resolve the locking (a harmonic a few dB
 over the noise, or seen only just after the hit) and the parent is a nonlinear mode, the candidate is its
 harmonic when it lies at ``n`` times a frequency of the parent's fitted backbone (:func:`_on_backbone`;
-``by_backbone`` in the evidence); harmonics of a nonlinear mode too weak to be candidates are named where a
+``by_backbone`` in the evidence), unless its measured ratio lies outside the window a harmonic is looked
+for in, beyond its standard errors (:func:`_contradicted`: the data then say no, and no backbone
+overrules them); harmonics of a nonlinear mode too weak to be candidates are named where a
 spectral peak stands phase-locked at their place (:func:`_unseen_harmonics`).
 """
 
@@ -445,11 +447,33 @@ def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: in
         # allow; the envelopes then only need to decay faster than the parent's: a sensor's frequency
         # weighting steepens an exponent as the frequency moves)
         e.update(harmonic=True)
-    unresolved = not e["resolved"]
+    # unresolved: the ratio's standard error too large to prove the locking; its value may still rule the
+    # order out (a ratio outside the harmonic window is no harmonic, whatever a backbone passes)
+    unresolved = not e["resolved"] and not _contradicted(e)
     e.update(undecided=bool(unresolved and not e["harmonic"]))
     if unresolved and nonlinear is None and _on_backbone(parent, candidate, order):
         e.update(harmonic=True, by_backbone=True, undecided=False)
     return e
+
+
+def _contradicted(e: dict) -> bool:
+    """Whether a harmonic test's frequency ratio, over the whole stretch, rules its order out: farther from
+    ``n`` than the window a harmonic of a nonlinear mode is looked for in (:data:`NEAR`, relative) and
+    :data:`SIGMAS` standard errors beyond it. The locking may be unresolved (its standard error too large
+    to prove it) and still be excluded; a ratio without a standard error (too few periods outlast the
+    band's filter) rules nothing out.
+
+    Examples
+    --------
+    >>> _contradicted(dict(frequency_ratio=2.37, ratio_sigma=0.03, order=3))
+    True
+    >>> _contradicted(dict(frequency_ratio=3.034, ratio_sigma=0.004, order=3))
+    False
+    >>> _contradicted(dict(frequency_ratio=2.37, ratio_sigma=float("nan"), order=3))
+    False
+    """
+    sigma, order = e["ratio_sigma"], e["order"]
+    return bool(np.isfinite(sigma) and abs(e["frequency_ratio"] / order - 1) > NEAR + SIGMAS * sigma / order)
 
 
 #: Relative half-width of the band a peak is analysed in as a harmonic (a peak's own band can be wide enough
