@@ -60,6 +60,29 @@ class AmplitudeDependence:
     coefficients: tuple = ()
     coefficients_std: tuple = ()
     misfit: float = 1.0
+    #: ``(c, a2, rate)`` of a free-decay fit (:func:`decay_dependence`): its complex amplitude at the decay's
+    #: start, and the squared amplitude and decay rate of the linear decay its amplitude integral is built
+    #: on; None for a band's envelope (:func:`amplitude_dependence`), whose signal it does not describe.
+    start: tuple | None = None
+
+    def free_decay(self, n: int, fs: float) -> np.ndarray | None:
+        """The averaged equations' free decay over ``n`` samples at ``fs`` from the decay's start (the signal
+        the free-decay fit describes), or None for a band's envelope.
+
+        Examples
+        --------
+        >>> e = AmplitudeDependence(0.0, 0.0, 0.0, 0.0, (1.0, 0.5), (2 * np.pi * 10, 0.0, 1.0, 0.0),
+        ...                         start=(1.0 + 0j, 1.0, 1.0))
+        >>> e.free_decay(3, 100.0).round(3).tolist()  # a linear decay: 1.0 exp(-t) cos(2 pi 10 t)
+        [1.0, 0.801, 0.303]
+        """
+        if self.start is None:
+            return None
+        c, a2, rate = self.start
+        omega0, omega2, sigma0, sigma2 = self.coefficients
+        t = np.arange(n) / fs
+        integral = a2 * -np.expm1(-2 * rate * t) / (2 * rate)
+        return np.real(c * np.exp((-sigma0 + 1j * omega0) * t + (-sigma2 + 1j * omega2) * integral))
 
     @property
     def nonlinear(self) -> bool:
@@ -332,7 +355,8 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
                                float(sigma2 * span / sigma0), std(5) * span / float(sigma0),
                                (float(largest), float(smallest)),
                                (float(omega0), float(omega2), float(sigma0), float(sigma2)),
-                               (std(3), std(4), std(2), std(5)), misfit)
+                               (std(3), std(4), std(2), std(5)), misfit,
+                               (complex(x[0], x[1]), float(a2), float(decay_rate)))
 
 
 def _scaled_normal(jac: np.ndarray, scaled: bool = False) -> tuple:

@@ -18,7 +18,10 @@ The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence;
   oscillator describe its decay (:func:`~._envelope.decay_dependence` on its own free decay; where
   something else is in it, :func:`~._envelope.amplitude_dependence` on its band's analytic signal): beyond
   3 standard errors where the linear decay does not explain it (its residual stands out of the noise:
-  :attr:`~.candidates.Candidate.explained`), the frequency beyond 2 where it does;
+  :attr:`~.candidates.Candidate.explained`), the frequency beyond 2 where it does; where something else
+  is in its free decay, read again with the nonlinear candidates removed by their own averaged equations
+  (a nonlinear mode's chirp, left by its linear decay, hides how a weak mode coupled to it moves:
+  :func:`_beside_nonlinear`);
   or that makes a harmonic. The paper's sweep and refinement identify its equation (and where they miss
   the dependence its free decay shows, the averaged equations fitted there stand:
   :func:`~.linear.envelope_mode`). (A significant misfit alone is common on real records at 60-70 dB: a
@@ -47,7 +50,7 @@ from ._envelope import ENVELOPE_MISFIT, amplitude_dependence, decay_dependence
 from ._harmonics import NEAR, ORDERS, RATIO_TOL, _evidence
 from .candidates import MISFIT_REACH, MISFIT_SHARE
 from .kinds import Kind
-from .signals import _members, analytic, deflated
+from .signals import _members, analytic, component, deflated
 
 __all__ = ["classify_candidates", "TONE_SIGMAS", "TONE_SHARE"]
 
@@ -276,10 +279,60 @@ def _amplitude_dependent(state) -> None:
         if e is None or not e.misfit <= ENVELOPE_MISFIT:  # something else in it: its band's envelope
             e = _band_dependence(state, k, linear) or e
         c.evidence["amplitude_dependence"] = e
-        # of a candidate the linear decay explains, only the frequency's change counts (the decay rate's
-        # strays beyond its standard errors where the envelope is noisy)
-        if e is not None and (e.doubtful or (e.nonlinear and not c.explained)):
+        if _depends(c, e):
             c.kind = Kind.NONLINEAR
+    _beside_nonlinear(state, linear)
+
+
+def _depends(cand, e) -> bool:
+    """Whether a candidate's amplitude dependence ``e`` makes it nonlinear, or doubtful (its equation then
+    decides). Of a candidate the linear decay explains, only the frequency's change counts (the decay
+    rate's strays beyond its standard errors where the envelope is noisy)."""
+    return e is not None and (e.doubtful or (e.nonlinear and not cand.explained))
+
+
+def _beside_nonlinear(state, linear: list) -> None:
+    """A second look at the linear candidates whose free decay the averaged equations do not describe,
+    with the nonlinear candidates removed by their own averaged equations instead of their linear decays.
+
+    A nonlinear mode's linear decay leaves its chirp in every other candidate's free decay, where it reads
+    as a misfit; a weak mode coupled to it through the same nonlinear element (its frequency moved by the
+    strong mode's amplitude) is then not told from one whose decay has something else in it, and its
+    linear decay's frequency, an average over a frequency that moves, is reported. Removed by the
+    equations that describe it, the strong mode's decay leaves the weak one's own: where the averaged
+    equations now describe that (misfit at most :data:`~._envelope.ENVELOPE_MISFIT`), they are its
+    evidence, read as in the first look."""
+    cands, fs = state.candidates, state.pre.fs
+    n = state.pre.y.size - state.start
+    t = np.arange(n) / fs
+    correction, corrected = np.zeros(n), False
+    for j, c in enumerate(cands):
+        if c.kind is not Kind.NONLINEAR:
+            continue
+        e = c.evidence.get("amplitude_dependence")
+        if e is None:  # nonlinear by another test (its pieces): its own free decay read here
+            y = deflated(state, j)[state.start:][:_audible(c, fs)]
+            e = decay_dependence(y, fs, complex(c.amplitude[0]), c.decay_rate, c.damped_frequency_hz,
+                                 c.noise_std)
+        if e is not None and e.misfit <= ENVELOPE_MISFIT and e.start is not None:
+            correction += sum(component(cands[m], n, fs, t) for m in _members(state, j)) - e.free_decay(n, fs)
+            corrected = True
+    if not corrected:
+        return
+    for k in linear:
+        c = cands[k]
+        e = c.evidence.get("amplitude_dependence")
+        if c.kind is not Kind.LINEAR or e is None or e.misfit <= ENVELOPE_MISFIT:
+            continue
+        stop = _audible(c, fs)
+        y = deflated(state, k)[state.start:][:stop] + correction[:stop]
+        second = decay_dependence(y, fs, complex(c.amplitude[0]), c.decay_rate, c.damped_frequency_hz,
+                                  c.noise_std)
+        if second is not None and second.misfit <= ENVELOPE_MISFIT:
+            c.evidence["amplitude_dependence"] = second
+            c.evidence["beside_nonlinear"] = True
+            if _depends(c, second):
+                c.kind = Kind.NONLINEAR
 
 
 #: Neighbours closer than this many times the sum of their half-power half-widths overlap in the spectrum.
