@@ -481,6 +481,7 @@ def test_a_weak_mode_held_by_a_nonlinear_one_is_read_with_that_modes_chirp_remov
     assert abs(weak.frequency_hz / 237.1013320492204 - 1) < 3e-3
     assert weak.source != "poles"
     assert [m.source for m in found.modes if abs(m.frequency_hz - 424.8) < 1] == ["poles"]
+    assert "read again with the nonlinear candidates' own equations removed: 235.85 Hz" in str(found.trace)
 
 
 def test_a_nonlinear_mode_found_by_its_pieces_is_removed_by_its_own_free_decays_equations():

@@ -77,7 +77,10 @@ def classify_candidates(state) -> None:
     _harmonics(state)  # of whole modes: a chirp's pieces are one parent
     _unsupported(cands)
     counts = {k: sum(c.kind is k for c in cands) for k in Kind}
+    again = [f"{c.frequency_hz:.5g} Hz" for c in cands if c.evidence.get("beside_nonlinear")]
     state.decide(", ".join(f"{n} {k.value}" for k, n in counts.items() if n) or "no candidate")
+    if again:
+        state.decide(f"read again with the nonlinear candidates' own equations removed: {', '.join(again)}")
 
 
 def _unsupported(cands: list) -> None:
