@@ -418,21 +418,26 @@ def test_averaged_equations_that_grow_at_small_amplitude_give_no_mode():
     assert sum(min(abs(m.frequency_hz / f - 1) for f in true) < 3e-3 for m in found.modes) == 3
 
 
+def _g_survey(frequencies, damping, amplitudes, **config):
+    """The survey of a family (g) record (a nonlinear element at mass 0), its warnings silenced."""
+    rec = impact_record(frequencies, damping, amplitudes, **config)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return identify_modes(rec.y, fs=rec.fs)
+
+
 def test_a_mode_whose_frequency_stays_while_its_would_be_parent_sweeps_is_not_its_harmonic():
     """A softening mode at 208.6 Hz and a linear mode at 420.8 Hz (2.02 times as high, 47 dB, decaying 6.3
     times as fast): the record cannot resolve their phase locking, and the 208.6 Hz mode's backbone passes
     210.4 Hz, so the backbone named the 420.8 Hz mode harmonic 2. Over the test's stretch the 208.6 Hz mode
     swept 2.2 %, and a harmonic sweeps as its mode does; the 420.8 Hz mode's own free decay holds its
     frequency within 0.03 % +- 0.03 %: a mode of its own."""
-    rec = impact_record([190.63812759971267, 208.6482761729715, 420.79777436230296],
-                        [0.001766241893451894, 0.006121581252534044, 0.01885449222279507],
-                        [0.2590908605919307, 0.2875599563770585, 0.2956223039956329], fs=5000.0,
-                        duration=2.8612, sensor="velocity", pre_trigger=0.07601597695748756,
-                        offset=2.7477662946423855, snr_db=59.091359352468224, random_state=2045647918,
-                        cubic_stiffness=-63915825372031.24)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        found = identify_modes(rec.y, fs=rec.fs)
+    found = _g_survey([190.63812759971267, 208.6482761729715, 420.79777436230296],
+                      [0.001766241893451894, 0.006121581252534044, 0.01885449222279507],
+                      [0.2590908605919307, 0.2875599563770585, 0.2956223039956329], fs=5000.0,
+                      duration=2.8612, sensor="velocity", pre_trigger=0.07601597695748756,
+                      offset=2.7477662946423855, snr_db=59.091359352468224, random_state=2045647918,
+                      cubic_stiffness=-63915825372031.24)
     assert [round(m.frequency_hz) for m in found.modes] == [191, 209, 421]
     assert not any("harmonic 2" in r.reason for r in found.rejected)
 
@@ -468,15 +473,12 @@ def test_a_weak_mode_held_by_a_nonlinear_one_is_read_with_that_modes_chirp_remov
     mode's chirp stays in the weak mode's free decay as a misfit, and the weak mode's linear decay read
     235.85 Hz (0.53 % low). Removed by its own averaged equations, it leaves the weak mode's decay, whose
     frequency change makes it nonlinear: its small-amplitude frequency is within 0.3 %."""
-    rec = impact_record([212.6580068697922, 237.1013320492204, 424.7968607166474],
-                        [0.002209612730065436, 0.010908026378874254, 0.0045708944471909915],
-                        [0.6523334962824993, 0.16757686729149987, 0.8647034527843249], fs=5000.0,
-                        duration=1.6412, sensor="velocity", pre_trigger=0.056637943848874765,
-                        offset=0.12172000110444892, snr_db=49.49284164128527, random_state=1621825957,
-                        cubic_stiffness=-85424283891838.9)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        found = identify_modes(rec.y, fs=rec.fs)
+    found = _g_survey([212.6580068697922, 237.1013320492204, 424.7968607166474],
+                      [0.002209612730065436, 0.010908026378874254, 0.0045708944471909915],
+                      [0.6523334962824993, 0.16757686729149987, 0.8647034527843249], fs=5000.0,
+                      duration=1.6412, sensor="velocity", pre_trigger=0.056637943848874765,
+                      offset=0.12172000110444892, snr_db=49.49284164128527, random_state=1621825957,
+                      cubic_stiffness=-85424283891838.9)
     weak = min(found.modes, key=lambda m: abs(m.frequency_hz - 237.1))
     assert abs(weak.frequency_hz / 237.1013320492204 - 1) < 3e-3
     assert weak.source != "poles"
@@ -489,15 +491,12 @@ def test_a_nonlinear_mode_found_by_its_pieces_is_removed_by_its_own_free_decays_
     into pieces (no envelope evidence of its own); its averaged equations are read off its free decay for
     the second look, and the weak 269.1 Hz mode it holds (read 270.20 Hz, 0.39 % high, by its linear decay)
     is within 0.3 %."""
-    rec = impact_record([169.38389914847306, 269.14048426677795, 495.4252795117959],
-                        [0.002221451868378645, 0.015958651571341274, 0.010426411791215407],
-                        [0.2038946761551794, 0.16435251319111127, 0.32179456349103075], fs=5000.0,
-                        duration=4.6478, sensor="velocity", pre_trigger=0.01937967345894468,
-                        offset=0.7329329217391911, snr_db=45.11180764900134, random_state=2081223622,
-                        cubic_stiffness=7171665586680.741)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        found = identify_modes(rec.y, fs=rec.fs)
+    found = _g_survey([169.38389914847306, 269.14048426677795, 495.4252795117959],
+                      [0.002221451868378645, 0.015958651571341274, 0.010426411791215407],
+                      [0.2038946761551794, 0.16435251319111127, 0.32179456349103075], fs=5000.0,
+                      duration=4.6478, sensor="velocity", pre_trigger=0.01937967345894468,
+                      offset=0.7329329217391911, snr_db=45.11180764900134, random_state=2081223622,
+                      cubic_stiffness=7171665586680.741)
     weak = min(found.modes, key=lambda m: abs(m.frequency_hz - 269.1))
     assert abs(weak.frequency_hz / 269.14048426677795 - 1) < 3e-3
     assert len(found.modes) == 3
