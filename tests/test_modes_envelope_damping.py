@@ -239,3 +239,22 @@ def test_survey_of_a_weak_mode_coupled_to_a_stronger_one_reports_its_decays_damp
     assert mode.damping_ratio == pytest.approx(rec.modes.damping_ratio[1], rel=0.1)
     assert mode.source == "envelope" and np.isfinite(mode.damping_ratio_std)
     assert any("free decay's rate does not change" in note for note in survey.notes)
+
+
+def test_averaged_equations_give_their_free_decay_and_say_when_it_grows():
+    """:meth:`AmplitudeDependence.free_decay` rebuilds the signal a free-decay fit describes (a linear one
+    here: the damped cosine), None for a band's envelope, and non-finite values, without a warning, for
+    equations that grow past any float (the classification's second look does not use those)."""
+    AmplitudeDependence = _envelope.AmplitudeDependence
+    omega, rate = 2 * np.pi * 10.0, 1.0
+    linear = AmplitudeDependence(0.0, 0.0, 0.0, 0.0, (1.0, 0.5), (omega, 0.0, rate, 0.0),
+                                 start=(2.0 + 0j, 4.0, rate))
+    t = np.arange(50) / 100.0
+    np.testing.assert_allclose(linear.free_decay(50, 100.0), 2.0 * np.exp(-rate * t) * np.cos(omega * t),
+                               atol=1e-12)
+    assert AmplitudeDependence(0.0, 0.0, 0.0, 0.0, (1.0, 0.5)).free_decay(50, 100.0) is None
+    growing = AmplitudeDependence(0.0, 0.0, 0.0, 0.0, (1.0, 0.5), (omega, 0.0, -1e4, 0.0),
+                                  start=(1.0 + 0j, 1.0, rate))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert not np.all(np.isfinite(growing.free_decay(5000, 100.0)))

@@ -82,7 +82,8 @@ class AmplitudeDependence:
         omega0, omega2, sigma0, sigma2 = self.coefficients
         t = np.arange(n) / fs
         integral = a2 * -np.expm1(-2 * rate * t) / (2 * rate)
-        return np.real(c * np.exp((-sigma0 + 1j * omega0) * t + (-sigma2 + 1j * omega2) * integral))
+        with np.errstate(over="ignore", invalid="ignore"):  # equations that grow: inf, for the caller to see
+            return np.real(c * np.exp((-sigma0 + 1j * omega0) * t + (-sigma2 + 1j * omega2) * integral))
 
     @property
     def nonlinear(self) -> bool:

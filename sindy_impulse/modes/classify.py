@@ -317,8 +317,9 @@ def _beside_nonlinear(state, linear: list) -> None:
             y = deflated(state, j)[state.start:][:_audible(c, fs)]
             e = decay_dependence(y, fs, complex(c.amplitude[0]), c.decay_rate, c.damped_frequency_hz,
                                  c.noise_std)
-        if e is not None and e.misfit <= ENVELOPE_MISFIT and e.start is not None:
-            correction += sum(component(cands[m], n, fs, t) for m in _members(state, j)) - e.free_decay(n, fs)
+        own = e.free_decay(n, fs) if e is not None and e.misfit <= ENVELOPE_MISFIT else None
+        if own is not None and np.all(np.isfinite(own)):  # (equations that grow beyond their decay: not used)
+            correction += sum(component(cands[m], n, fs, t) for m in _members(state, j)) - own
             corrected = True
     if not corrected:
         return
