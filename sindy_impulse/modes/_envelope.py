@@ -81,7 +81,7 @@ class AmplitudeDependence:
         c, a2, rate = self.start
         omega0, omega2, sigma0, sigma2 = self.coefficients
         t = np.arange(n) / fs
-        integral = a2 * -np.expm1(-2 * rate * t) / (2 * rate)
+        integral = _linear_integral(a2, rate, t)
         with np.errstate(over="ignore", invalid="ignore"):  # equations that grow: inf, for the caller to see
             return np.real(c * np.exp((-sigma0 + 1j * omega0) * t + (-sigma2 + 1j * omega2) * integral))
 
@@ -321,7 +321,7 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
     y = y[::stride]
     t = np.arange(y.size) * stride / fs
     a2 = abs(amplitude) ** 2
-    integral = a2 * -np.expm1(-2 * decay_rate * t) / (2 * decay_rate)
+    integral = _linear_integral(a2, decay_rate, t)
     x = np.array([amplitude.real, amplitude.imag, decay_rate, 2 * np.pi * frequency_hz, 0.0, 0.0])
     cost = np.inf
     for iteration in range(_ITERATIONS):
@@ -358,6 +358,12 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
                                (float(omega0), float(omega2), float(sigma0), float(sigma2)),
                                (std(3), std(4), std(2), std(5)), misfit,
                                (complex(x[0], x[1]), float(a2), float(decay_rate)))
+
+
+def _linear_integral(a2: float, rate: float, t: np.ndarray) -> np.ndarray:
+    """``I(t)``, the integral from 0 to ``t`` of a linear decay's squared amplitude ``a2 exp(-2 rate t)``: the
+    first-order amplitude term of the averaged equations (:func:`decay_dependence`)."""
+    return a2 * -np.expm1(-2 * rate * t) / (2 * rate)
 
 
 def _scaled_normal(jac: np.ndarray, scaled: bool = False) -> tuple:
