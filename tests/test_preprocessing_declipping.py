@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from sindy_impulse import identify_modes, impact_record
-from sindy_impulse.preprocessing import clipping_end, preprocess, saturated_mask
+from sindy_impulse.preprocessing import clipping_end, clipping_mask, preprocess, saturated_mask
 from sindy_impulse.preprocessing.declipping import declip
 
 FS = 2000.0
@@ -35,6 +35,44 @@ def test_a_limit_touched_one_sample_at_a_time_is_saturation():
     ring = np.exp(-T) * (np.sin(2 * np.pi * 40 * T) + 0.6 * np.sin(2 * np.pi * 570 * T))
     y = np.clip(ring + 1e-3 * np.random.default_rng(0).standard_normal(T.size), -1.2, 1.2)
     assert saturated_mask(y).sum() == np.sum(np.abs(y) == 1.2) >= 5  # no run of 3 samples at the limit
+
+
+def test_a_finely_quantised_record_touching_its_limit_one_sample_at_a_time_is_saturation():
+    """An ADC record (fine steps) whose sensor clipped a high-frequency mode: runs of one or two samples at
+    the limit, far more than a smooth crest puts at its top level."""
+    ring = np.exp(-T) * (np.sin(2 * np.pi * 40 * T) + 0.6 * np.sin(2 * np.pi * 570 * T))
+    step = 2.0**-14
+    noisy = ring + 1e-3 * np.random.default_rng(0).standard_normal(T.size)
+    y = np.round(np.clip(noisy, -1.2, 1.2) / step) * step
+    mask = saturated_mask(y)
+    assert mask.sum() == np.sum(np.abs(y) >= 1.2 - step / 2) >= 5 and not clipping_mask(y).any()
+    assert not saturated_mask(np.round(noisy / step) * step).any()  # the same record unclipped
+
+
+def test_a_coarsely_quantised_crest_is_not_saturation():
+    """Eight-bit steps: the crests of a lightly damped mode reach the top level again and again (six
+    samples there), and pass the levels just inside it as often -- not a limit."""
+    t = np.arange(20000) / 10000.0
+    ring = np.exp(-2 * np.pi * 500 * 2e-4 * t) * np.sin(2 * np.pi * 500 * t + 0.1)  # damping ratio 0.02 %
+    y = np.round(ring * 127) / 127
+    assert np.sum(y == y.max()) >= 5 and not saturated_mask(y).any()
+
+
+def test_a_repair_whose_model_misses_the_decay_is_refused_where_the_noise_is_known():
+    """A chirping mode (its frequency falls with its amplitude) is no sum of damped sinusoids: the fit's
+    residual is far above the noise, and its error would be in every repaired sample."""
+    amplitude = np.exp(-2 * T)
+    phase = 2 * np.pi * (40 * T + 0.5 * (1 - np.exp(-4 * T)) / 4)  # 40.5 Hz at the hit, 40 Hz at the end
+    noise = 1e-3
+    noisy = amplitude * np.sin(phase) + noise * np.random.default_rng(4).standard_normal(T.size)
+    y = np.clip(noisy, -0.6, 0.6)
+    mask = np.abs(y) >= 0.6
+    out = declip(y, FS, mask, 0, [40.0], [2.0])
+    assert out is not None and out.noise_rms > 10 * noise  # no noise given: repaired regardless
+    assert declip(y, FS, mask, 0, [40.0], [2.0], noise_rms=noise) is None
+    assert declip(y, FS, mask, 0, [40.0], [2.0], noise_rms=out.noise_rms) is not None
+    with pytest.raises(ValueError, match="noise_rms"):
+        declip(y, FS, mask, 0, [40.0], [2.0], noise_rms=-1.0)
 
 
 def test_a_mode_that_dies_while_the_sensor_clips_is_recovered():

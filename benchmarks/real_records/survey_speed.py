@@ -85,7 +85,8 @@ def time_record(record: dict, repeats: int) -> dict:
     return {"survey_s": float(np.median(survey_s)), "baseline_s": float(np.median(base_s)), "survey": survey}
 
 
-def _records(mirror) -> list:
+def records(mirror) -> list:
+    """The real records: the shipped flutter rig's, and those of the repositories under ``mirror``."""
     out = flutter_records()
     for load in (pyfrf_records, case1_record, beam_record, brb_record):
         if mirror is None:
@@ -123,7 +124,7 @@ def main(argv=None) -> dict:
     print(f"load average before: {load_before:.2f} ({os.cpu_count()} cores); median of {repeats}")
     rows = []
     print(f"{'record':<44s} {'samples':>8s} {'survey s':>9s} {'baseline s':>10s} {'ratio':>6s}  modes")
-    for record in _records(args.mirror):
+    for record in records(args.mirror):
         timed = time_record(record, repeats)
         row = _row(record, timed)
         rows.append(row)

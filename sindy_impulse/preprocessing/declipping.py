@@ -19,15 +19,22 @@ fitted model in place of the clipped samples only:
    samples must lie beyond the limit they were clipped at (within 3 noise standard deviations), and its
    residual between the clipped samples must be no larger than :data:`_MAX_MISFIT` times its residual
    after them, and no component found in the clipped stretch may decay faster than a damping ratio of
-   :data:`_TRANSIENT` (the hit still under way), else the record is not repaired (None).
+   :data:`_TRANSIENT` (the hit still under way), else the record is not repaired (None);
+4. a repaired sample is off by about the fit's residual on the unclipped ones: where the record's noise is
+   known (``noise_rms``, e.g. the standard deviation of its last samples), a residual above
+   :data:`MAX_RESIDUAL` times it (a model that does not describe the decay: too few components, or a
+   nonlinear one) would put its error into every repaired sample, a broadband distortion that reads as
+   spurious modes, and the record is not repaired either.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from numbers import Real
 
 import numpy as np
 
+from .._utils.params import Interval, check_param
 from ._record import check_fs, check_signal_1d
 from .sinusoids import fit_damped_sinusoids
 from .spectrum import (
@@ -38,13 +45,16 @@ from .spectrum import (
     search_range,
 )
 
-__all__ = ["Declipped", "declip", "MIN_GAIN", "MIN_CONSISTENT"]
+__all__ = ["Declipped", "declip", "MIN_GAIN", "MIN_CONSISTENT", "MAX_RESIDUAL"]
 
 #: A component found only in the clipped stretch is kept when it lowers the residual's energy on the
 #: unclipped samples by this many noise variances.
 MIN_GAIN = 100.0
 #: Least share of the clipped samples the repair must put beyond the limit they were clipped at.
 MIN_CONSISTENT = 0.9
+#: Largest ratio of the fit's residual (standard deviation) on the unclipped samples to the record's noise:
+#: an order of magnitude (the repaired samples' error, about that residual, must stay near the noise).
+MAX_RESIDUAL = 10.0
 #: Components added from the clipped stretch at most.
 _MAX_EXTRA = 4
 #: Largest ratio of the fit's residual (standard deviation) between the clipped samples to its residual after
@@ -173,7 +183,7 @@ def _consistent(arr, model, clipped, start, noise_rms) -> float:
 
 
 def declip(y, fs: float, saturated, start: int, frequency_hz, decay_rate, *,
-           prune: bool = False) -> Declipped | None:
+           prune: bool = False, noise_rms: float | None = None) -> Declipped | None:
     """Repair the clipped samples of a free decay from its unclipped ones (see the module).
 
     Parameters
@@ -192,6 +202,9 @@ def declip(y, fs: float, saturated, start: int, frequency_hz, decay_rate, *,
         Drop the start components the unclipped samples do not need (``dropped_hz``): for start values
         taken from the clipped record itself (a sensor that clips to the record's end has no unclipped
         tail), whose peaks include the clipping's harmonics.
+    noise_rms : float, optional
+        The record's noise (standard deviation; an upper bound will do, e.g. that of its last samples):
+        the repair is refused when the fit's residual exceeds :data:`MAX_RESIDUAL` times it.
 
     Returns
     -------
@@ -212,6 +225,8 @@ def declip(y, fs: float, saturated, start: int, frequency_hz, decay_rate, *,
     ([310.0], 205, True)
     """
     arr, rate = check_signal_1d(y, "y"), check_fs(fs)
+    if noise_rms is not None:
+        check_param("noise_rms", noise_rms, [Interval(Real, 0, None)], "declip")
     mask = np.asarray(saturated, bool)
     if mask.shape != arr.shape:
         raise ValueError(f"saturated has shape {mask.shape}, y {arr.shape}: one flag per sample")
@@ -234,13 +249,14 @@ def declip(y, fs: float, saturated, start: int, frequency_hz, decay_rate, *,
     if found is None:
         return None
     fit, rss, extra = found
-    noise_rms = float(np.sqrt(rss / max(keep.sum() - 4 * fit.frequency_hz.size - 1, 1)))
-    consistent = _consistent(arr[:stop], w - fit.residual, clipped, start, noise_rms)
+    residual_rms = float(np.sqrt(rss / max(keep.sum() - 4 * fit.frequency_hz.size - 1, 1)))
+    consistent = _consistent(arr[:stop], w - fit.residual, clipped, start, residual_rms)
     before, after = fit.residual[: end - start][keep[: end - start]], fit.residual[end - start :]
     misfit = after.size >= 16 and np.std(before) > _MAX_MISFIT * max(np.std(after), 1e-300)
-    if consistent < MIN_CONSISTENT or misfit:
+    unexplained = noise_rms is not None and residual_rms > MAX_RESIDUAL * noise_rms
+    if consistent < MIN_CONSISTENT or misfit or unexplained:
         return None
     repaired = arr.copy()
     repaired[clipped] = (w - fit.residual)[clipped - start]
     return Declipped(repaired, int(clipped.size), fit.frequency_hz, fit.decay_rate, np.array(extra),
-                     consistent, noise_rms, np.array(dropped), fit.amplitude)
+                     consistent, residual_rms, np.array(dropped), fit.amplitude)

@@ -97,6 +97,9 @@ def _impact(y, fs, t0, force, onset) -> Impact:
 
 #: The free decay starts after the last clipped sample when at least this share of the ring-down remains.
 _MIN_UNCLIPPED = 0.25
+#: The record's noise for the repair's check (:func:`~.declipping.declip`): the standard deviation of the
+#: last 1 / _NOISE_SHARE of the unclipped tail (an upper bound while the modes still ring there).
+_NOISE_SHARE = 5
 
 
 #: Clipped runs after whose end a repair is tried when the free decay does not fit from the contact's end.
@@ -114,8 +117,9 @@ def _unclipped(y: np.ndarray, fs: float, impact: Impact) -> tuple[np.ndarray, Im
     """A record whose sensor saturated after the contact, and its impact, made free of the clipping: the
     clipped samples repaired from the unclipped ones (:func:`~.declipping.declip`, started from the
     spectral peaks of the unclipped tail; from the contact's end, or from the end of one of the first
-    clipped runs when the free decay's model does not hold there yet), or else the free ring-down started
-    after the last clipped sample. When less than :data:`_MIN_UNCLIPPED` of the ring-down is past the
+    clipped runs when the free decay's model does not hold there yet; refused where the model's residual
+    is far above the noise of the tail's last samples), or else the free ring-down started after the
+    last clipped sample. When less than :data:`_MIN_UNCLIPPED` of the ring-down is past the
     last clipped sample, the repair starts from the clipped ring-down's own peaks, those the unclipped
     samples do not need dropped (the clipping's harmonics), and without a repair the record stays as it
     is (the quality check says it is clipped). (record, impact, the repair or None)."""
@@ -127,10 +131,11 @@ def _unclipped(y: np.ndarray, fs: float, impact: Impact) -> tuple[np.ndarray, Im
     short = y.size - end < _MIN_UNCLIPPED * (y.size - impact.ringdown_index)
     tail = y[impact.ringdown_index if short else end :]
     peaks = spectral_peaks(tail - np.mean(tail), fs, refine=False)
+    noise = None if short else float(np.std(tail[-max(tail.size // _NOISE_SHARE, 16) :]))
     t0 = impact.onset_time - impact.onset_index / impact.fs
     for start in _decay_starts(mask, impact.ringdown_index, end):
         repaired = declip(y, fs, mask, start, peaks.frequency_hz, np.pi * peaks.half_power_width_hz,
-                          prune=short)
+                          prune=short, noise_rms=noise)
         if repaired is not None and np.abs(repaired.y - y).max() <= 3 * repaired.noise_rms:
             return y, impact, None  # the samples at the limits are the signal's own peaks (within the noise)
         if repaired is not None:

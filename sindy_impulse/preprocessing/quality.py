@@ -61,9 +61,10 @@ def saturated_mask(y, *, min_run: int = 3) -> np.ndarray:
     """Every sample at a level the sensor saturated at.
 
     The record saturated when :func:`clipping_mask` finds a run of ``min_run`` samples at one of its
-    extremes, or when :data:`MIN_AT_LIMIT` samples sit exactly at one extreme of a record that is not
-    quantised (:func:`quantisation_step` 0: a continuous signal with noise reaches its maximum once; a
-    sum of modes sampled a few times per period touches its limit one sample at a time); a side saturated
+    extremes, or when :data:`MIN_AT_LIMIT` samples sit exactly at one extreme, more than a smooth crest
+    puts there (:func:`_piled_up`: a continuous signal with noise reaches its maximum once, a finely
+    quantised one rarely more often than the levels just inside it; a sum of modes sampled a few times
+    per period touches its limit one sample at a time); a side saturated
     then when ``min_run`` samples sit at its extreme, and every sample at that level counts, also alone
     (the contacts with the limit as the decay leaves it, and many on the side a sensor clips less, are one
     or two samples).
@@ -80,13 +81,39 @@ def saturated_mask(y, *, min_run: int = 3) -> np.ndarray:
         return out
     tol = 1e-12 * np.ptp(arr)
     sides = (arr >= arr.max() - tol, arr <= arr.min() + tol)
-    many = max(s.sum() for s in sides) >= MIN_AT_LIMIT and quantisation_step(arr) == 0
+    step = quantisation_step(arr)
+    many = any(_piled_up(arr, side, step) for side in sides)
     if not (many or clipping_mask(arr, min_run=min_run).any()):
         return out
     for at_extreme in sides:
         if at_extreme.sum() >= min_run:
             out |= at_extreme
     return out
+
+
+#: Quantisation levels just inside an extreme that :func:`_piled_up` compares the extreme's count with.
+_LEVELS_BELOW = 4
+
+
+def _piled_up(arr: np.ndarray, at_extreme: np.ndarray, step: float) -> bool:
+    """Whether at least :data:`MIN_AT_LIMIT` samples sit at one extreme more often than a smooth crest
+    puts them there.
+
+    A continuous record with noise reaches its extreme once. A quantised one (``step`` > 0) reaches its
+    top level on every crest within a step of its peak, but a crest passes the :data:`_LEVELS_BELOW`
+    levels inside it for longer than it stays in the top one (about 1.2 times as long, a cosine's crest),
+    so the extreme is a limit the signal piled up against when it holds more than twice as many samples
+    as those levels.
+    """
+    count = int(at_extreme.sum())
+    if count < MIN_AT_LIMIT:
+        return False
+    if step == 0:
+        return True
+    level = arr[at_extreme][0]
+    inside = np.abs(arr - level)
+    below = int(np.count_nonzero((inside > 0.5 * step) & (inside < (_LEVELS_BELOW + 0.5) * step)))
+    return count > 2 * below
 
 
 def clipping_end(y, *, min_run: int = 3) -> int:
