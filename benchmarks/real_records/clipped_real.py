@@ -101,7 +101,7 @@ def main(argv=None) -> dict:
         survey, said, survey_s, base_s = _timed(y, record, args.repeats)
         row = {"name": record["name"], "modes": len(reference.modes), "clipped_modes": len(survey.modes),
                "survey_s": survey_s, "baseline_s": base_s, "ratio": survey_s / base_s,
-               "handling": said[0] if said else "no saturation found", **compare(reference, survey)}
+               "handling": said[-1] if said else "no saturation found", **compare(reference, survey)}
         rows.append(row)
         print(f"\n{row['name']}: {row['modes']} modes unclipped, {row['clipped_modes']} clipped; "
               f"{survey_s:.2f} s vs baseline {base_s:.2f} s ({row['ratio']:.1f}x)\n  {row['handling']}")
