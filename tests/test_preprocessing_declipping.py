@@ -75,6 +75,32 @@ def test_a_repair_whose_model_misses_the_decay_is_refused_where_the_noise_is_kno
         declip(y, FS, mask, 0, [40.0], [2.0], noise_rms=-1.0)
 
 
+def test_a_clipped_chirp_is_not_repaired_and_no_later_start_is_tried(monkeypatch):
+    """The survey's preprocessing: the model's residual far above the noise of the record's last samples
+    refuses the repair at the contact's end, and starting later cannot help; the decay starts after the
+    clipping."""
+    import sindy_impulse.preprocessing.pipeline as pipeline
+
+    t = np.arange(8000) / FS
+    phase = 2 * np.pi * (40 * t + 1.0 * (1 - np.exp(-6 * t)) / 6)  # 41 Hz at the hit, 40 Hz later
+    noisy = np.exp(-3 * t) * np.sin(phase) + 1e-3 * np.random.default_rng(4).standard_normal(t.size)
+    y = np.clip(noisy, -0.6, 0.6)
+    tried = []
+    attempt = pipeline.declip_attempt
+
+    def spy(*args, **kwargs):
+        out = attempt(*args, **kwargs)
+        tried.append(out[1])
+        return out
+
+    monkeypatch.setattr(pipeline, "declip_attempt", spy)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        pre = preprocess(y, fs=FS)
+    assert tried == ["unexplained"]
+    assert pre.impact.clipping == "skipped" and pre.impact.ringdown_index > np.flatnonzero(y == 0.6)[-1]
+
+
 def test_a_mode_that_dies_while_the_sensor_clips_is_recovered():
     clean = _two_modes()
     y = np.clip(clean + 1e-3 * np.random.default_rng(1).standard_normal(T.size), -0.6, 0.6)

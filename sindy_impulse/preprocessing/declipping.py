@@ -45,7 +45,7 @@ from .spectrum import (
     search_range,
 )
 
-__all__ = ["Declipped", "declip", "MIN_GAIN", "MIN_CONSISTENT", "MAX_RESIDUAL"]
+__all__ = ["Declipped", "declip", "declip_attempt", "MIN_GAIN", "MIN_CONSISTENT", "MAX_RESIDUAL"]
 
 #: A component found only in the clipped stretch is kept when it lowers the residual's energy on the
 #: unclipped samples by this many noise variances.
@@ -230,33 +230,59 @@ def declip(y, fs: float, saturated, start: int, frequency_hz, decay_rate, *,
     mask = np.asarray(saturated, bool)
     if mask.shape != arr.shape:
         raise ValueError(f"saturated has shape {mask.shape}, y {arr.shape}: one flag per sample")
+    return declip_attempt(arr, rate, mask, start, frequency_hz, decay_rate, prune=prune,
+                          noise_rms=noise_rms)[0]
+
+
+def declip_attempt(arr: np.ndarray, fs: float, mask: np.ndarray, start: int, frequency_hz, decay_rate, *,
+                   prune: bool = False, noise_rms: float | None = None) -> tuple[Declipped | None, str]:
+    """:func:`declip` on checked arguments, and why it gave no repair: ``(repair, "repaired")``, or ``(None,
+    why)`` with ``why`` one of ``"nothing to repair"``, ``"transient"`` (a component found in the clipped
+    stretch decays like the hit still under way), ``"inconsistent"`` (the model does not pass the limits
+    where the sensor clipped), ``"misfit"`` (the model holds after the clipping, not while it lasts) and
+    ``"unexplained"`` (its residual is far above ``noise_rms``: no start of the window fixes that).
+
+    Examples
+    --------
+    >>> t = np.arange(4000) / 2000
+    >>> noise = 1e-3 * np.random.default_rng(0).standard_normal(t.size)
+    >>> y = np.clip(np.exp(-2 * t) * np.sin(2 * np.pi * 40 * t) + noise, -0.6, 0.6)
+    >>> out, why = declip_attempt(y, 2000.0, np.abs(y) >= 0.6, 0, [40.0], [2.0], noise_rms=1e-3)
+    >>> why, out.repaired
+    ('repaired', 207)
+    >>> declip_attempt(y, 2000.0, np.abs(y) >= 0.6, 0, [40.0], [2.0], noise_rms=1e-5)[1]  # 100x too low
+    'unexplained'
+    """
     clipped = np.flatnonzero(mask[start:]) + start
     f = np.asarray(frequency_hz, float).reshape(-1)
     if clipped.size == 0 or f.size == 0:
-        return None
+        return None, "nothing to repair"
     end = int(clipped[-1]) + 1
     stop = min(arr.size, end + int(_TAIL * (end - start)) + 256)
     w, keep = arr[start:stop], ~mask[start:stop]
     sigma = np.maximum(np.asarray(decay_rate, float).reshape(-1), 1e-3)
-    f, sigma, dropped = _pruned(w, rate, keep, f, sigma) if prune else (f, sigma, [])
-    fit, rss = _fit(w, rate, keep, f, sigma)
+    f, sigma, dropped = _pruned(w, fs, keep, f, sigma) if prune else (f, sigma, [])
+    fit, rss = _fit(w, fs, keep, f, sigma)
     if prune:  # once more with the refined poles: a harmonic may have stood in for a pole's error
-        f, sigma, more = _pruned(w, rate, keep, fit.frequency_hz, fit.decay_rate)
+        f, sigma, more = _pruned(w, fs, keep, fit.frequency_hz, fit.decay_rate)
         if more:
-            fit, rss = _fit(w, rate, keep, f, sigma)
+            fit, rss = _fit(w, fs, keep, f, sigma)
             dropped += more
-    found = _with_extras(w, rate, keep, fit, rss)
+    found = _with_extras(w, fs, keep, fit, rss)
     if found is None:
-        return None
+        return None, "transient"
     fit, rss, extra = found
     residual_rms = float(np.sqrt(rss / max(keep.sum() - 4 * fit.frequency_hz.size - 1, 1)))
     consistent = _consistent(arr[:stop], w - fit.residual, clipped, start, residual_rms)
     before, after = fit.residual[: end - start][keep[: end - start]], fit.residual[end - start :]
     misfit = after.size >= 16 and np.std(before) > _MAX_MISFIT * max(np.std(after), 1e-300)
-    unexplained = noise_rms is not None and residual_rms > MAX_RESIDUAL * noise_rms
-    if consistent < MIN_CONSISTENT or misfit or unexplained:
-        return None
+    if consistent < MIN_CONSISTENT:
+        return None, "inconsistent"
+    if misfit:
+        return None, "misfit"
+    if noise_rms is not None and residual_rms > MAX_RESIDUAL * noise_rms:
+        return None, "unexplained"
     repaired = arr.copy()
     repaired[clipped] = (w - fit.residual)[clipped - start]
     return Declipped(repaired, int(clipped.size), fit.frequency_hz, fit.decay_rate, np.array(extra),
-                     consistent, residual_rms, np.array(dropped), fit.amplitude)
+                     consistent, residual_rms, np.array(dropped), fit.amplitude), "repaired"

@@ -12,7 +12,7 @@ from .._utils.params import Interval, Options, check_param
 from ..exceptions import DataWarning
 from ._record import as_record
 from .band import band_noise_rms, extract_band
-from .declipping import declip
+from .declipping import declip_attempt
 from .offset import OffsetEstimate, estimate_offset, remove_offset
 from .onset import Impact, find_impact
 from .peaks import SpectralPeaks, no_peaks, spectral_peaks
@@ -117,12 +117,12 @@ def _unclipped(y: np.ndarray, fs: float, impact: Impact) -> tuple[np.ndarray, Im
     """A record whose sensor saturated after the contact, and its impact, made free of the clipping: the
     clipped samples repaired from the unclipped ones (:func:`~.declipping.declip`, started from the
     spectral peaks of the unclipped tail; from the contact's end, or from the end of one of the first
-    clipped runs when the free decay's model does not hold there yet; refused where the model's residual
-    is far above the noise of the tail's last samples), or else the free ring-down started after the
-    last clipped sample. When less than :data:`_MIN_UNCLIPPED` of the ring-down is past the
-    last clipped sample, the repair starts from the clipped ring-down's own peaks, those the unclipped
-    samples do not need dropped (the clipping's harmonics), and without a repair the record stays as it
-    is (the quality check says it is clipped). (record, impact, the repair or None)."""
+    clipped runs when the free decay's model does not hold there yet; refused, and no later start tried,
+    where the model's residual is far above the noise of the tail's last samples), or else the free
+    ring-down started after the last clipped sample. When less than :data:`_MIN_UNCLIPPED` of the
+    ring-down is past the last clipped sample, the repair starts from the clipped ring-down's own peaks,
+    those the unclipped samples do not need dropped (the clipping's harmonics), and without a repair the
+    record stays as it is (the quality check says it is clipped). (record, impact, the repair or None)."""
     mask = saturated_mask(y)
     found = np.flatnonzero(mask[impact.ringdown_index :])
     if not found.size:
@@ -134,8 +134,10 @@ def _unclipped(y: np.ndarray, fs: float, impact: Impact) -> tuple[np.ndarray, Im
     noise = None if short else float(np.std(tail[-max(tail.size // _NOISE_SHARE, 16) :]))
     t0 = impact.onset_time - impact.onset_index / impact.fs
     for start in _decay_starts(mask, impact.ringdown_index, end):
-        repaired = declip(y, fs, mask, start, peaks.frequency_hz, np.pi * peaks.half_power_width_hz,
-                          prune=short, noise_rms=noise)
+        repaired, why = declip_attempt(y, fs, mask, start, peaks.frequency_hz,
+                                       np.pi * peaks.half_power_width_hz, prune=short, noise_rms=noise)
+        if why == "unexplained":  # a model far from the decay: a later start leaves it as far
+            break
         if repaired is not None and np.abs(repaired.y - y).max() <= 3 * repaired.noise_rms:
             return y, impact, None  # the samples at the limits are the signal's own peaks (within the noise)
         if repaired is not None:
