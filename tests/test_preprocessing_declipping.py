@@ -8,7 +8,7 @@ import pytest
 
 from sindy_impulse import identify_modes, impact_record
 from sindy_impulse.preprocessing import clipping_end, clipping_mask, preprocess, saturated_mask
-from sindy_impulse.preprocessing.declipping import declip
+from sindy_impulse.preprocessing.declipping import declip, declip_attempt
 
 FS = 2000.0
 T = np.arange(4000) / FS
@@ -73,6 +73,19 @@ def test_a_repair_whose_model_misses_the_decay_is_refused_where_the_noise_is_kno
     assert declip(y, FS, mask, 0, [40.0], [2.0], noise_rms=out.noise_rms) is not None
     with pytest.raises(ValueError, match="noise_rms"):
         declip(y, FS, mask, 0, [40.0], [2.0], noise_rms=-1.0)
+
+
+def test_declip_attempt_says_why_and_refuses_bad_arguments():
+    y = np.clip(_two_modes() + 1e-3 * np.random.default_rng(1).standard_normal(T.size), -0.6, 0.6)
+    mask = np.abs(y) >= 0.6
+    assert declip_attempt(y, FS, np.zeros(T.size, bool), 0, [40.0], [2.0]) == (None, "nothing to repair")
+    out, why = declip_attempt(y, FS, mask, 0, [40.0], [2.0])
+    assert why == "repaired" and out.repaired == mask.sum()
+    for start in (-1, T.size, 2.5):
+        with pytest.raises((ValueError, TypeError), match="start"):
+            declip_attempt(y, FS, mask, start, [40.0], [2.0])
+    with pytest.raises(ValueError, match="one flag per sample"):
+        declip_attempt(y, FS, mask[:10], 0, [40.0], [2.0])
 
 
 def test_a_clipped_chirp_is_not_repaired_and_no_later_start_is_tried(monkeypatch):

@@ -272,19 +272,29 @@ def _amplitude_dependent(state) -> None:
     """Candidates whose frequency or decay rate changes with amplitude beyond what a modal table reads
     (:func:`~._envelope.decay_dependence`; a linear decay within the noise does not exclude it when the
     mode is strongly damped or the noise high): nonlinear, or doubtful (the mode's equation decides)."""
-    cands, fs = state.candidates, state.pre.fs
+    cands = state.candidates
     linear = [k for k, c in enumerate(cands) if c.kind is Kind.LINEAR]
     for k in linear:
         c = cands[k]
         c.evidence["lack_of_fit"] = (c.lack_of_fit, c.lack_of_fit_p)
-        y = deflated(state, k)[state.start:][:_audible(c, fs)]
-        e = decay_dependence(y, fs, complex(c.amplitude[0]), c.decay_rate, c.damped_frequency_hz, c.noise_std)
+        e = _free_decay_dependence(state, k)
         if e is None or not e.misfit <= ENVELOPE_MISFIT:  # something else in it: its band's envelope
             e = _band_dependence(state, k, linear) or e
         c.evidence["amplitude_dependence"] = e
         if _depends(c, e):
             c.kind = Kind.NONLINEAR
     _beside_nonlinear(state, linear)
+
+
+def _free_decay_dependence(state, k: int, correction: np.ndarray | None = None):
+    """:func:`~._envelope.decay_dependence` of candidate ``k`` on its own free decay (the other candidates
+    removed by their linear decays, plus ``correction`` where given), while it stands out of the noise."""
+    c, fs = state.candidates[k], state.pre.fs
+    stop = _audible(c, fs)
+    y = deflated(state, k)[state.start:][:stop]
+    if correction is not None:
+        y = y + correction[:stop]
+    return decay_dependence(y, fs, complex(c.amplitude[0]), c.decay_rate, c.damped_frequency_hz, c.noise_std)
 
 
 def _depends(cand, e) -> bool:
@@ -314,9 +324,7 @@ def _beside_nonlinear(state, linear: list) -> None:
             continue
         e = c.evidence.get("amplitude_dependence")
         if e is None:  # nonlinear by another test (its pieces): its own free decay read here
-            y = deflated(state, j)[state.start:][:_audible(c, fs)]
-            e = decay_dependence(y, fs, complex(c.amplitude[0]), c.decay_rate, c.damped_frequency_hz,
-                                 c.noise_std)
+            e = _free_decay_dependence(state, j)
         own = e.free_decay(n, fs) if e is not None and e.misfit <= ENVELOPE_MISFIT else None
         if own is not None and np.all(np.isfinite(own)):  # (equations that grow beyond their decay: not used)
             correction += sum(component(cands[m], n, fs, t) for m in _members(state, j)) - own
@@ -328,10 +336,7 @@ def _beside_nonlinear(state, linear: list) -> None:
         e = c.evidence.get("amplitude_dependence")
         if c.kind is not Kind.LINEAR or e is None or e.misfit <= ENVELOPE_MISFIT:
             continue
-        stop = _audible(c, fs)
-        y = deflated(state, k)[state.start:][:stop] + correction[:stop]
-        second = decay_dependence(y, fs, complex(c.amplitude[0]), c.decay_rate, c.damped_frequency_hz,
-                                  c.noise_std)
+        second = _free_decay_dependence(state, k, correction)
         if second is not None and second.misfit <= ENVELOPE_MISFIT:
             c.evidence["amplitude_dependence"] = second
             c.evidence["beside_nonlinear"] = True

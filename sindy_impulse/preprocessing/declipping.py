@@ -30,7 +30,7 @@ fitted model in place of the clipped samples only:
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from numbers import Real
+from numbers import Integral, Real
 
 import numpy as np
 
@@ -224,19 +224,13 @@ def declip(y, fs: float, saturated, start: int, frequency_hz, decay_rate, *,
     >>> out.extra_hz.round().tolist(), out.repaired, bool(np.abs(out.y - clean).max() < 0.01)
     ([310.0], 205, True)
     """
-    arr, rate = check_signal_1d(y, "y"), check_fs(fs)
-    if noise_rms is not None:
-        check_param("noise_rms", noise_rms, [Interval(Real, 0, None)], "declip")
-    mask = np.asarray(saturated, bool)
-    if mask.shape != arr.shape:
-        raise ValueError(f"saturated has shape {mask.shape}, y {arr.shape}: one flag per sample")
-    return declip_attempt(arr, rate, mask, start, frequency_hz, decay_rate, prune=prune,
+    return declip_attempt(y, fs, saturated, start, frequency_hz, decay_rate, prune=prune,
                           noise_rms=noise_rms)[0]
 
 
-def declip_attempt(arr: np.ndarray, fs: float, mask: np.ndarray, start: int, frequency_hz, decay_rate, *,
+def declip_attempt(y, fs: float, saturated, start: int, frequency_hz, decay_rate, *,
                    prune: bool = False, noise_rms: float | None = None) -> tuple[Declipped | None, str]:
-    """:func:`declip` on checked arguments, and why it gave no repair: ``(repair, "repaired")``, or ``(None,
+    """:func:`declip` (the same parameters), and why it gave no repair: ``(repair, "repaired")``, or ``(None,
     why)`` with ``why`` one of ``"nothing to repair"``, ``"transient"`` (a component found in the clipped
     stretch decays like the hit still under way), ``"inconsistent"`` (the model does not pass the limits
     where the sensor clipped), ``"misfit"`` (the model holds after the clipping, not while it lasts) and
@@ -253,6 +247,13 @@ def declip_attempt(arr: np.ndarray, fs: float, mask: np.ndarray, start: int, fre
     >>> declip_attempt(y, 2000.0, np.abs(y) >= 0.6, 0, [40.0], [2.0], noise_rms=1e-5)[1]  # 100x too low
     'unexplained'
     """
+    arr, fs = check_signal_1d(y, "y"), check_fs(fs)
+    check_param("start", start, [Interval(Integral, 0, arr.size - 1)], "declip")
+    if noise_rms is not None:
+        check_param("noise_rms", noise_rms, [Interval(Real, 0, None)], "declip")
+    mask = np.asarray(saturated, bool)
+    if mask.shape != arr.shape:
+        raise ValueError(f"saturated has shape {mask.shape}, y {arr.shape}: one flag per sample")
     clipped = np.flatnonzero(mask[start:]) + start
     f = np.asarray(frequency_hz, float).reshape(-1)
     if clipped.size == 0 or f.size == 0:

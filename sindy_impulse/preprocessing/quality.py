@@ -81,8 +81,10 @@ def saturated_mask(y, *, min_run: int = 3) -> np.ndarray:
         return out
     tol = 1e-12 * np.ptp(arr)
     sides = (arr >= arr.max() - tol, arr <= arr.min() + tol)
-    step = quantisation_step(arr)
-    many = any(_piled_up(arr, side, step) for side in sides)
+    many = False
+    if max(side.sum() for side in sides) >= MIN_AT_LIMIT:  # (the step only where it can matter)
+        step = quantisation_step(arr)
+        many = any(_piled_up(arr, side, step) for side in sides)
     if not (many or clipping_mask(arr, min_run=min_run).any()):
         return out
     for at_extreme in sides:
