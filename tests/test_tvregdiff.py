@@ -339,6 +339,43 @@ def test_consistency_criterion_curve():
     assert gcv.alpha_curve_[0]["alpha"][np.argmin(gcv.alpha_curve_[0]["error"])] == gcv.alpha_[0]
 
 
+def _two_modes(n=1500, dt=0.01):
+    t = np.arange(n) * dt
+    slow = np.exp(-0.8 * t) * np.sin(2 * np.pi * 2.6 * t)
+    return t, slow + 0.5 * np.exp(-2.5 * t) * np.sin(2 * np.pi * 6.8 * t)
+
+
+@pytest.mark.parametrize("signal, snr, seed", [("paper", 20, 0), ("paper", 30, 1), ("paper", 40, 2),
+                                               ("two modes", 40, 3), ("two modes", 30, 4)])
+def test_gcv_scan_stops_past_its_minimum_and_finds_the_whole_grids_minimum(monkeypatch, signal, snr, seed):
+    """The GCV scan runs upwards and stops once GCV has turned up: the strongest weights (where the
+    iteration converges slowest) are not computed, and the chosen alpha scores as well as the best of the
+    whole quarter-decade grid, each point solved from a cold start."""
+    from sindy_impulse.differentiation import _selection, tvregdiff
+
+    seen = []
+
+    def recording(problem, *args):
+        out = _selection.select_alpha(problem, *args)
+        seen.append((problem, out[1]))
+        return out
+
+    monkeypatch.setattr(tvregdiff, "select_alpha", recording)
+    t, x = (T, X) if signal == "paper" else _two_modes()
+    est = TVRegDiff()
+    est(add_noise(x, snr, random_state=seed)[:, None], t)
+    (problem, lam), curve = seen[0], est.alpha_curve_[0]
+
+    def gcv(at):
+        return problem.score(at, problem.smooth(at)[0])[0]
+
+    lam_max = problem.lambda_max()
+    whole = [gcv(lam_max * 10.0**-r) for r in np.arange(0.0, 12.0 + 1e-9, 0.25)]
+    assert gcv(lam) <= 1.02 * min(whole)
+    strongest = curve["alpha"].max() * lam / est.alpha_[0]  # in the normalized units of lam
+    assert strongest < 1e-2 * lam_max
+
+
 # ---------------------------------------------------------------- bad input
 @pytest.mark.parametrize(
     "x, t, match",

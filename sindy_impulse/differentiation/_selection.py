@@ -1,8 +1,18 @@
 """Automatic choice of TVRegDiff's regularization weight: the scan over alpha and its criteria.
 
 One normalized column is an :class:`AlphaProblem` (smoothing at a given weight, and the scores of a
-solution); :func:`select_alpha` scans a log grid of weights from the largest useful one downwards, with warm
-starts, and returns the best solution by modified GCV or by the paper's consistency error.
+solution); :func:`select_alpha` scans a log grid of weights with warm starts and returns the best solution
+by modified GCV or by the paper's consistency error.
+
+The GCV scan runs upwards, from the weakest regularization, and stops once GCV has clearly turned up past
+its minimum. Strong weights are where the lagged-diffusivity iteration converges slowest: on a
+1,500-sample ring-down at 40 dB it ran its 30 iterations without converging at every weight from 3e-2 to
+3e-6 times the largest useful one, against 6-20 iterations near the minimum (about 1e-9 of it) and 1-4
+below. Scanned upwards, those weights are not computed: over the 240 columns of 40 ring-downs of 2-DOF
+systems and 40 of the paper's oscillator the scans took 37 % of the time of the downward ones. A downward
+scan could stop early only where GCV turned up below its minimum, which it rarely does (it flattens
+there). The chosen alpha was the same grid point or its quarter-decade neighbour (71 of the 240 columns,
+where GCV is flat at its minimum and the warm starts of the two scans differ in their last digits).
 """
 
 from __future__ import annotations
@@ -21,21 +31,20 @@ _GRID_DECADES = 12.0  # alphas scanned from alpha_max down to alpha_max * 10**-1
 
 
 def select_alpha(problem: AlphaProblem, to_alpha: float, scale: float, use_gcv: bool):
-    """Scan alpha from alpha_max downwards (warm starts) and return the best solution."""
+    """Scan the log grid of alphas (warm starts; GCV upwards and stopped past its minimum, the consistency
+    error downwards from alpha_max over the whole grid) and return the best solution."""
     lam_max = problem.lambda_max()
     if not np.isfinite(lam_max) or lam_max <= 0:  # g is a polynomial the penalty cannot see
         c, its = problem.smooth(0.0)
         return c, 0.0, empty_curve(), its
-    n = problem.g.shape[0]
     records = {}  # exponent r (alpha = lam_max * 10**-r) -> (gcv, consistency, residual, dof, c)
     c = None
-    for r in np.arange(0.0, _GRID_DECADES + 1e-9, _GRID_STEP):
+    grid = np.arange(0.0, _GRID_DECADES + 1e-9, _GRID_STEP)
+    for r in grid[::-1] if use_gcv else grid:
         c, _ = problem.smooth(lam_max * 10**-r, c)
-        records[r] = problem.score(lam_max * 10**-r, c) + (c,)
-        if use_gcv and records[r][3] * _GCV_GAMMA >= n:
-            break  # dof > N / gamma: GCV undefined for this and every smaller alpha
+        records[r] = problem.score(lam_max * 10**-r, c) + (c,)  # GCV inf where dof > N / gamma
         if use_gcv and _past_minimum(records):
-            break  # GCV has clearly turned up: smaller alphas only fit more noise
+            break  # GCV has clearly turned up: larger alphas only smooth the signal away
     key = 0 if use_gcv else 1
 
     def best_exponent():
@@ -65,8 +74,9 @@ def select_alpha(problem: AlphaProblem, to_alpha: float, scale: float, use_gcv: 
 
 
 def _past_minimum(records: dict, steps: int = 3, factor: float = 2.0) -> bool:
-    """True once the GCV scan is ``steps`` grid points past its minimum and ``factor`` times above it."""
-    order = sorted(records)
+    """True once the upward GCV scan is ``steps`` grid points past its minimum and ``factor`` times above
+    it."""
+    order = sorted(records, reverse=True)  # increasing alpha: the order of the scan
     gcv = [records[r][0] for r in order]
     best = int(np.argmin(gcv))
     return len(gcv) - 1 - best >= steps and gcv[-1] > factor * gcv[best]
