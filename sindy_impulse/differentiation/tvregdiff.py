@@ -85,7 +85,9 @@ class TVRegDiff(TransformerMixin, BaseDifferentiation):
         - ``"gcv"``: modified generalized cross-validation ``N * RSS / (N - 1.4 * df)^2`` with ``df`` the
           trace of the linearized smoother ``(I + alpha D^T W D)^-1`` at the converged weights (computed
           in O(N) from the banded factorization). Fully automatic on noisy and clean data: within 2-6% of
-          the best alpha in hindsight on the paper's ring-down at 20-40 dB SNR.
+          the best alpha in hindsight on the paper's ring-down at 20-40 dB SNR. The grid (half a decade,
+          then a quarter at the minimum) is scanned upwards from the weakest weight and the scan stops once
+          GCV has clearly turned up, so ``alpha_curve_`` ends a few points past the minimum.
         - ``"consistency"``: the paper's criterion (Fig 3, Fig 7a), the RMS difference between the input
           and the time-integrated derivative over the untrimmed samples. On noisy data it decreases down
           to the smallest alpha (the paper calls it semi-automated): inspect ``alpha_curve_``.
