@@ -38,6 +38,41 @@ def test_two_stable_poles_in_one_half_power_band_are_two_modes():
     assert [z for _, z in found] == pytest.approx(zeta, rel=0.1)
 
 
+@pytest.mark.parametrize("f, zeta, amplitudes, fs, duration", [
+    ([66.64, 66.96], [0.0030, 0.0015], [0.44, 0.48], 1000.0, 12.0),  # one component on the longer-ringing
+    ([107.76, 108.13], [0.0012, 0.0013], [0.48, 0.54], 2048.0, 18.0),  # ... between the two
+])
+def test_a_pair_the_poles_do_not_resolve_is_split_by_what_the_fit_leaves(f, zeta, amplitudes, fs, duration):
+    """Two lightly damped modes 0.3-0.5 % apart (1.1-1.6 half-power bandwidths): the survey's diagram gives
+    one stable pole, so the decay fit seeds one component, which leaves a misfit. The peak of what it
+    leaves, beside it or mirrored about it, seeds the split; both modes come out, each explained. (Such
+    pairs at 12-18 s, three noise draws each: 14 of 18 split, none before; the 107.76 / 108.13 Hz pair at
+    12 s is not: the rounds first add broad components to what the one component leaves.)"""
+    rec = impact_record(f, zeta, amplitudes, fs=fs, duration=duration, sensor="displacement",
+                        pre_trigger=0.04, snr_db=50, random_state=0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        survey = identify_modes(rec.y, fs=rec.fs)
+    found = sorted((m.frequency_hz, m.damping_ratio) for m in survey)
+    assert [g for g, _ in found] == pytest.approx(f, rel=1e-4)
+    assert [z for _, z in found] == pytest.approx(zeta, rel=0.1)
+
+
+def test_a_chirping_mode_and_its_harmonic_are_not_split_into_pairs():
+    """A quadratic spring's mode chirps, and so does its harmonic: the linear decay explains neither, and
+    what each one component leaves has a peak beside it. Two linear components fitted to the chirp come
+    out closer than their half-power half-width (pieces of one mode, not a pair), and the harmonic sits at
+    twice a component the linear decay does not explain: neither is split, and the harmonic is named."""
+    rec = impact_record(42.52, 0.0075, 1.0, fs=1000.0, duration=39.8, sensor="acceleration",
+                        pre_trigger=0.086,
+                        offset=1.09, snr_db=33.1, random_state=1994585933, quadratic_stiffness=-1.0744e9)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        survey = identify_modes(rec.y, fs=rec.fs)
+    assert [round(m.frequency_hz, 1) for m in survey] == [42.5]
+    assert any(r.code.value == "harmonic" for r in survey.rejected)
+
+
 def test_well_separated_modes_keep_their_own_bands():
     # lightly damped and well apart: no group, the own bands' modes stand
     rec = impact_record([120.0, 410.0], [0.004, 0.003], fs=5000.0, duration=1.0, snr_db=50, random_state=0)

@@ -43,6 +43,7 @@ COEF = np.array([[0.0, 1.0], [-64.0, -3.2]])
 # ------------------------------------------------------------------------------------------------------
 @pytest.fixture(autouse=True)
 def _close_figures():
+    plt.close("all")  # figures another module's tests left open in this worker are not counted
     yield
     plt.close("all")
 

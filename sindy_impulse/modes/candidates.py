@@ -12,8 +12,9 @@
   (:func:`~sindy_impulse.poles.decay_fit.missing_peaks`), away from modes it does not explain (there the
   residual is that mode's own amplitude dependence, not another mode), and a component under the detection
   threshold is dropped: a mode is a candidate when it stands out of the noise, as a spectral peak must. A
-  component the linear decay does not explain whose half-power band holds two or more stable poles is
-  refitted as those poles (:func:`_split_by_poles`): two modes whose half-power bands touch.
+  component the linear decay does not explain is refitted as the two or more stable poles in its
+  half-power band, or, where the diagram did not resolve them, as itself and the peak of what it leaves
+  beside it (:func:`_split_by_poles`): two modes whose half-power bands touch.
 """
 
 from __future__ import annotations
@@ -25,12 +26,13 @@ import numpy as np
 
 from .._utils.params import Interval, check_param
 from ..poles.decay_fit import MAX_DAMPING, MISFIT_REACH, MISFIT_SHARE, fit_decay, missing_peaks
-from ..preprocessing.partition import peak_bands
+from ..preprocessing.partition import HARMONIC_NEAR, peak_bands, resolved
 from ..preprocessing.peaks import SpectralPeaks, spectral_peaks
 from ..preprocessing.pipeline import prepare_record
 from ..preprocessing.quality import check_quality
 from ..preprocessing.spectrum import detection_threshold_db, search_range
 from ._clipped import clipping_report
+from ._harmonics import ORDERS
 from .kinds import Kind
 from .result import pole_table
 
@@ -56,6 +58,12 @@ TOP = 0.49
 #: A component damped more than this is a mode only where a stable pole confirms it (a broad component
 #: that the diagram does not see follows the hit's tail or a misfit, not a vibration).
 MODE_DAMPING = 0.2
+#: A component the linear decay does not explain is tried as a pair with the strongest peak of what the fit
+#: leaves within this many of its half-power half-widths (:func:`_split_seeds`).
+PAIR_REACH = 3.0
+#: ... and within this many frequency resolutions of the survey's diagram (``fs / SEED_SAMPLES``): the
+#: diagram's poles resolve pairs farther apart.
+PAIR_RESOLUTIONS = 4.0
 #: Rounds of the search for modes the fit misses, and new modes per round at most.
 ROUNDS, NEW_PER_ROUND = 4, 8
 #: A mode whose lack of fit is this improbable from noise alone is not explained by a linear decay.
@@ -389,37 +397,86 @@ def _standing(fit, hidden: np.ndarray, threshold_db: float) -> np.ndarray:
 
 
 def _split_by_poles(fit, ring: np.ndarray, fs: float, table, noise, threshold_db: float):
-    """The decay fit with each component it does not explain replaced by the stable poles inside its
-    half-power band, where that explains them.
+    """The decay fit with each component it does not explain replaced by two or more modes, where that
+    explains them.
 
     Two modes whose half-power bands touch give two stable poles, but seed the fit once (the seeds keep
     one pole per half-power band, as a single mode's poles may make two clusters), and the one component
-    then leaves a misfit. The poles decide: the component is refitted as those poles, and the split is kept
-    when every one of them comes out a separate component that the linear decay explains and that stands
-    over the detection threshold (a nonlinear mode's chirp, whose poles also spread, stays unexplained by
-    linear components and keeps its one).
+    then leaves a misfit. Where the poles resolve the pair, they seed the split; where the survey's
+    diagram is too short to (a pair closer than a few of its frequency resolutions gives one pole), the
+    peak of what the one component leaves does (:func:`_split_seeds`). The split is kept when every seed
+    comes out a separate component that the linear decay explains and that stands over the detection
+    threshold, and, seeded without poles, is resolved from the others
+    (:func:`~sindy_impulse.preprocessing.partition.resolved`: else the survey would merge them again as
+    pieces of one mode) and damped at most :data:`MODE_DAMPING` (as a candidate without a stable pole must
+    be). A nonlinear mode's chirp, whose poles also spread, stays unexplained by linear
+    components and keeps its one.
     """
     unexplained = np.flatnonzero(_misfit(fit.lack_of_fit, fit.lack_of_fit_p))
     if not unexplained.size:
         return fit
-    f, sigma, _ = _seed_poles(table)
+    poles = _seed_poles(table)[:2]
     resolution = fs / ring.shape[0]
+    unresolved = PAIR_RESOLUTIONS * fs / min(ring.shape[0], SEED_SAMPLES)  # closer pairs: one pole
     for k in unexplained:
-        width = fit.decay_rate[k] / (2 * np.pi)
-        inside = np.flatnonzero(np.abs(f - fit.damped_frequency_hz[k]) <= max(width, resolution))
-        if inside.size < 2 or np.min(np.diff(np.sort(f[inside]))) <= 2 * resolution:
-            continue
-        others = np.arange(len(fit)) != k
-        trial = fit_decay(ring, fs, np.concatenate([fit.damped_frequency_hz[others], f[inside]]),
-                          np.concatenate([fit.decay_rate[others], sigma[inside]]), noise=noise)
-        tf = np.asarray(trial.damped_frequency_hz)
-        new = np.unique([int(np.argmin(np.abs(tf - g))) for g in f[inside]])  # the poles' components
-        separate = new.size == inside.size and np.min(np.diff(np.sort(tf[new]))) > 2 * resolution
-        explained = not _misfit(trial.lack_of_fit, trial.lack_of_fit_p)[new].any()
-        if (len(trial) == len(fit) + inside.size - 1 and separate and explained
-                and np.all(trial.height_db[new] >= threshold_db)):
-            return _split_by_poles(trial, ring, fs, table, noise, threshold_db)
+        for fi, si, by_poles in _split_seeds(fit, k, poles, resolution, threshold_db, unresolved):
+            others = np.arange(len(fit)) != k
+            trial = fit_decay(ring, fs, np.concatenate([fit.damped_frequency_hz[others], fi]),
+                              np.concatenate([fit.decay_rate[others], si]), noise=noise)
+            tf = np.asarray(trial.damped_frequency_hz)
+            new = np.unique([int(np.argmin(np.abs(tf - g))) for g in fi])  # the seeds' components
+            separate = new.size == fi.size and np.min(np.diff(np.sort(tf[new]))) > 2 * resolution
+            if separate and not by_poles:  # ... and resolved: pieces of one mode would be merged again
+                order = new[np.argsort(tf[new])]
+                pairs = zip(order[:-1], order[1:])
+                separate = all(resolved((trial.frequency_hz[a], trial.frequency_hz[b]),
+                                        (trial.damping_ratio[a], trial.damping_ratio[b])) for a, b in pairs)
+            explained = not _misfit(trial.lack_of_fit, trial.lack_of_fit_p)[new].any()
+            modes = np.all(trial.height_db[new] >= threshold_db) and (
+                by_poles or np.all(trial.damping_ratio[new] <= MODE_DAMPING))  # no pole: a mode by damping
+            if len(trial) == len(fit) + fi.size - 1 and separate and explained and modes:
+                return _split_by_poles(trial, ring, fs, table, noise, threshold_db)
     return fit
+
+
+def _split_seeds(fit, k: int, poles, resolution: float, threshold_db: float, unresolved: float) -> list:
+    """Seeds ``(damped frequencies, decay rates, by_poles)`` to try for component ``k`` of the fit as several
+    modes.
+
+    The stable poles inside its half-power band, where two or more stand apart. Else the strongest peak
+    of what the fit leaves within :data:`PAIR_REACH` half-power half-widths of the component and within
+    ``unresolved`` Hz (:data:`PAIR_RESOLUTIONS` frequency resolutions of the survey's diagram, which
+    resolves pairs farther apart): the other mode of a pair whose half-power bands touch and which the
+    poles did not resolve (the one component fitted to such a pair is about as broad as the pair). The
+    one component then sits between the two
+    modes, nearer the stronger, longer-ringing one: it is tried with that peak as it is, and as that
+    peak's mirror image about the component beside the peak. A residual peak farther out is no such pair
+    (a mode the rounds search for, or the component's own misfit).
+    """
+    f, sigma = poles
+    fk, width = fit.damped_frequency_hz[k], fit.decay_rate[k] / (2 * np.pi)
+    inside = np.flatnonzero(np.abs(f - fk) <= max(width, resolution))
+    if inside.size >= 2 and np.min(np.diff(np.sort(f[inside]))) > 2 * resolution:
+        return [(f[inside], sigma[inside], True)]
+    if _may_be_harmonic(fit, k):
+        return []
+    reach = max(min(PAIR_REACH * width, unresolved), 4 * resolution)
+    rf, rs = missing_peaks(fit, threshold_db, fk - reach, fk + reach)
+    if not rf.size:
+        return []
+    rate = fit.decay_rate[k]
+    return [(np.array([fk, rf[0]]), np.array([rate, rs[0]]), False),
+            (np.array([2 * fk - rf[0], rf[0]]), np.array([rate, rs[0]]), False)]
+
+
+def _may_be_harmonic(fit, k: int) -> bool:
+    """Whether component ``k`` lies near a whole multiple (:data:`~._harmonics.ORDERS`, within
+    :data:`~sindy_impulse.preprocessing.partition.HARMONIC_NEAR`) of a stronger component that the linear
+    decay does not explain: a nonlinear mode's harmonic chirps with it, and what its one component leaves
+    is that chirp, not a second mode."""
+    f = np.asarray(fit.damped_frequency_hz, float)
+    stronger = (np.asarray(fit.height_db) > fit.height_db[k]) & _misfit(fit.lack_of_fit, fit.lack_of_fit_p)
+    return any(np.any(stronger & (np.abs(f[k] / (n * f) - 1) <= HARMONIC_NEAR)) for n in ORDERS)
 
 
 def _candidates(fit, table) -> list:
