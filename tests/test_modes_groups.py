@@ -46,7 +46,7 @@ def test_a_pair_the_poles_do_not_resolve_is_split_by_what_the_fit_leaves(f, zeta
     """Two lightly damped modes 0.3-0.5 % apart (1.1-1.6 half-power bandwidths): the survey's diagram gives
     one stable pole, so the decay fit seeds one component, which leaves a misfit. The peak of what it
     leaves, beside it or mirrored about it, seeds the split; both modes come out, each explained. (Such
-    pairs at 12-18 s, three noise draws each: 14 of 18 split, none before; the 107.76 / 108.13 Hz pair at
+    pairs at 12-18 s, three noise draws each: 13 of 18 split, none before; the 107.76 / 108.13 Hz pair at
     12 s is not: the rounds first add broad components to what the one component leaves.)"""
     rec = impact_record(f, zeta, amplitudes, fs=fs, duration=duration, sensor="displacement",
                         pre_trigger=0.04, snr_db=50, random_state=0)

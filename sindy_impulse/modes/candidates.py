@@ -14,7 +14,7 @@
   threshold is dropped: a mode is a candidate when it stands out of the noise, as a spectral peak must. A
   component the linear decay does not explain is refitted as the two or more stable poles in its
   half-power band, or, where the diagram did not resolve them, as itself and the peak of what it leaves
-  beside it (:func:`_split_by_poles`): two modes whose half-power bands touch.
+  beside it (:func:`_split_unexplained`): two modes whose half-power bands touch.
 """
 
 from __future__ import annotations
@@ -331,7 +331,7 @@ def fit_candidates(state) -> None:
         fit = None
     hidden = np.zeros(0 if fit is None else len(fit), bool)
     if fit is not None and not given:
-        fit = _split_by_poles(fit, ring, fs, state.poles, noise, threshold)
+        fit = _split_unexplained(fit, ring, fs, state.poles, noise, threshold)
         fit, hidden = _with_hidden(fit, ring, fs, state.poles, noise, threshold)
     state.fit = fit
     found = [] if fit is None else _candidates(fit, state.poles)
@@ -396,7 +396,7 @@ def _standing(fit, hidden: np.ndarray, threshold_db: float) -> np.ndarray:
     return ok[hidden]
 
 
-def _split_by_poles(fit, ring: np.ndarray, fs: float, table, noise, threshold_db: float):
+def _split_unexplained(fit, ring: np.ndarray, fs: float, table, noise, threshold_db: float, tried=None):
     """The decay fit with each component it does not explain replaced by two or more modes, where that
     explains them.
 
@@ -410,33 +410,66 @@ def _split_by_poles(fit, ring: np.ndarray, fs: float, table, noise, threshold_db
     (:func:`~sindy_impulse.preprocessing.partition.resolved`: else the survey would merge them again as
     pieces of one mode) and damped at most :data:`MODE_DAMPING` (as a candidate without a stable pole must
     be). A nonlinear mode's chirp, whose poles also spread, stays unexplained by linear
-    components and keeps its one.
+    components and keeps its one. A split seeded without poles is tested first on the free decay without
+    the other components (two components fitted instead of all: what a record of many modes can afford
+    for each one the linear decay leaves unexplained), and each component is tried once.
     """
     unexplained = np.flatnonzero(_misfit(fit.lack_of_fit, fit.lack_of_fit_p))
     if not unexplained.size:
         return fit
+    tried = [] if tried is None else tried  # components already tried (a split refits the others)
+    left = {}
     poles = _seed_poles(table)[:2]
     resolution = fs / ring.shape[0]
     unresolved = PAIR_RESOLUTIONS * fs / min(ring.shape[0], SEED_SAMPLES)  # closer pairs: one pole
     for k in unexplained:
+        fk = float(fit.damped_frequency_hz[k])
+        if any(abs(fk - g) <= resolution for g in tried):
+            continue
+        tried.append(fk)
+        others = np.arange(len(fit)) != k
+        alone = None
         for fi, si, by_poles in _split_seeds(fit, k, poles, resolution, threshold_db, unresolved):
-            others = np.arange(len(fit)) != k
+            if not by_poles:  # first alone, on the record without the other components: a cheap test
+                alone = _alone(fit, ring, k, left) if alone is None else alone
+                if not _split_holds(fit_decay(alone, fs, fi, si, noise=noise), fi, resolution, threshold_db,
+                                    by_poles):
+                    continue
             trial = fit_decay(ring, fs, np.concatenate([fit.damped_frequency_hz[others], fi]),
                               np.concatenate([fit.decay_rate[others], si]), noise=noise)
-            tf = np.asarray(trial.damped_frequency_hz)
-            new = np.unique([int(np.argmin(np.abs(tf - g))) for g in fi])  # the seeds' components
-            separate = new.size == fi.size and np.min(np.diff(np.sort(tf[new]))) > 2 * resolution
-            if separate and not by_poles:  # ... and resolved: pieces of one mode would be merged again
-                order = new[np.argsort(tf[new])]
-                pairs = zip(order[:-1], order[1:])
-                separate = all(resolved((trial.frequency_hz[a], trial.frequency_hz[b]),
-                                        (trial.damping_ratio[a], trial.damping_ratio[b])) for a, b in pairs)
-            explained = not _misfit(trial.lack_of_fit, trial.lack_of_fit_p)[new].any()
-            modes = np.all(trial.height_db[new] >= threshold_db) and (
-                by_poles or np.all(trial.damping_ratio[new] <= MODE_DAMPING))  # no pole: a mode by damping
-            if len(trial) == len(fit) + fi.size - 1 and separate and explained and modes:
-                return _split_by_poles(trial, ring, fs, table, noise, threshold_db)
+            if len(trial) == len(fit) + fi.size - 1 and _split_holds(trial, fi, resolution, threshold_db,
+                                                                     by_poles):
+                return _split_unexplained(trial, ring, fs, table, noise, threshold_db, tried)
     return fit
+
+
+def _alone(fit, ring: np.ndarray, k: int, left: dict) -> np.ndarray:
+    """The free decay without the fit's components other than ``k``, every channel (``left`` keeps what the
+    whole fit leaves, computed once per fit)."""
+    n, channels = ring.shape[0], range(ring.shape[1])
+    if "y" not in left:
+        left["y"] = ring - np.column_stack([sum((fit.component(j, n, c) for j in range(len(fit))),
+                                                np.zeros(n)) for c in channels])
+    return left["y"] + np.column_stack([fit.component(k, n, c) for c in channels])
+
+
+def _split_holds(trial, seeds, resolution: float, threshold_db: float, by_poles: bool) -> bool:
+    """Whether the components of ``trial`` nearest the ``seeds`` are the separate modes a split needs
+    (see :func:`_split_unexplained`)."""
+    tf = np.asarray(trial.damped_frequency_hz)
+    new = np.unique([int(np.argmin(np.abs(tf - g))) for g in seeds])  # the seeds' components
+    if new.size != len(seeds) or np.min(np.diff(np.sort(tf[new]))) <= 2 * resolution:
+        return False
+    if not by_poles:  # ... and resolved: pieces of one mode would be merged again
+        order = new[np.argsort(tf[new])]
+        if not all(resolved((trial.frequency_hz[a], trial.frequency_hz[b]),
+                            (trial.damping_ratio[a], trial.damping_ratio[b]))
+                   for a, b in zip(order[:-1], order[1:])):
+            return False
+        if np.any(trial.damping_ratio[new] > MODE_DAMPING):  # no pole: a mode by its damping
+            return False
+    explained = not _misfit(trial.lack_of_fit, trial.lack_of_fit_p)[new].any()
+    return bool(explained and np.all(trial.height_db[new] >= threshold_db))
 
 
 def _split_seeds(fit, k: int, poles, resolution: float, threshold_db: float, unresolved: float) -> list:
