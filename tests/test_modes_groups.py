@@ -9,14 +9,19 @@ import pytest
 from sindy_impulse import identify_modes, impact_record
 
 
+def _survey(**kwargs):
+    """``impact_record(**kwargs)`` and its survey (warnings silenced)."""
+    rec = impact_record(**kwargs)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return rec, identify_modes(rec.y, fs=rec.fs)
+
+
 def test_close_strongly_damped_pair_is_identified():
     # 2 % and 2.5 % damping 15 % apart: each own band loses its mode to the band-pass transient
     f, zeta = [534.7, 616.8], [0.0196, 0.0246]
-    rec = impact_record(f, zeta, [1.0, 0.8], fs=5000.0, duration=0.8, sensor="displacement", snr_db=45,
-                        pre_trigger=0.05, random_state=1)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        survey = identify_modes(rec.y, fs=rec.fs)
+    _, survey = _survey(frequencies_hz=f, damping_ratios=zeta, amplitudes=[1.0, 0.8], fs=5000.0, duration=0.8,
+                        sensor="displacement", snr_db=45, pre_trigger=0.05, random_state=1)
     found = sorted((m.frequency_hz, m.damping_ratio) for m in survey)
     assert len(found) == 2
     assert [g for g, _ in found] == pytest.approx(f, rel=3e-3)
@@ -28,11 +33,8 @@ def test_two_stable_poles_in_one_half_power_band_are_two_modes():
     """Two modes whose half-power bands touch (13.2 Hz apart, half-widths 5.0 + 8.1 Hz) seed the decay fit
     once; the one component it fits leaves a misfit, and the stabilisation's two poles split it."""
     f, zeta = [488.6, 501.8], [0.0103, 0.0162]
-    rec = impact_record(f, zeta, [0.4, 0.96], fs=25600.0, duration=0.18, sensor="acceleration",
-                        pre_trigger=0.06, snr_db=40, random_state=0)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        survey = identify_modes(rec.y, fs=rec.fs)
+    _, survey = _survey(frequencies_hz=f, damping_ratios=zeta, amplitudes=[0.4, 0.96], fs=25600.0,
+                        duration=0.18, sensor="acceleration", pre_trigger=0.06, snr_db=40, random_state=0)
     found = sorted((m.frequency_hz, m.damping_ratio) for m in survey)
     assert [g for g, _ in found] == pytest.approx(f, rel=1e-3)
     assert [z for _, z in found] == pytest.approx(zeta, rel=0.1)
@@ -48,11 +50,8 @@ def test_a_pair_the_poles_do_not_resolve_is_split_by_what_the_fit_leaves(f, zeta
     leaves, beside it or mirrored about it, seeds the split; both modes come out, each explained. (Such
     pairs at 12-18 s, three noise draws each: 13 of 18 split, none before; the 107.76 / 108.13 Hz pair at
     12 s is not: the rounds first add broad components to what the one component leaves.)"""
-    rec = impact_record(f, zeta, amplitudes, fs=fs, duration=duration, sensor="displacement",
-                        pre_trigger=0.04, snr_db=50, random_state=0)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        survey = identify_modes(rec.y, fs=rec.fs)
+    _, survey = _survey(frequencies_hz=f, damping_ratios=zeta, amplitudes=amplitudes, fs=fs,
+                        duration=duration, sensor="displacement", pre_trigger=0.04, snr_db=50, random_state=0)
     found = sorted((m.frequency_hz, m.damping_ratio) for m in survey)
     assert [g for g, _ in found] == pytest.approx(f, rel=1e-4)
     assert [z for _, z in found] == pytest.approx(zeta, rel=0.1)
@@ -63,12 +62,9 @@ def test_a_chirping_mode_and_its_harmonic_are_not_split_into_pairs():
     what each one component leaves has a peak beside it. Two linear components fitted to the chirp come
     out closer than their half-power half-width (pieces of one mode, not a pair), and the harmonic sits at
     twice a component the linear decay does not explain: neither is split, and the harmonic is named."""
-    rec = impact_record(42.52, 0.0075, 1.0, fs=1000.0, duration=39.8, sensor="acceleration",
-                        pre_trigger=0.086,
-                        offset=1.09, snr_db=33.1, random_state=1994585933, quadratic_stiffness=-1.0744e9)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        survey = identify_modes(rec.y, fs=rec.fs)
+    _, survey = _survey(frequencies_hz=42.52, damping_ratios=0.0075, amplitudes=1.0, fs=1000.0, duration=39.8,
+                        sensor="acceleration", pre_trigger=0.086, offset=1.09, snr_db=33.1,
+                        random_state=1994585933, quadratic_stiffness=-1.0744e9)
     assert [round(m.frequency_hz, 1) for m in survey] == [42.5]
     assert any(r.code.value == "harmonic" for r in survey.rejected)
 
@@ -81,13 +77,6 @@ def test_well_separated_modes_keep_their_own_bands():
         survey = identify_modes(rec.y, fs=rec.fs)
     assert len(survey) == 2 and all(m.band_hz[1] / m.band_hz[0] < 1.5 for m in survey)
     assert np.allclose(sorted(m.frequency_hz for m in survey), [120.0, 410.0], rtol=3e-3)
-
-
-def _survey(**kwargs):
-    rec = impact_record(**kwargs)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        return rec, identify_modes(rec.y, fs=rec.fs)
 
 
 @pytest.mark.parametrize(

@@ -26,13 +26,12 @@ import numpy as np
 
 from .._utils.params import Interval, check_param
 from ..poles.decay_fit import MAX_DAMPING, MISFIT_REACH, MISFIT_SHARE, fit_decay, missing_peaks
-from ..preprocessing.partition import HARMONIC_NEAR, peak_bands, resolved
+from ..preprocessing.partition import at_harmonic_place, peak_bands, resolved
 from ..preprocessing.peaks import SpectralPeaks, spectral_peaks
 from ..preprocessing.pipeline import prepare_record
 from ..preprocessing.quality import check_quality
 from ..preprocessing.spectrum import detection_threshold_db, search_range
 from ._clipped import clipping_report
-from ._harmonics import ORDERS
 from .kinds import Kind
 from .result import pole_table
 
@@ -409,8 +408,8 @@ def _split_unexplained(fit, ring: np.ndarray, fs: float, table, noise, threshold
     threshold, and, seeded without poles, is resolved from the others
     (:func:`~sindy_impulse.preprocessing.partition.resolved`: else the survey would merge them again as
     pieces of one mode) and damped at most :data:`MODE_DAMPING` (as a candidate without a stable pole must
-    be). A nonlinear mode's chirp, whose poles also spread, stays unexplained by linear
-    components and keeps its one. A split seeded without poles is tested first on the free decay without
+    be). A nonlinear mode's chirp, whose poles also spread, stays unexplained by linear components and
+    keeps its one. A split seeded without poles is tested first on the free decay without
     the other components (two components fitted instead of all: what a record of many modes can afford
     for each one the linear decay leaves unexplained), and each component is tried once.
     """
@@ -481,10 +480,10 @@ def _split_seeds(fit, k: int, poles, resolution: float, threshold_db: float, unr
     ``unresolved`` Hz (:data:`PAIR_RESOLUTIONS` frequency resolutions of the survey's diagram, which
     resolves pairs farther apart): the other mode of a pair whose half-power bands touch and which the
     poles did not resolve (the one component fitted to such a pair is about as broad as the pair). The
-    one component then sits between the two
-    modes, nearer the stronger, longer-ringing one: it is tried with that peak as it is, and as that
-    peak's mirror image about the component beside the peak. A residual peak farther out is no such pair
-    (a mode the rounds search for, or the component's own misfit).
+    one component then sits between the two modes, nearer the stronger, longer-ringing one: it is tried
+    with that peak as it is, and as that peak's mirror image about the component beside the peak. A
+    residual peak farther out is no such pair (a mode the rounds search for, or the component's own
+    misfit).
     """
     f, sigma = poles
     fk, width = fit.damped_frequency_hz[k], fit.decay_rate[k] / (2 * np.pi)
@@ -503,13 +502,13 @@ def _split_seeds(fit, k: int, poles, resolution: float, threshold_db: float, unr
 
 
 def _may_be_harmonic(fit, k: int) -> bool:
-    """Whether component ``k`` lies near a whole multiple (:data:`~._harmonics.ORDERS`, within
-    :data:`~sindy_impulse.preprocessing.partition.HARMONIC_NEAR`) of a stronger component that the linear
-    decay does not explain: a nonlinear mode's harmonic chirps with it, and what its one component leaves
-    is that chirp, not a second mode."""
+    """Whether component ``k`` lies at a harmonic's place
+    (:func:`~sindy_impulse.preprocessing.partition.at_harmonic_place`) of a stronger component that the
+    linear decay does not explain: a nonlinear mode's harmonic chirps with it, and what its one component
+    leaves is that chirp, not a second mode."""
     f = np.asarray(fit.damped_frequency_hz, float)
     stronger = (np.asarray(fit.height_db) > fit.height_db[k]) & _misfit(fit.lack_of_fit, fit.lack_of_fit_p)
-    return any(np.any(stronger & (np.abs(f[k] / (n * f) - 1) <= HARMONIC_NEAR)) for n in ORDERS)
+    return at_harmonic_place(f[k], f[stronger])
 
 
 def _candidates(fit, table) -> list:
