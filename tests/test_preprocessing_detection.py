@@ -85,6 +85,26 @@ def test_damped_sinusoids_fit_two_close_modes():
     assert np.std(fit.residual) == pytest.approx(1e-3, rel=0.05)
 
 
+
+def test_damped_sinusoids_fit_converges_in_few_steps_beside_a_component_held_at_its_bound(monkeypatch):
+    # a steady tone sits at the decay rate's lower bound (0) and the descent pushes it below: the step moves
+    # the other parameters only, instead of a clipped step of all of them crawling for the whole budget
+    import sindy_impulse.preprocessing.sinusoids as sinusoids
+
+    calls = []
+    residual = sinusoids._residual
+    monkeypatch.setattr(sinusoids, "_residual", lambda *a: calls.append(1) or residual(*a))
+    t = np.arange(4000) / FS
+    rng = np.random.default_rng(3)
+    y = np.exp(-4.0 * t) * np.cos(2 * np.pi * 150 * t + 0.3) + 0.2 * np.cos(2 * np.pi * 310 * t)
+    y += 1e-3 * rng.standard_normal(t.size)
+    keep = np.abs(y) < 0.9  # samples a saturated sensor kept
+    fit = fit_damped_sinusoids(y, FS, [150.2, 309.9], [3.0, 0.5], frequency_tol_hz=1.0, keep=keep)
+    assert fit.frequency_hz == pytest.approx([150.0, 310.0], abs=1e-3)
+    assert fit.decay_rate[0] == pytest.approx(4.0, rel=1e-2)
+    assert fit.decay_rate[1] < 0.05
+    assert len(calls) <= 20
+
 def test_modes_ringing_through_the_record_are_found():
     # the skirts of the two lightly damped modes cover the noise by 60 dB: the spectrum's floor alone
     # hides every peak

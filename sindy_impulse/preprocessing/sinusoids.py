@@ -26,8 +26,12 @@ from ._record import check_fs, check_signal_1d
 
 __all__ = ["DampedSinusoids", "fit_damped_sinusoids", "fit_amplitudes"]
 
-#: Levenberg-Marquardt iterations at most, and the relative decrease of the cost that ends them.
-_MAX_ITERATIONS, _RTOL = 60, 1e-10
+#: Levenberg-Marquardt iterations at most.
+_MAX_ITERATIONS = 60
+#: The iterations stop when a step lowers the cost by at most this many times its reduced value (the
+#: residual's variance per degree of freedom, the noise's where the model holds): such a step moves the
+#: parameters by a few hundredths of their standard deviations.
+_ATOL = 1e-3
 #: Largest damping ratio of a component: a faster decay is a transient, not a vibration.
 _MAX_DAMPING = 0.3
 #: Decay exponent past which a component is zero (no subnormal numbers: they are slow).
@@ -124,18 +128,30 @@ def _normal_equations(jac: np.ndarray, res: np.ndarray) -> tuple:
     return normal, np.maximum(np.diag(normal), np.finfo(float).tiny), jac.T @ res
 
 
-def _step(normal_equations: tuple, damping: float) -> np.ndarray:
+def _step(normal_equations: tuple, damping: float, free: np.ndarray) -> np.ndarray:
+    """The damped Gauss-Newton step of the ``free`` parameters (the others stay)."""
     normal, scale, gradient = normal_equations
+    step = np.zeros(gradient.size)
     try:
-        return -np.linalg.solve(normal + damping * np.diag(scale), gradient)
+        step[free] = -np.linalg.solve(normal[np.ix_(free, free)] + damping * np.diag(scale[free]),
+                                      gradient[free])
     except np.linalg.LinAlgError:
-        return np.zeros(gradient.size)
+        pass
+    return step
+
+
+def _free(p: np.ndarray, gradient: np.ndarray, bounds: tuple) -> np.ndarray:
+    """The parameters a step may move: all but those at a bound that the descent pushes beyond it (a
+    clipped step of the whole set would move the others the wrong way)."""
+    lower, upper = bounds
+    return ~(((p <= lower) & (gradient > 0)) | ((p >= upper) & (gradient < 0)))
 
 
 def _levenberg_marquardt(p, y, tau, k, bounds, keep=None) -> tuple[np.ndarray, np.ndarray]:
     """Bounded Levenberg-Marquardt from ``p`` (on the samples ``keep``): the parameters and the residual
-    (model minus data). The Jacobian and the normal equations are built only at accepted points (about
-    half the trials are not)."""
+    (model minus data). A step moves the parameters not held at a bound and is clipped to the bounds; the
+    Jacobian and the normal equations are built only at accepted points (about half the trials are not);
+    the iterations stop when the cost falls by at most :data:`_ATOL` times its reduced value."""
     rows = slice(None) if keep is None else keep
 
     def evaluate(q):
@@ -143,13 +159,14 @@ def _levenberg_marquardt(p, y, tau, k, bounds, keep=None) -> tuple[np.ndarray, n
         return res[rows], parts, float(res[rows] @ res[rows])
 
     res, parts, cost = evaluate(p)
+    dof = max(res.size - p.size, 1)
     normal = _normal_equations(_jacobian(parts, tau, k)[rows], res)
     damping = 1e-3
     for _ in range(_MAX_ITERATIONS):
-        trial = np.clip(p + _step(normal, damping), *bounds)
+        trial = np.clip(p + _step(normal, damping, _free(p, normal[2], bounds)), *bounds)
         out = evaluate(trial)
         if out[2] < cost:
-            done = cost - out[2] <= _RTOL * cost
+            done = cost - out[2] <= _ATOL * out[2] / dof
             p, (res, parts, cost), damping = trial, out, max(damping / 3.0, 1e-9)
             normal = _normal_equations(_jacobian(parts, tau, k)[rows], res)
             if done:
