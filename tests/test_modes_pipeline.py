@@ -98,6 +98,43 @@ def test_a_cubic_spring_is_one_mode_fitted_by_the_papers_model(shift):
     assert all(r.code in (Reason.HARMONIC, None) for r in survey.rejected)
 
 
+def test_a_broad_component_nothing_supports_is_rejected_not_reported():
+    """A softening quadratic spring: beside its mode and second harmonic, the linear decay fit leaves a broad
+    component (a damping ratio of 17 %) that no stable pole confirms, that its linear decay does not
+    explain and whose model does not reproduce its band: a poor fit, not a mode."""
+    rec = impact_record(486.6, 0.0078, fs=25600.0, duration=0.217, sensor="displacement", pre_trigger=0.095,
+                        offset=1.375, snr_db=58.7, quadratic_stiffness=-1.247e6, random_state=3)
+    survey = _survey(rec.y, rec.fs)
+    assert [round(m.frequency_hz) for m in survey] == [487]
+    poor = [r for r in survey.rejected if r.code is Reason.POOR_FIT]
+    assert len(poor) == 1 and "no stable pole" in poor[0].reason
+    assert poor[0].evidence["fit_error"] > 0.25 and poor[0].evidence["damping_ratio"] > 0.05
+    assert {r.code for r in survey.rejected} == {Reason.POOR_FIT, Reason.HARMONIC}
+
+
+def test_a_mode_is_rejected_only_where_nothing_supports_it(three_modes):
+    """The rule's four legs: a stable pole, a linear decay that explains it, an equation (not the decay
+    fit's values) or a band its model reproduces each keep the mode."""
+    from dataclasses import replace
+    from types import SimpleNamespace
+
+    from sindy_impulse.modes.identify import _supported
+    from sindy_impulse.modes.result import Rejected
+
+    mode = three_modes[1].modes[0]
+
+    def case(stable=False, explained=False, source="poles", fit_error=0.4):
+        cand = SimpleNamespace(stable=stable, explained=explained, damped_frequency_hz=600.0,
+                               lack_of_fit=500.0, band_hz=(540.0, 650.0))
+        state = SimpleNamespace(candidates=[cand], index=0)
+        return _supported(state, 0, replace(mode, source=source, fit_error=fit_error))
+
+    assert isinstance(case(), Rejected) and case().code is Reason.POOR_FIT
+    assert case().evidence["fit_error"] == 0.4
+    for kept in (case(stable=True), case(explained=True), case(source="equation"), case(fit_error=0.2)):
+        assert not isinstance(kept, Rejected) and kept.source in ("poles", "equation")
+
+
 def test_kinds_and_reasons_have_words():
     assert all(k.words for k in Kind) and all(r.words for r in Reason)
     assert Reason("tone") is Reason.TONE

@@ -9,6 +9,9 @@ Each candidate's route follows from its kind (:mod:`.classify`):
   among the nonlinear modes keeps too few periods, its own band regardless of its neighbours (removed).
   When that gives no mode (its model does not reproduce the band, or its mode is not damped) the decay
   fit's values stand, with a note: an average over the decay's amplitudes, not the small-amplitude limit;
+- a mode carried by the decay fit's values alone is rejected where nothing else supports it: no stable
+  pole, a linear decay that does not explain it and does not reproduce its band (:func:`_supported`; the
+  paper's fit on such a band gives no better: a damping ratio of tens of per cent, or a mode elsewhere);
 - tones, harmonics and merged pieces get no mode of their own (:mod:`.reconcile` names them).
 
 The candidates are independent: with ``n_jobs`` they run in parallel (joblib), each with one BLAS thread,
@@ -24,7 +27,7 @@ import numpy as np
 from .._utils.threads import one_thread
 from ..preprocessing.partition import peak_bands
 from ._states import free_decay_states
-from .band_fit import fit_band, fit_states, mode_of_states, with_uncertainty
+from .band_fit import MAX_FIT_ERROR, fit_band, fit_states, mode_of_states, with_uncertainty
 from .kinds import Kind, Reason
 from .linear import (
     envelope_mode,
@@ -84,12 +87,38 @@ def _one(state, k: int) -> list:
         with one_thread(), warnings.catch_warnings():
             warnings.simplefilter("ignore")
             if cand.kind is Kind.LINEAR:
-                return [(k, linear_mode(state, k) or nonlinear_mode(state, k))]
-            return _kept(state, k, nonlinear_mode(state, k, uncertainty=False))
+                outs = [(k, linear_mode(state, k) or nonlinear_mode(state, k))]
+            else:
+                outs = _kept(state, k, nonlinear_mode(state, k, uncertainty=False))
+            return [(j, _supported(state, j, out)) for j, out in outs]
     except Exception as err:  # noqa: BLE001 - one candidate's failure must not abort the survey
         return [(k, Rejected(cand.band_hz, f"the identification failed ({type(err).__name__}: {err})",
                              state.index, {"error": type(err).__name__, "message": str(err)},
                              Reason.FIT_FAILED))]
+
+
+def _unsupported(state, k: int, out) -> bool:
+    """Whether nothing supports candidate ``k`` as a mode: no stable pole of the diagram confirms it, its
+    linear decay does not explain it, and the mode ``out`` carries the decay fit's values (no equation
+    reproduced it) from a model whose fit error exceeds :data:`~.band_fit.MAX_FIT_ERROR` (what a linear
+    decay fit leaves beside a nonlinear mode's chirp or a slow drift: a broad component that changes
+    from fit to fit)."""
+    cand = state.candidates[k]
+    return (isinstance(out, Mode) and out.source == "poles" and not cand.stable and not cand.explained
+            and out.fit_error > MAX_FIT_ERROR)
+
+
+def _supported(state, k: int, out):
+    """``out``, or its rejection where nothing supports candidate ``k`` as a mode (:func:`_unsupported`)."""
+    if not _unsupported(state, k, out):
+        return out
+    cand = state.candidates[k]
+    why = (f"no stable pole confirms the component at {cand.damped_frequency_hz:.5g} Hz, its linear decay "
+           f"does not explain it (lack of fit {cand.lack_of_fit:.3g} x the noise) and that decay does not "
+           f"reproduce its band (fit error {out.fit_error:.3g} > {MAX_FIT_ERROR}): not reported as a mode")
+    evidence = {"fit_error": float(out.fit_error), "lack_of_fit": float(cand.lack_of_fit),
+                "frequency_hz": float(out.frequency_hz), "damping_ratio": float(out.damping_ratio)}
+    return Rejected(cand.band_hz, why, state.index, evidence, Reason.POOR_FIT)
 
 
 def _kept(state, k: int, out) -> list:
