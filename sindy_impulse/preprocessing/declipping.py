@@ -55,8 +55,7 @@ MIN_CONSISTENT = 0.9
 #: Largest ratio of the fit's residual (standard deviation) on the unclipped samples to the record's noise:
 #: an order of magnitude (the repaired samples' error, about that residual, must stay near the noise).
 MAX_RESIDUAL = 10.0
-#: Components added from the clipped stretch at most.
-_MAX_EXTRA = 4
+_MAX_EXTRA = 4  # components added from the clipped stretch at most
 #: Largest ratio of the fit's residual (standard deviation) between the clipped samples to its residual after
 #: them: a model that holds after the clipping but not while it lasts (a hit still under way) repairs nothing.
 _MAX_MISFIT = 3.0

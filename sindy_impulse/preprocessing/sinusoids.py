@@ -26,12 +26,10 @@ from ._record import check_fs, check_signal_1d
 
 __all__ = ["DampedSinusoids", "fit_damped_sinusoids", "fit_amplitudes"]
 
-#: Levenberg-Marquardt iterations at most.
-_MAX_ITERATIONS = 60
-#: The iterations stop when a step lowers the cost by at most this many times its reduced value (the
-#: residual's variance per degree of freedom, the noise's where the model holds): such a step moves the
-#: parameters by a few hundredths of their standard deviations.
-_ATOL = 1e-3
+#: Levenberg-Marquardt iterations at most, and the fall of the cost that ends them: at most this many times
+#: its reduced value (the residual's variance per degree of freedom, the noise's where the model holds);
+#: such a step moves the parameters by a few hundredths of their standard deviations.
+_MAX_ITERATIONS, _ATOL = 60, 1e-3
 #: Largest damping ratio of a component: a faster decay is a transient, not a vibration.
 _MAX_DAMPING = 0.3
 #: Decay exponent past which a component is zero (no subnormal numbers: they are slow).
