@@ -9,7 +9,9 @@ the first process had imported), and ``beyond_dependencies`` is issue 36's measu
 imports and first fit minus that bare import (the package's own cost on a new machine, compilation and
 the background build's competition for the cores included).
 
-Variants: ``warm-up`` (the package as shipped: the first import builds the kernels in the background),
+Variants: ``pip install`` (a wheel built from the source tree by ``pip wheel`` and installed by ``pip``: the
+package as ``pip install .`` ships it, its kernels compiled into it at the build), ``warm-up`` (the
+package copied without a compiled kernel: the first import builds them in the background),
 ``no warm-up`` (``SINDY_IMPULSE_PRECOMPILE=0``: each kernel compiled at its first call, the baseline),
 ``read-only package`` (numba cannot write next to the package and caches in the user's directory), and a
 second process after the first (the cache is there).
@@ -58,6 +60,20 @@ print(json.dumps({"dependencies": time.perf_counter() - t0}))
 """
 
 
+def _pip_install(package: Path, target: Path) -> None:
+    """Build a wheel of the package's project (``pip wheel``, the build isolated as ``pip install .``
+    isolates it) and install it into ``target`` (its dependencies are the running environment's)."""
+    wheels = target.parent / "wheel"
+
+    def pip(*args) -> None:
+        out = subprocess.run([sys.executable, "-m", "pip", *args], capture_output=True, text=True)
+        if out.returncode != 0:
+            raise RuntimeError(out.stderr[-2000:])
+
+    pip("wheel", "--no-deps", "-q", "-w", str(wheels), str(package.parent))
+    pip("install", "--no-deps", "-q", "--target", str(target), *map(str, wheels.glob("*.whl")))
+
+
 def _install(package: Path, target: Path, read_only: bool) -> None:
     """Copy the package as an installer would; ``read_only``: no ``__pycache__`` can be created in it."""
     shutil.copytree(package, target / package.name, ignore=shutil.ignore_patterns("__pycache__"))
@@ -83,7 +99,10 @@ def cold_start(package: Path, variant: str = "warm-up") -> dict:
     with tempfile.TemporaryDirectory() as tmp:
         site = Path(tmp) / "site"
         site.mkdir()
-        _install(package, site, read_only=variant == "read-only package")
+        if variant == "pip install":
+            _pip_install(package, site)
+        else:
+            _install(package, site, read_only=variant == "read-only package")
         env = {k: v for k, v in os.environ.items() if k not in ("NUMBA_CACHE_DIR", "PYTHONPATH")}
         env.update(PYTHONPATH=str(site), XDG_CACHE_HOME=str(Path(tmp) / "cache"), PYTHONDONTWRITEBYTECODE="1")
         if variant == "no warm-up":

@@ -38,7 +38,7 @@ def _cold_rows(quick: bool) -> list:
         ("import of ImpulseSINDy (PySINDy, scikit-learn, numba)", base["import_estimator"], float("nan"),
          float("nan"), "(info)"),
     ]
-    for variant in ("warm-up",) + (() if quick else ("read-only package",)):
+    for variant in ("pip install", "warm-up") + (() if quick else ("read-only package",)):
         run = cold_start(package, variant)
         rows.append((f"first fit after install, {variant} vs compiling at first call", run["first_fit"],
                      base["first_fit"], base["first_fit"] / run["first_fit"], "(info)"))

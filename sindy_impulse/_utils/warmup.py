@@ -8,9 +8,10 @@ process that compiles them while the importing process goes on (importing PySIND
 about as long), and the first call of a kernel waits for that build instead of compiling the same code
 twice. Later processes find the cache and start at once.
 
-- Nothing starts when the kernels were built for this package, numba and Python (a marker file in the
-  user's cache directory, ``NUMBA_CACHE_DIR`` if set), when no cache directory can be written, or when the
-  environment variable ``SINDY_IMPULSE_PRECOMPILE`` is ``0``.
+- Nothing starts when the package came with its kernels compiled (a wheel built by ``pip install`` on
+  this machine: :mod:`.kernel_build`), when the kernels were built for this package, numba and Python (a
+  marker file in the user's cache directory, ``NUMBA_CACHE_DIR`` if set), when no cache directory can be
+  written, or when the environment variable ``SINDY_IMPULSE_PRECOMPILE`` is ``0``.
 - Two builds, one per group of kernels (:data:`~.kernel_cache.GROUPS`: TVRegDiff's, the simulation's), so
 that two cores
   compile at once; one build per group at a time (a lock file); a kernel's first call waits for its build
@@ -31,9 +32,12 @@ from pathlib import Path
 
 from .kernel_cache import CHILD_ENV, GROUPS, STALE_SECONDS, base, paths
 
-__all__ = ["start", "build", "main"]
+__all__ = ["start", "build", "main", "ship", "shipped_key", "shipped", "SHIPPED"]
 
 _ENV_OFF = "SINDY_IMPULSE_PRECOMPILE"
+#: The file beside this module that says for which numba, Python and machine the kernels shipped with the
+#: package were compiled (:func:`ship`, in a wheel's build: :mod:`.kernel_build`).
+SHIPPED = "kernels_shipped.json"
 _PACKAGE = Path(__file__).resolve().parent.parent
 
 
@@ -41,9 +45,50 @@ def _disabled() -> bool:
     return os.environ.get(_ENV_OFF, "1") == "0" or bool(os.environ.get(CHILD_ENV))
 
 
+def shipped_key() -> dict:
+    """What compiled kernels are valid for: numba's version, Python's, the platform and the machine (read
+    without importing numba: the name of its installed distribution's metadata directory)."""
+    import importlib.util
+    import platform
+
+    spec = importlib.util.find_spec("numba")
+    found = []
+    if spec is not None and spec.submodule_search_locations:
+        found = sorted(Path(spec.submodule_search_locations[0]).parent.glob("numba-*.dist-info"))
+    numba = found[0].name[len("numba-"):-len(".dist-info")] if len(found) == 1 else None
+    return {"numba": numba, "python": list(sys.version_info[:2]), "implementation": sys.implementation.name,
+            "platform": sys.platform, "machine": platform.machine()}
+
+
+def shipped() -> bool:
+    """Whether the package came with its kernels compiled for this numba, Python and machine
+    (:mod:`.kernel_build`)."""
+    import json
+
+    try:
+        return json.loads(_shipped_file().read_text()) == shipped_key()
+    except (OSError, ValueError):
+        return False
+
+
+def ship() -> None:
+    """Compile every kernel into the package's own numba cache and write :func:`shipped_key` beside it (a
+    wheel's build: :mod:`.kernel_build`)."""
+    import json
+
+    for group in GROUPS:
+        build(group)
+    _shipped_file().write_text(json.dumps(shipped_key()))
+
+
+def _shipped_file() -> Path:
+    return Path(__file__).parent / SHIPPED
+
+
 def start() -> bool:
-    """Start the background builds of the groups not built here yet; True if one was started."""
-    if _disabled():
+    """Start the background builds of the groups not built here yet (none where the package came with
+    its kernels compiled: :func:`shipped`); True if one was started."""
+    if _disabled() or shipped():
         return False
     started = False
     for group in GROUPS:
