@@ -258,3 +258,29 @@ def test_averaged_equations_give_their_free_decay_and_say_when_it_grows():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert not np.all(np.isfinite(growing.free_decay(5000, 100.0)))
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_frequency_moved_by_a_neighbours_amplitude_is_read_at_zero_amplitudes(seed):
+    """A weak mode coupled to a stronger one that decays slower (a cubic element both move): its frequency
+    follows the neighbour's squared amplitude, not its own. Read against its own amplitude alone, the
+    zero-amplitude frequency is extrapolated along the wrong decay; with the neighbour's squared amplitude
+    in the averaged equations, the free decay and the band's envelope give it within the standard error."""
+    fs, t = 2000.0, np.arange(12000) / 2000.0
+    a, s, w = 0.2, 4.0, 2 * np.pi * 62.0
+    b2, rate = 1.0, 1.0  # the neighbour: squared amplitude at the start, decay rate
+    shift = -0.004 * w  # its frequency 0.4 % lower at the neighbour's largest amplitude
+    own = a * np.exp(-s * t)
+    phase = w * t + shift * b2 * -np.expm1(-2 * rate * t) / (2 * rate)
+    noise = 1e-4
+    y = own * np.cos(phase) + noise * np.random.default_rng(seed).standard_normal(t.size)
+    alone = _envelope.decay_dependence(y, fs, a, s, 62.0, noise)
+    coupled = _envelope.decay_dependence(y, fs, a, s, 62.0, noise, neighbours=[(b2, rate)])
+    assert abs(coupled.coefficients[0] - w) < 3 * coupled.coefficients_std[0]
+    assert abs(coupled.coefficients[0] - w) < 0.1 * abs(alone.coefficients[0] - w)
+    assert coupled.misfit < 1.5 < alone.misfit
+    assert coupled.frequency_change == pytest.approx(-0.004, rel=0.05) and coupled.start is None
+    z = own * np.exp(1j * phase)  # the band's analytic signal
+    band = _envelope.amplitude_dependence(z, fs, 10.0, noise, neighbours=[(b2, rate)])
+    assert band.coefficients[0] / (2 * np.pi) == pytest.approx(62.0, abs=1e-3)
+    assert band.frequency_change == pytest.approx(-0.004, rel=0.05)

@@ -486,6 +486,22 @@ def test_a_weak_mode_held_by_a_nonlinear_one_is_read_with_that_modes_chirp_remov
     assert "read again with the nonlinear candidates' own equations removed: 235.85 Hz" in str(found.trace)
 
 
+def test_a_weak_mode_moved_by_a_strong_ones_amplitude_is_read_with_that_amplitude():
+    """A hardening spring at mass 0 moves a weak 602.5 Hz mode (14 dB under a strong 413.7 Hz one) with the
+    strong mode's amplitude: the averaged equations in its own amplitude do not describe its decay (misfit
+    20 times the noise) and its linear decay's frequency, 604.9 Hz, is 0.39 % high. With the strong mode's
+    squared amplitude moving it too, they describe it: it is nonlinear, and its small-amplitude frequency
+    and damping ratio are within the marks."""
+    found = _g_survey([413.65032216934037, 602.5144380475565], [0.0011785003344704813, 0.0010142008309008829],
+                      [0.8494964538939983, 0.16423451824116417], fs=5000.0, duration=4.0312,
+                      sensor="velocity", pre_trigger=0.04008816842896445, offset=0.47793192313142385,
+                      snr_db=56.90108063989125, random_state=1948318115, cubic_stiffness=68216367052175.04)
+    weak = min(found.modes, key=lambda m: abs(m.frequency_hz - 602.5))
+    assert abs(weak.frequency_hz / 602.5144380475565 - 1) < 3e-3
+    assert weak.damping_ratio == pytest.approx(0.0010142008309008829, rel=0.1)
+    assert weak.source != "poles" and len(found.modes) == 2
+
+
 def test_a_nonlinear_mode_found_by_its_pieces_is_removed_by_its_own_free_decays_equations():
     """A hardening spring at mass 0: the strong 169.4 Hz mode is nonlinear because the decay fit split it
     into pieces (no envelope evidence of its own); its averaged equations are read off its free decay for

@@ -6,8 +6,12 @@
   A^2`` (a cubic spring moves the frequency, an ``x^2 x'`` damper the decay rate, both with the squared
   amplitude), fitted from the linear decay's values by Gauss-Newton; the changes of the frequency and of
   the decay rate over the amplitudes seen, with their standard errors, say whether the mode is nonlinear
-  enough to matter (:data:`FREQUENCY_CHANGE`, :data:`DECAY_CHANGE`), and the fitted equations are the
-  mode's equation where the paper's fit misses that dependence (:func:`~.linear.envelope_mode`). Where
+  enough to matter (:data:`FREQUENCY_CHANGE`, :data:`DECAY_CHANGE`; with ``neighbours``, the squared
+  amplitudes of other modes move them too, each with its own slope, ``+ sum_j (omega_2j, sigma_2j)
+  A_j^2``, as a nonlinear element shared by several modes moves each one's frequency with the others'
+  amplitudes, and the values at zero amplitude are those with every amplitude gone), and the fitted
+  equations are the mode's equation where the paper's fit misses that dependence
+  (:func:`~.linear.envelope_mode`). Where
   something else is in the free decay (a hit's tail, a neighbour's misfit: the fit's residual stands out
   of the noise), :func:`amplitude_dependence` reads the same equations off the mode's analytic signal in
   its band, the filter's transients trimmed: integrated, both are straight lines in ``t`` and ``I(t) =
@@ -46,7 +50,8 @@ DOUBT_SIGMAS = 2.0
 @dataclass(frozen=True)
 class AmplitudeDependence:
     """How a mode's frequency and decay rate change over the amplitudes of its decay
-    (:func:`decay_dependence`): relative changes from its smallest amplitude analysed to its largest,
+    (:func:`decay_dependence`): relative changes from its smallest amplitude analysed to its largest
+    (with neighbours, their amplitudes' share of the change over the same stretch included),
     with their standard errors, the amplitudes, the averaged equations' ``(omega_0, omega_2, sigma_0,
     sigma_2)`` (damped angular frequency and decay rate at zero amplitude and their slopes in ``A^2``)
     with their standard errors, and ``misfit``: the RMS residual of ``A ln A`` and ``A phi`` about them over
@@ -62,7 +67,8 @@ class AmplitudeDependence:
     misfit: float = 1.0
     #: ``(c, a2, rate)`` of a free-decay fit (:func:`decay_dependence`): its complex amplitude at the decay's
     #: start, and the squared amplitude and decay rate of the linear decay its amplitude integral is built
-    #: on; None for a band's envelope (:func:`amplitude_dependence`), whose signal it does not describe.
+    #: on; None for a band's envelope (:func:`amplitude_dependence`), whose signal it does not describe, and
+    #: where neighbours' amplitudes move the mode (its free decay needs theirs).
     start: tuple | None = None
 
     def free_decay(self, n: int, fs: float) -> np.ndarray | None:
@@ -115,11 +121,13 @@ class AmplitudeDependence:
 
 
 def amplitude_dependence(z: np.ndarray, fs: float, bandwidth_hz: float, noise_rms: float,
-                         min_snr_db: float = 10.0, frequency_hz: float | None = None
+                         min_snr_db: float = 10.0, frequency_hz: float | None = None, neighbours=()
                          ) -> AmplitudeDependence | None:
     """The changes of a mode's frequency and decay rate with its amplitude (see the module), from its
     analytic signal ``z`` (transients trimmed) of band ``bandwidth_hz`` wide, used down to ``min_snr_db``
-    over the band's noise ``noise_rms``. None when fewer than 8 independent samples, or (given the mode's
+    over the band's noise ``noise_rms``; ``neighbours``: ``(squared amplitude, decay rate)`` of the linear
+    decays of other modes whose squared amplitudes move this one's frequency and decay rate too (see the
+    module). None when fewer than 8 independent samples, or (given the mode's
     ``frequency_hz``) fewer than :data:`MIN_PERIODS` of its periods remain: too short a decay to tell an
     amplitude dependence from a start that is not yet free.
 
@@ -150,7 +158,8 @@ def amplitude_dependence(z: np.ndarray, fs: float, bandwidth_hz: float, noise_rm
     a = amplitude[keep]
     t = keep / fs
     integral = np.concatenate([[0.0], np.cumsum(0.5 * (a[1:] ** 2 + a[:-1] ** 2) * np.diff(t))])
-    design = np.column_stack([np.ones_like(t), t - t[0], integral])
+    around = [_linear_integral(b2, rate, t) for b2, rate in neighbours]
+    design = np.column_stack([np.ones_like(t), t - t[0], integral, *around])
     weights = a**2 / np.max(a**2)
     coef, cov, misfit = [], [], []
     for target in (np.log(a), phase):
@@ -158,13 +167,14 @@ def amplitude_dependence(z: np.ndarray, fs: float, bandwidth_hz: float, noise_rm
         coef.append(c)
         cov.append(v)
         misfit.append(float(np.sqrt(np.mean(((target - design @ c) * a) ** 2))) / max(noise_rms, 1e-300))
-    span = a.max() ** 2 - a.min() ** 2
+    # the changes over the decay: of the squared amplitudes (its own and each neighbour's) times their slopes
+    spans = np.array([a.max() ** 2 - a.min() ** 2]  # (a neighbour's: 2 rate times its integral's rise)
+                     + [2 * rate * (i[-1] - i[0]) for i, (_, rate) in zip(around, neighbours)])
     sigma0, sigma2 = -coef[0][1], -coef[0][2]
     omega0, omega2 = coef[1][1], coef[1][2]
-    frequency_change = omega2 * span / omega0
-    frequency_std = np.sqrt(cov[1][2, 2]) * span / abs(omega0)
-    decay_change = sigma2 * span / sigma0 if sigma0 > 0 else np.inf
-    decay_std = np.sqrt(cov[0][2, 2]) * span / abs(sigma0) if sigma0 > 0 else np.inf
+    frequency_change, frequency_std = _change(coef[1][2:], cov[1][2:, 2:], spans, omega0)
+    decay_change, decay_std = _change(-coef[0][2:], cov[0][2:, 2:], spans, sigma0) if sigma0 > 0 else (
+        np.inf, np.inf)
     std = lambda c: float(np.sqrt(max(c, 0.0)))  # noqa: E731
     return AmplitudeDependence(float(frequency_change), float(frequency_std), float(decay_change),
                                float(decay_std), (float(a.max()), float(a.min())),
@@ -283,11 +293,12 @@ _PER_PERIOD, _SAMPLES = 4, 2048
 
 
 def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: float, frequency_hz: float,
-                     noise_std: float) -> AmplitudeDependence | None:
+                     noise_std: float, neighbours=()) -> AmplitudeDependence | None:
     """The changes of a mode's frequency and decay rate with its amplitude from its free decay ``y`` itself
     (no band-pass: a filter's transient hides the start of the decay, where the amplitude is largest),
     other modes removed, starting at its linear decay's complex ``amplitude``, ``decay_rate`` (1/s) and
-    damped ``frequency_hz``.
+    damped ``frequency_hz``; ``neighbours``: ``(squared amplitude at the start, decay rate)`` of the linear
+    decays of other modes whose squared amplitudes move this one's frequency and decay rate too.
 
     The averaged equations of the module, to first order in ``omega_2`` and ``sigma_2``: ``y(t) = Re[c
     exp(-sigma_0 t - sigma_2 I(t) + i (omega_0 t + omega_2 I(t)))]`` with ``I(t) = |a|^2 (1 - exp(-2
@@ -321,19 +332,22 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
     y = y[::stride]
     t = np.arange(y.size) * stride / fs
     a2 = abs(amplitude) ** 2
-    integral = _linear_integral(a2, decay_rate, t)
-    x = np.array([amplitude.real, amplitude.imag, decay_rate, 2 * np.pi * frequency_hz, 0.0, 0.0])
+    integrals = np.array([_linear_integral(a2, decay_rate, t)]
+                         + [_linear_integral(b2, rate, t) for b2, rate in neighbours])
+    x = np.concatenate([[amplitude.real, amplitude.imag, decay_rate, 2 * np.pi * frequency_hz],
+                        np.zeros(2 * len(integrals))])
     cost = np.inf
     for iteration in range(_ITERATIONS):
-        e = np.exp((-x[2] + 1j * x[3]) * t + (-x[5] + 1j * x[4]) * integral)
+        slopes = x[4::2] * 1j - x[5::2]  # i omega_2 - sigma_2: of its own amplitude, then the neighbours'
+        e = np.exp((-x[2] + 1j * x[3]) * t + slopes @ integrals)
         ce = (x[0] + 1j * x[1]) * e
         residual = y - ce.real
         new_cost = float(residual @ residual)
         if not np.isfinite(new_cost) or new_cost > cost * (1 - _TOLERANCE):
             break  # (the last step no longer lowered the misfit: keep its start's values)
         # the Jacobian of an accepted point only (a rejected step's is never read)
-        jac = np.column_stack([e.real, -e.imag, -t * ce.real, -t * ce.imag, -integral * ce.imag,
-                               -integral * ce.real])
+        jac = np.column_stack([e.real, -e.imag, -t * ce.real, -t * ce.imag]
+                              + [c for i in integrals for c in (-i * ce.imag, -i * ce.real)])
         normal, scale, scaled = _scaled_normal(jac, scaled=True)
         cost, best = new_cost, (x, residual, normal, scale)
         if iteration > 0 and np.sqrt(cost / y.size) > _HOPELESS * noise_std:
@@ -349,15 +363,23 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
     cov = np.linalg.pinv(normal) / np.outer(scale, scale) * variance
     sigma0, omega0, omega2, sigma2 = x[2], x[3], x[4], x[5]
     largest, smallest = abs(amplitude), abs(amplitude) * np.exp(-decay_rate * t_end)
-    span = largest**2 - smallest**2
+    # the changes over the decay: of the squared amplitudes (its own and each neighbour's) times their slopes
+    spans = np.array([a2] + [b2 for b2, _ in neighbours]) * -np.expm1(
+        -2 * np.array([decay_rate] + [rate for _, rate in neighbours]) * t_end)
     std = lambda i: float(np.sqrt(max(cov[i, i], 0.0)))  # noqa: E731
     misfit = float(np.sqrt(np.mean(residual**2))) / max(noise_std, 1e-300)
-    return AmplitudeDependence(float(omega2 * span / omega0), std(4) * span / float(omega0),
-                               float(sigma2 * span / sigma0), std(5) * span / float(sigma0),
+    start = None if neighbours else (complex(x[0], x[1]), float(a2), float(decay_rate))
+    return AmplitudeDependence(*_change(x[4::2], cov[4::2, 4::2], spans, omega0),
+                               *_change(x[5::2], cov[5::2, 5::2], spans, sigma0),
                                (float(largest), float(smallest)),
                                (float(omega0), float(omega2), float(sigma0), float(sigma2)),
-                               (std(3), std(4), std(2), std(5)), misfit,
-                               (complex(x[0], x[1]), float(a2), float(decay_rate)))
+                               (std(3), std(4), std(2), std(5)), misfit, start)
+
+
+def _change(slopes: np.ndarray, cov: np.ndarray, spans: np.ndarray, value: float) -> tuple[float, float]:
+    """The relative change of a frequency or decay rate ``value`` over a decay and its standard error: its
+    ``slopes`` in the squared amplitudes (covariance ``cov``) times their changes ``spans``."""
+    return float(slopes @ spans / value), float(np.sqrt(max(spans @ cov @ spans, 0.0))) / abs(value)
 
 
 def _linear_integral(a2: float, rate: float, t: np.ndarray) -> np.ndarray:

@@ -20,8 +20,8 @@ The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence;
   3 standard errors where the linear decay does not explain it (its residual stands out of the noise:
   :attr:`~.candidates.Candidate.explained`), the frequency beyond 2 where it does; where something else
   is in its free decay, read again with the nonlinear candidates removed by their own averaged equations
-  (a nonlinear mode's chirp, left by its linear decay, hides how a weak mode coupled to it moves:
-  :func:`_beside_nonlinear`);
+  and their squared amplitudes moving it too (a nonlinear mode's chirp, left by its linear decay, hides
+  how a weak mode coupled to it moves: :func:`_beside_nonlinear`);
   or that makes a harmonic. The paper's sweep and refinement identify its equation (and where they miss
   the dependence its free decay shows, the averaged equations fitted there stand:
   :func:`~.linear.envelope_mode`). (A significant misfit alone is common on real records at 60-70 dB: a
@@ -251,9 +251,10 @@ def _audible(cand, fs: float) -> int | None:
     return int(fall / cand.decay_rate * fs) + 1
 
 
-def _band_dependence(state, k: int, modes: list):
+def _band_dependence(state, k: int, modes: list, neighbours=()):
     """:func:`~._envelope.amplitude_dependence` of candidate ``k`` on its analytic signal in its band (cut
-    among the candidates ``modes``), or None."""
+    among the candidates ``modes``; its frequency and decay rate also moved by the squared amplitudes of the
+    candidates ``neighbours``), or None."""
     cands, fs = state.candidates, state.pre.fs
     others = [j for j in modes if j != k]
     f = np.array([cands[j].damped_frequency_hz for j in [k, *others]])
@@ -265,7 +266,15 @@ def _band_dependence(state, k: int, modes: list):
     if not z.size:
         return None
     noise = cands[k].noise_std * np.sqrt(2 * (band[1] - band[0]) / fs)
-    return amplitude_dependence(z, fs, band[1] - band[0], noise, frequency_hz=cands[k].frequency_hz)
+    return amplitude_dependence(z, fs, band[1] - band[0], noise, frequency_hz=cands[k].frequency_hz,
+                                neighbours=_squared_amplitudes(state, neighbours))
+
+
+def _squared_amplitudes(state, neighbours) -> list:
+    """``(squared amplitude at the decay's start, decay rate)`` of each candidate of ``neighbours``: their
+    linear decays, whose squared amplitudes move a coupled mode's frequency and decay rate."""
+    return [(float(np.abs(state.candidates[j].amplitude[0])) ** 2, state.candidates[j].decay_rate)
+            for j in neighbours]
 
 
 def _amplitude_dependent(state) -> None:
@@ -286,15 +295,17 @@ def _amplitude_dependent(state) -> None:
     _beside_nonlinear(state, linear)
 
 
-def _free_decay_dependence(state, k: int, correction: np.ndarray | None = None):
+def _free_decay_dependence(state, k: int, correction: np.ndarray | None = None, neighbours=()):
     """:func:`~._envelope.decay_dependence` of candidate ``k`` on its own free decay (the other candidates
-    removed by their linear decays, plus ``correction`` where given), while it stands out of the noise."""
+    removed by their linear decays, plus ``correction`` where given), while it stands out of the noise;
+    its frequency and decay rate also moved by the squared amplitudes of the candidates ``neighbours``."""
     c, fs = state.candidates[k], state.pre.fs
     stop = _audible(c, fs)
     y = deflated(state, k)[state.start:][:stop]
     if correction is not None:
         y = y + correction[:stop]
-    return decay_dependence(y, fs, complex(c.amplitude[0]), c.decay_rate, c.damped_frequency_hz, c.noise_std)
+    return decay_dependence(y, fs, complex(c.amplitude[0]), c.decay_rate, c.damped_frequency_hz, c.noise_std,
+                            _squared_amplitudes(state, neighbours))
 
 
 def _depends(cand, e) -> bool:
@@ -312,36 +323,53 @@ def _beside_nonlinear(state, linear: list) -> None:
     as a misfit; a weak mode coupled to it through the same nonlinear element (its frequency moved by the
     strong mode's amplitude) is then not told from one whose decay has something else in it, and its
     linear decay's frequency, an average over a frequency that moves, is reported. Removed by the
-    equations that describe it, the strong mode's decay leaves the weak one's own: where the averaged
-    equations now describe that (misfit at most :data:`~._envelope.ENVELOPE_MISFIT`), they are its
-    evidence, read as in the first look."""
+    equations that describe it, the strong mode's decay leaves the weak one's own, and the averaged
+    equations read there describe it (misfit at most :data:`~._envelope.ENVELOPE_MISFIT`). Where
+    they do not (a shared nonlinear element moves it with the strong modes' amplitudes, not its own), a
+    mode confirmed by a stable pole is read again with the nonlinear candidates' squared amplitudes moving
+    its frequency and decay rate too, on its free decay or else its band's envelope. The first equations
+    that describe it are its evidence, read as in the first look."""
     cands, fs = state.candidates, state.pre.fs
     n = state.pre.y.size - state.start
     t = np.arange(n) / fs
-    correction, corrected = np.zeros(n), False
-    for j, c in enumerate(cands):
-        if c.kind is not Kind.NONLINEAR:
-            continue
-        e = c.evidence.get("amplitude_dependence")
+    corrections = {}  # each nonlinear candidate's linear decay minus its averaged equations' decay
+    nonlinear = [j for j, c in enumerate(cands) if c.kind is Kind.NONLINEAR]
+    for j in nonlinear:
+        e = cands[j].evidence.get("amplitude_dependence")
         if e is None:  # nonlinear by another test (its pieces): its own free decay read here
             e = _free_decay_dependence(state, j)
         own = e.free_decay(n, fs) if e is not None and e.misfit <= ENVELOPE_MISFIT else None
         if own is not None and np.all(np.isfinite(own)):  # (equations that grow beyond their decay: not used)
-            correction += sum(component(cands[m], n, fs, t) for m in _members(state, j)) - own
-            corrected = True
-    if not corrected:
-        return
+            corrections[j] = sum(component(cands[m], n, fs, t) for m in _members(state, j)) - own
     for k in linear:
         c = cands[k]
         e = c.evidence.get("amplitude_dependence")
         if c.kind is not Kind.LINEAR or e is None or e.misfit <= ENVELOPE_MISFIT:
             continue
-        second = _free_decay_dependence(state, k, correction)
-        if second is not None and second.misfit <= ENVELOPE_MISFIT:
-            c.evidence["amplitude_dependence"] = second
-            c.evidence["beside_nonlinear"] = True
+        # the simplest equations that describe its decay: its own amplitude moving it, then (for a mode a
+        # stable pole confirms: a weak component's envelope has too little in it to say which other
+        # amplitudes move it) the nonlinear candidates' amplitudes too
+        correction = sum(corrections.values()) if corrections else None
+        second = _second_look(state, k, correction, [], linear)
+        if second is None and c.stable:
+            second = _second_look(state, k, correction, nonlinear, linear)
+        if second is not None:
+            c.evidence.update(amplitude_dependence=second, beside_nonlinear=True)
             if _depends(c, second):
                 c.kind = Kind.NONLINEAR
+
+
+def _second_look(state, k: int, correction, neighbours: list, linear: list):
+    """Candidate ``k``'s amplitude dependence with ``correction`` (or None) added to its free decay and its
+    frequency and decay rate moved by the squared amplitudes of the ``neighbours`` too, where the averaged
+    equations then describe it (misfit at most :data:`~._envelope.ENVELOPE_MISFIT`; with neighbours, else
+    read off its band's envelope), or None."""
+    if correction is None and not neighbours:
+        return None
+    e = _free_decay_dependence(state, k, correction, neighbours)
+    if neighbours and (e is None or not e.misfit <= ENVELOPE_MISFIT):  # something else in it: its band's
+        e = _band_dependence(state, k, linear, neighbours)
+    return e if e is not None and e.misfit <= ENVELOPE_MISFIT else None
 
 
 #: Neighbours closer than this many times the sum of their half-power half-widths overlap in the spectrum.
