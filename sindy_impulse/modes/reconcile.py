@@ -12,6 +12,8 @@
   the equation lacks that change (:func:`~._envelope._missing_damping`), the free decay's constant rate where
   the decay rate does not change and the equation's damping terms change it (:func:`_steady_rate`).
 - Pieces merged into a nonlinear mode are said so in a note.
+- A mode a band's fit found outside its candidate's half-power band, nearer another candidate that has its
+  own mode, is that neighbour's decay, not a second mode (:func:`_found_elsewhere`): rejected as a poor fit.
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ from ._nonlinear import has_nonlinear_terms
 from .candidates import persistent_modes
 from .kinds import Kind, Reason
 from .result import Rejected
+from .signals import _members
 
 __all__ = ["reconcile"]
 
@@ -33,6 +36,7 @@ __all__ = ["reconcile"]
 def reconcile(state) -> None:
     """One answer per mode, named rejections, notes."""
     _named(state)
+    _found_elsewhere(state)
     _decided_by_backbones(state)
     _envelope_damping(state)
     pre = state.pre
@@ -80,6 +84,38 @@ def _named(state) -> None:
             state.note(f"the components at {listed} Hz, closer than their "
                        f"half-power bandwidth, are one nonlinear mode (its frequency or damping changes with "
                        f"amplitude)")
+
+
+def _found_elsewhere(state) -> None:
+    """Modes that a band's fit found at another candidate's place, not at its own: the mode's frequency lies
+    outside the half-power bands of its candidate and of the pieces merged into it, and nearer the
+    frequency of another candidate that has a mode of its own (a wide band around a weak, strongly damped
+    candidate also holds a strong neighbour, whose decay the fit then follows). The neighbour's mode
+    stands; this one is a poor fit of its candidate, not a second mode."""
+    cands = state.candidates
+    reported = set(state.origin)
+    drop = set()
+    for i, (k, mode) in enumerate(zip(state.origin, state.modes)):
+        if mode.source == "poles":
+            continue
+        own = [cands[m] for m in _members(state, k)]
+        if any(abs(mode.frequency_hz - c.frequency_hz) <= c.damping_ratio * c.frequency_hz for c in own):
+            continue
+        near = min(abs(mode.frequency_hz - c.frequency_hz) for c in own)
+        other = min((j for j in reported if j != k),
+                    key=lambda j: abs(mode.frequency_hz - cands[j].frequency_hz), default=None)
+        if other is None or not abs(mode.frequency_hz - cands[other].frequency_hz) < near:
+            continue
+        f = cands[k].damped_frequency_hz
+        why = (f"the fit of the band of the component at {f:.5g} Hz found a mode at "
+               f"{mode.frequency_hz:.5g} Hz, outside that component's half-power band and nearer the mode at "
+               f"{cands[other].frequency_hz:.5g} Hz: its neighbour's decay, not a mode of its own")
+        evidence = {"frequency_hz": float(mode.frequency_hz), "component_hz": float(f),
+                    "neighbour_hz": float(cands[other].frequency_hz)}
+        state.rejected.append(Rejected(mode.band_hz, why, state.index, evidence, Reason.POOR_FIT))
+        drop.add(i)
+    state.modes = [m for i, m in enumerate(state.modes) if i not in drop]
+    state.origin = [k for i, k in enumerate(state.origin) if i not in drop]
 
 
 def _described(cand):
