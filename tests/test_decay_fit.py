@@ -93,3 +93,18 @@ def test_a_known_noise_level_or_an_earlier_floor_is_used():
 def test_bad_starting_poles_are_refused(f, s, match):
     with pytest.raises(ValueError, match=match):
         fit_decay(_two_modes(1e-3, 0), FS, f, s)
+
+
+def test_a_trial_fit_can_keep_the_floor_it_was_fitted_against():
+    """``refloor=False``: the same fit and statistics, the given floor reported instead of a new one."""
+    fs = 1000.0
+    t = np.arange(4000) / fs
+    noise = 1e-3 * np.random.default_rng(2).standard_normal(t.size)
+    y = np.exp(-1.2 * t) * np.cos(2 * np.pi * 50.0 * t) + noise
+    first = fit_decay(y, fs, [50.1], [1.0])
+    again = fit_decay(y, fs, [50.1], [1.0], noise=first.noise_power)
+    trial = fit_decay(y, fs, [50.1], [1.0], noise=first.noise_power, refloor=False)
+    assert np.array_equal(trial.damped_frequency_hz, again.damped_frequency_hz)
+    assert np.array_equal(trial.lack_of_fit, again.lack_of_fit)
+    assert np.array_equal(trial.noise_power, first.noise_power)
+    assert not np.array_equal(again.noise_power, first.noise_power)

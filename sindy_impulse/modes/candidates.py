@@ -431,8 +431,8 @@ def _split_unexplained(fit, ring: np.ndarray, fs: float, table, noise, threshold
         for fi, si, by_poles in _split_seeds(fit, k, poles, resolution, threshold_db, unresolved):
             if not by_poles:  # first alone, on the record without the other components: a cheap test
                 alone = _alone(fit, ring, k, left) if alone is None else alone
-                if not _split_holds(fit_decay(alone, fs, fi, si, noise=noise), fi, resolution, threshold_db,
-                                    by_poles):
+                if not _split_holds(fit_decay(alone, fs, fi, si, noise=noise, refloor=False), fi, resolution,
+                                    threshold_db, by_poles):
                     continue
             trial = fit_decay(ring, fs, np.concatenate([fit.damped_frequency_hz[others], fi]),
                               np.concatenate([fit.decay_rate[others], si]), noise=noise)

@@ -46,7 +46,7 @@ from scipy.fft import next_fast_len
 
 from ..preprocessing.filters import transient_samples
 from ..preprocessing.partition import _TOP, peak_bands, resolved
-from ._envelope import ENVELOPE_MISFIT, amplitude_dependence, decay_dependence
+from ._envelope import CHANGE_SIGMAS, ENVELOPE_MISFIT, amplitude_dependence, decay_dependence
 from ._harmonics import NEAR, ORDERS, RATIO_TOL, _evidence
 from .candidates import MISFIT_REACH, MISFIT_SHARE
 from .kinds import Kind
@@ -326,18 +326,22 @@ def _beside_nonlinear(state, linear: list) -> None:
     equations that describe it, the strong mode's decay leaves the weak one's own, and the averaged
     equations read there describe it (misfit at most :data:`~._envelope.ENVELOPE_MISFIT`). Where
     they do not (a shared nonlinear element moves it with the strong modes' amplitudes, not its own), a
-    mode confirmed by a stable pole is read again with the nonlinear candidates' squared amplitudes moving
-    its frequency and decay rate too, on its free decay or else its band's envelope. The first equations
-    that describe it are its evidence, read as in the first look."""
+    mode confirmed by a stable pole is read again with the squared amplitudes of the nonlinear candidates
+    whose frequency moves moving its frequency and decay rate too, on its free decay or else its band's
+    envelope. The first equations that describe it are its evidence, read as in the first look."""
     cands, fs = state.candidates, state.pre.fs
     n = state.pre.y.size - state.start
     t = np.arange(n) / fs
     corrections = {}  # each nonlinear candidate's linear decay minus its averaged equations' decay
-    nonlinear = [j for j, c in enumerate(cands) if c.kind is Kind.NONLINEAR]
-    for j in nonlinear:
+    # the nonlinear candidates whose frequency moves with their amplitude: through the same element, theirs
+    # moves the coupled modes' frequencies (one nonlinear by its decay rate alone is left out)
+    moving = []
+    for j in (j for j, c in enumerate(cands) if c.kind is Kind.NONLINEAR):
         e = cands[j].evidence.get("amplitude_dependence")
         if e is None:  # nonlinear by another test (its pieces): its own free decay read here
             e = _free_decay_dependence(state, j)
+        if e is not None and e.changes(CHANGE_SIGMAS, decay=False):
+            moving.append(j)
         own = e.free_decay(n, fs) if e is not None and e.misfit <= ENVELOPE_MISFIT else None
         if own is not None and np.all(np.isfinite(own)):  # (equations that grow beyond their decay: not used)
             corrections[j] = sum(component(cands[m], n, fs, t) for m in _members(state, j)) - own
@@ -352,7 +356,7 @@ def _beside_nonlinear(state, linear: list) -> None:
         correction = sum(corrections.values()) if corrections else None
         second = _second_look(state, k, correction, [], linear)
         if second is None and c.stable:
-            second = _second_look(state, k, correction, nonlinear, linear)
+            second = _second_look(state, k, correction, moving, linear)
         if second is not None:
             c.evidence.update(amplitude_dependence=second, beside_nonlinear=True)
             if _depends(c, second):

@@ -267,7 +267,7 @@ def _bounds(omega, sigma, fs, n, move=_MOVE):
 
 
 def fit_decay(y, fs: float, damped_frequency_hz, decay_rate, *, noise=None, reach: float = REACH,
-              max_nfev: int = 50) -> DecayFit:
+              max_nfev: int = 50, refloor: bool = True) -> DecayFit:
     """Fit modes to a free decay's spectrum, started from poles close to them (see the module).
 
     Parameters
@@ -288,6 +288,10 @@ def fit_decay(y, fs: float, damped_frequency_hz, decay_rate, *, noise=None, reac
         Half-power half-widths around each mode whose bins are fitted.
     max_nfev : int
         Most evaluations of the residual.
+    refloor : bool
+        Where ``noise`` is a floor per bin (an earlier fit's ``noise_power``), report the floor of what this
+        fit leaves as its ``noise_power`` (as where the noise is estimated); False keeps the given floor (a
+        trial fit whose statistics alone are read: a floor costs a running quantile of the spectrum).
 
     Returns
     -------
@@ -328,7 +332,7 @@ def fit_decay(y, fs: float, damped_frequency_hz, decay_rate, *, noise=None, reac
             power, passes = np.asarray(noise, float), 1
             if power.shape != P.shape:
                 raise ValueError(f"noise holds {power.size} bins, the transform of y {P.size}")
-        estimate = noise is None or np.ndim(noise) != 0
+        estimate = noise is None or (np.ndim(noise) != 0 and refloor)
         least = PRECISION * float(np.max(P))
         out = _fit(spectrum, P, np.maximum(power, least), fs, n, f0, s0, reach, max_nfev, passes, estimate)
     return _floored(out, least)
