@@ -134,8 +134,9 @@ def test_a_build_that_cannot_compile_the_kernels_warns_and_goes_on(tmp_path, mon
 
 @pytest.mark.slow
 def test_a_wheel_carries_its_compiled_kernels(tmp_path):
-    """``pip wheel`` of the source tree (the build ``pip install .`` runs): the kernels' numba cache and the
-    key they were compiled for are in the wheel."""
+    """``pip wheel`` of the source tree from a new virtual environment without numba (the build ``pip
+    install .`` runs on a new machine, isolated: numba only in the build's own environment): the kernels'
+    numba cache and the key they were compiled for are in the wheel."""
     import json
     import subprocess
     import sys
@@ -145,7 +146,9 @@ def test_a_wheel_carries_its_compiled_kernels(tmp_path):
     root = Path(warmup.__file__).resolve().parents[2]
     if not (root / "pyproject.toml").exists():
         pytest.skip("not a source tree")
-    subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", "-w", str(tmp_path), str(root)],
+    subprocess.run([sys.executable, "-m", "venv", str(tmp_path / "venv")], check=True, capture_output=True)
+    python = tmp_path / "venv" / ("Scripts" if sys.platform == "win32" else "bin") / "python"
+    subprocess.run([str(python), "-m", "pip", "wheel", "--no-deps", "-q", "-w", str(tmp_path), str(root)],
                    check=True, capture_output=True)
     with zipfile.ZipFile(next(tmp_path.glob("*.whl"))) as wheel:
         names = wheel.namelist()

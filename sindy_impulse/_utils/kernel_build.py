@@ -44,8 +44,12 @@ class build_py(_build_py):  # noqa: N801 - setuptools' command name
         root = Path(self.build_lib).resolve()
         if not (root / "sindy_impulse" / "_utils" / "warmup.py").exists():
             return
-        env = {k: v for k, v in os.environ.items() if k not in ("NUMBA_CACHE_DIR", "PYTHONPATH")}
-        env.update(PYTHONPATH=str(root), SINDY_IMPULSE_PRECOMPILE="0", PYTHONDONTWRITEBYTECODE="1")
+        # the built copy first, then the build environment's own paths (pip's isolated build puts numba there)
+        env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+        inherited = env.get("PYTHONPATH", "").split(os.pathsep)
+        path = [str(root), *(p for p in sys.path if p), *(p for p in inherited if p)]
+        env.update(PYTHONPATH=os.pathsep.join(dict.fromkeys(path)), SINDY_IMPULSE_PRECOMPILE="0",
+                   PYTHONDONTWRITEBYTECODE="1")
         code = "from sindy_impulse._utils.warmup import ship; ship()"
         try:
             subprocess.run([sys.executable, "-c", code], env=env, cwd=str(root), check=True,
