@@ -12,6 +12,8 @@ def cache(tmp_path, monkeypatch):
     monkeypatch.delenv("SINDY_IMPULSE_WARMUP_CHILD", raising=False)
     started = []
     monkeypatch.setattr(warmup, "_spawn", lambda lock, group: started.append(lock) or True)
+    # a package installed from a wheel came with its kernels compiled: these tests are of one without
+    monkeypatch.setattr(warmup, "_shipped_file", lambda: tmp_path / "no-kernels-shipped")
     return started
 
 
