@@ -9,7 +9,9 @@ background build (:func:`sindy_impulse._utils.warmup.start`) when the wheel's ke
 (:data:`sindy_impulse._utils.warmup.SHIPPED`) matches its own numba, Python and machine.
 
 Nothing here is needed at run time; a build that cannot compile (no numba in the build environment, a
-failure) gives a wheel without the cache, and the kernels compile on the machine as before. The variable
+failure, more than :data:`_TIMEOUT` seconds) gives a wheel without the cache, and the kernels compile on
+the machine as before. A wheel installed on another machine (another processor) carries a cache that numba
+does not load there: its kernels compile at their first call, once. The variable
 ``SINDY_IMPULSE_PRECOMPILE=0`` turns the step off.
 
 This module is loaded by setuptools from its file (``[tool.setuptools.cmdclass]`` in ``pyproject.toml``),
@@ -30,8 +32,8 @@ except ImportError:  # an installation without setuptools: only a build needs th
 
 __all__ = ["build_py"]
 
-#: Longest time the compilation may take (then the wheel ships without it).
-_TIMEOUT = 900
+#: Longest time the compilation may take (then the wheel ships without it): it takes 10-20 s on 2 cores.
+_TIMEOUT = 300
 
 
 class build_py(_build_py):  # noqa: N801 - setuptools' command name
