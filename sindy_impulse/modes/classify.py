@@ -345,6 +345,7 @@ def _beside_nonlinear(state, linear: list) -> None:
         own = e.free_decay(n, fs) if e is not None and e.misfit <= ENVELOPE_MISFIT else None
         if own is not None and np.all(np.isfinite(own)):  # (equations that grow beyond their decay: not used)
             corrections[j] = sum(component(cands[m], n, fs, t) for m in _members(state, j)) - own
+    correction = sum(corrections.values()) if corrections else None
     for k in linear:
         c = cands[k]
         e = c.evidence.get("amplitude_dependence")
@@ -353,7 +354,6 @@ def _beside_nonlinear(state, linear: list) -> None:
         # the simplest equations that describe its decay: its own amplitude moving it, then (for a mode a
         # stable pole confirms: a weak component's envelope has too little in it to say which other
         # amplitudes move it) the nonlinear candidates' amplitudes too
-        correction = sum(corrections.values()) if corrections else None
         second = _second_look(state, k, correction, [], linear)
         if second is None and c.stable:
             second = _second_look(state, k, correction, moving, linear)

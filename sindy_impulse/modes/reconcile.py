@@ -114,6 +114,11 @@ def _found_elsewhere(state) -> None:
                     "neighbour_hz": float(cands[other].frequency_hz)}
         state.rejected.append(Rejected(mode.band_hz, why, state.index, evidence, Reason.POOR_FIT))
         drop.add(i)
+    _drop(state, drop)
+
+
+def _drop(state, drop: set) -> None:
+    """The modes (and their candidates in ``state.origin``) at the indices ``drop`` taken out."""
     state.modes = [m for i, m in enumerate(state.modes) if i not in drop]
     state.origin = [k for i, k in enumerate(state.origin) if i not in drop]
 
@@ -154,8 +159,7 @@ def _decided_by_backbones(state) -> None:
                 state.note(f"the peak at {mode.frequency_hz:.4g} Hz is the {why}")
                 drop.add(i)
                 break
-    state.modes = [m for i, m in enumerate(state.modes) if i not in drop]
-    state.origin = [k for i, k in enumerate(state.origin) if i not in drop]
+    _drop(state, drop)
 
 
 def _steady_frequency(cand, e: dict) -> bool:
