@@ -135,6 +135,39 @@ def test_a_mode_is_rejected_only_where_nothing_supports_it(three_modes):
         assert not isinstance(kept, Rejected) and kept.source in ("poles", "equation")
 
 
+def test_a_doubtful_mode_whose_equation_agrees_with_its_poles_takes_their_values(three_modes, monkeypatch):
+    """A mode sent to the paper's fit for a doubtful change of its frequency: where its equation's
+    small-amplitude values agree with its poles' within DOUBT_SIGMAS combined standard deviations, the
+    poles' mode is its answer; a disagreement, a change beyond doubt or a component the linear decay does
+    not explain keep the equation's."""
+    from dataclasses import replace
+    from types import SimpleNamespace
+
+    from sindy_impulse.modes import identify
+    from sindy_impulse.modes._envelope import DOUBT_SIGMAS
+
+    base = three_modes[1].modes[0]
+    poles = replace(base, source="poles", frequency_hz=100.0, frequency_std_hz=0.01, damping_ratio=0.01,
+                    damping_ratio_std=1e-4)
+    monkeypatch.setattr(identify, "linear_mode", lambda state, k: poles)
+    monkeypatch.setattr(identify, "_nonlinear_equation", lambda out: True)
+
+    def case(frequency=100.4, frequency_std=0.6, damping=0.0102, damping_std=0.002, explained=True,
+             nonlinear=False):
+        cand = SimpleNamespace(explained=explained, kind=Kind.NONLINEAR, parent=None,
+                               evidence={"amplitude_dependence": SimpleNamespace(nonlinear=nonlinear)})
+        state = SimpleNamespace(candidates=[cand], index=0)
+        out = replace(base, source="equation", frequency_hz=frequency, frequency_std_hz=frequency_std,
+                      damping_ratio=damping, damping_ratio_std=damping_std)
+        return identify._agreeing_poles(state, 0, out)
+
+    assert case() is poles
+    beyond = DOUBT_SIGMAS * np.hypot(0.6, 0.01) + 0.01
+    assert case(frequency=100.0 + beyond) is None
+    assert case(damping=0.01 + DOUBT_SIGMAS * np.hypot(0.002, 1e-4) + 1e-4) is None
+    assert case(nonlinear=True) is None and case(explained=False) is None
+
+
 def test_kinds_and_reasons_have_words():
     assert all(k.words for k in Kind) and all(r.words for r in Reason)
     assert Reason("tone") is Reason.TONE

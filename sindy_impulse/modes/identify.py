@@ -26,6 +26,7 @@ import numpy as np
 
 from .._utils.threads import one_thread
 from ..preprocessing.partition import peak_bands
+from ._envelope import DOUBT_SIGMAS
 from ._states import free_decay_states
 from .band_fit import MAX_FIT_ERROR, fit_band, fit_states, mode_of_states, with_uncertainty
 from .kinds import Kind, Reason
@@ -124,30 +125,50 @@ def _supported(state, k: int, out):
 def _kept(state, k: int, out) -> list:
     """What nonlinear candidate ``k``'s paper's fit ``out`` gives: its unconfirmed neighbours apart where it
     has no nonlinear equation (:func:`_apart`), else ``out``, the averaged equations' mode
-    (:func:`_envelope_instead`) or, where both readings call it linear, its poles' mode
-    (:func:`_linear_after_all`). The fit's standard deviations are computed for a mode that is kept
-    only (:func:`~.band_fit.with_uncertainty`); where that fails, the fit failed (as if inside it: the
-    decay fit's values instead, :func:`_linear_instead`)."""
+    (:func:`_envelope_instead`) or, where both readings call it linear, its poles' mode (:func:`_doubtful`,
+    :func:`_agreeing_poles`). The fit's standard deviations are computed for a mode that is kept only
+    (:func:`~.band_fit.with_uncertainty`); where that fails, the fit failed (as if inside it: the decay
+    fit's values instead, :func:`_linear_instead`)."""
     if "unconfirmed" in state.candidates[k].evidence and not _nonlinear_equation(out):
         return _apart(state, k)
     kept = _envelope_instead(state, k, out)
     if kept is out:
-        if _linear_after_all(state, k, out):
+        if _doubtful(state, k, out) and not _nonlinear_equation(out):  # both readings call it linear
             return [(k, linear_mode(state, k) or out)]
         done = with_uncertainty(out, state.index)
         if done is not out:  # the standard deviations failed: the fit failed
             return _kept(state, k, _linear_instead(state, k, f"the paper's fit gave no mode ({done.reason})"))
+        return [(k, _agreeing_poles(state, k, out) or out)]
     return [(k, kept)]
 
 
-def _linear_after_all(state, k: int, out) -> bool:
-    """Whether the paper's fit of a single component that the linear decay explains gave an equation
-    without nonlinear terms (a candidate sent to it because its frequency's change with amplitude was
-    doubtful): both readings then call the mode linear, and its poles' values, the sharper reading with
+def _doubtful(state, k: int, out) -> bool:
+    """Whether ``out`` is the paper's fit of a single component that the linear decay explains (a candidate
+    sent to it because its frequency's change with amplitude was doubtful). Where its equation has no
+    nonlinear terms, both readings call the mode linear, and its poles' values, the sharper reading with
     their calibrated standard deviations, are its answer, as for any linear mode."""
     cand = state.candidates[k]
-    return (isinstance(out, Mode) and out.source == "equation" and not _nonlinear_equation(out)
-            and cand.explained and len(_members(state, k)) == 1)
+    return (isinstance(out, Mode) and out.source == "equation" and cand.explained
+            and len(_members(state, k)) == 1)
+
+
+def _agreeing_poles(state, k: int, out) -> Mode | None:
+    """Its poles' mode where a doubtful candidate's (:func:`_doubtful`) free decay did not show the change
+    beyond doubt (not :attr:`~._envelope.AmplitudeDependence.nonlinear`) and its equation's small-amplitude
+    frequency and damping ratio agree with its poles' within :data:`~._envelope.DOUBT_SIGMAS` of their
+    combined standard deviations: the nonlinear terms a weak band's sweep keeps then move nothing that the
+    linear decay does not say within what the fit can tell, and both readings call the mode linear, as
+    where the equation has no such terms. Else None."""
+    e = state.candidates[k].evidence.get("amplitude_dependence")
+    if not _doubtful(state, k, out) or e is None or e.nonlinear:
+        return None
+    poles = linear_mode(state, k)
+    if poles is None:
+        return None
+    pairs = ((out.frequency_hz, out.frequency_std_hz, poles.frequency_hz, poles.frequency_std_hz),
+             (out.damping_ratio, out.damping_ratio_std, poles.damping_ratio, poles.damping_ratio_std))
+    agree = all(abs(a - b) <= DOUBT_SIGMAS * np.hypot(sa, sb) for a, sa, b, sb in pairs)
+    return poles if agree else None
 
 
 def _envelope_instead(state, k: int, out):
