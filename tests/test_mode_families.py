@@ -129,3 +129,23 @@ def test_harmonic_snr_sees_the_quadratic_springs_second_harmonic():
     linear = {k: v for k, v in cfg.items() if k != "quadratic_stiffness"}
     with_harmonic = mf.harmonic_snr_db(impact_record(**cfg), 2)
     assert with_harmonic > 15 and with_harmonic > mf.harmonic_snr_db(impact_record(**linear), 2) + 15
+
+
+def test_the_nonlinear_bound_shrinks_with_the_noise_and_matches_the_linear_one_without_the_element():
+    """Family g's Cramer-Rao bound (benchmarks/accuracy/family_bounds.py) from the generator's own
+    parameters: ten times the noise, ten times the standard deviations; with no nonlinear element it is the
+    damped-sinusoid bound of the linear families (the phase is known to it, so it is not above that one)."""
+    fb = helper("accuracy.bounds")
+    config = dict(frequencies_hz=[50.0, 120.0], damping_ratios=[0.01, 0.005], amplitudes=[1.0, 0.5],
+                  fs=1000.0, duration=1.0, sensor="displacement", snr_db=40.0, random_state=1,
+                  cubic_stiffness=2e8)
+    f40, z40 = fb.nonlinear_bound(config)
+    f20, z20 = fb.nonlinear_bound(dict(config, snr_db=20.0))
+    assert np.all(f40 > 0) and np.all(z40 > 0)
+    np.testing.assert_allclose(f20 / f40, 10.0, rtol=0.05)
+    np.testing.assert_allclose(z20 / z40, 10.0, rtol=0.05)
+    linear = dict(config, cubic_stiffness=0.0)
+    f_nl, z_nl = fb.nonlinear_bound(linear)
+    f_lin, z_lin = fb.bound(impact_record(**linear))
+    assert np.all(f_nl <= f_lin * 1.01) and np.all(z_nl <= z_lin * 1.01)
+    assert np.all(f_nl >= 0.3 * f_lin) and np.all(z_nl >= 0.3 * z_lin)
