@@ -148,13 +148,14 @@ def test_a_doubtful_mode_whose_equation_agrees_with_its_poles_takes_their_values
 
     base = three_modes[1].modes[0]
     poles = replace(base, source="poles", frequency_hz=100.0, frequency_std_hz=0.01, damping_ratio=0.01,
-                    damping_ratio_std=1e-4)
+                    damping_ratio_std=1e-4)  # the candidate's values, as linear_mode reports them
     monkeypatch.setattr(identify, "linear_mode", lambda state, k: poles)
     monkeypatch.setattr(identify, "_nonlinear_equation", lambda out: True)
 
     def case(frequency=100.4, frequency_std=0.6, damping=0.0102, damping_std=0.002, explained=True,
              nonlinear=False):
-        cand = SimpleNamespace(explained=explained, kind=Kind.NONLINEAR, parent=None,
+        cand = SimpleNamespace(explained=explained, kind=Kind.NONLINEAR, parent=None, frequency_hz=100.0,
+                               frequency_std_hz=0.01, damping_ratio=0.01, damping_ratio_std=1e-4,
                                evidence={"amplitude_dependence": SimpleNamespace(nonlinear=nonlinear)})
         state = SimpleNamespace(candidates=[cand], index=0)
         out = replace(base, source="equation", frequency_hz=frequency, frequency_std_hz=frequency_std,

@@ -38,13 +38,24 @@ def true_parameters(rec, tau: np.ndarray, clean: np.ndarray) -> np.ndarray:
     return np.append(np.ravel(rows), coef[0])
 
 
+def _clean(rec) -> np.ndarray:
+    """The clean record's free decay (channel 0)."""
+    clean = rec.y_clean if rec.y_clean.ndim == 1 else rec.y_clean[:, 0]
+    return clean[rec.free_decay_index:]
+
+
+def _standard_deviations(J: np.ndarray, rec) -> np.ndarray:
+    """Square roots of the diagonal of the inverse Fisher information ``J^T J / sigma^2`` (the record's noise
+    of channel 0)."""
+    sigma = float(np.atleast_1d(rec.noise_std)[0])
+    return np.sqrt(np.clip(np.diag(np.linalg.pinv(J.T @ J / sigma**2)), 0, None))
+
+
 def bound(rec) -> tuple[np.ndarray, np.ndarray]:
     """Cramer-Rao standard deviations of each mode's frequency and damping ratio (channel 0)."""
-    start = rec.free_decay_index
-    clean = rec.y_clean if rec.y_clean.ndim == 1 else rec.y_clean[:, 0]
-    sigma = float(np.atleast_1d(rec.noise_std)[0])
-    tau = (np.arange(clean.size - start)) / rec.fs
-    theta = true_parameters(rec, tau, clean[start:])
+    clean = _clean(rec)
+    tau = np.arange(clean.size) / rec.fs
+    theta = true_parameters(rec, tau, clean)
     J = np.empty((tau.size, theta.size))
     for k in range(theta.size):
         h = 1e-6 * max(abs(theta[k]), 1e-12)
@@ -52,15 +63,19 @@ def bound(rec) -> tuple[np.ndarray, np.ndarray]:
         up[k] += h
         down[k] -= h
         J[:, k] = (free_decay(up, tau) - free_decay(down, tau)) / (2 * h)
-    crb = np.linalg.pinv(J.T @ J / sigma**2)
-    sd = np.sqrt(np.clip(np.diag(crb)[:-1].reshape(-1, 4), 0, None))
+    sd = _standard_deviations(J, rec)[:-1].reshape(-1, 4)
     return sd[:, 0], sd[:, 1]
 
 
-def _clean_free_decay(config: dict) -> np.ndarray:
-    rec = impact_record(**config)
-    clean = rec.y_clean if rec.y_clean.ndim == 1 else rec.y_clean[:, 0]
-    return clean[rec.free_decay_index:]
+def _moved(config: dict, key: str, i: int | None, value: float) -> dict:
+    """``config`` with ``config[key]`` (its ``i``-th value where given) set to ``value``."""
+    moved = dict(config)
+    if i is None:
+        moved[key] = value
+    else:
+        moved[key] = list(config[key])
+        moved[key][i] = value
+    return moved
 
 
 def nonlinear_bound(config: dict) -> tuple[np.ndarray, np.ndarray]:
@@ -68,24 +83,15 @@ def nonlinear_bound(config: dict) -> tuple[np.ndarray, np.ndarray]:
     of :func:`impact_record` with a nonlinear element (channel 0): its parameters are each mode's
     frequency, damping ratio and amplitude, the element's nonzero coefficients and the offset."""
     rec = impact_record(**config)
-    sigma = float(np.atleast_1d(rec.noise_std)[0])
     n_modes = len(config["frequencies_hz"])
     names = [(key, i) for key in ("frequencies_hz", "damping_ratios", "amplitudes") for i in range(n_modes)]
     names += [(key, None) for key in ELEMENT if config.get(key, 0.0)]
-    base = _clean_free_decay(config)
-    J = np.empty((base.size, len(names) + 1))
+    J = np.empty((_clean(rec).size, len(names) + 1))
     for k, (key, i) in enumerate(names):
-        value = config[key][i] if i is not None else config[key]
+        value = float(config[key] if i is None else config[key][i])
         h = 1e-6 * abs(value)
-        columns = []
-        for step in (h, -h):
-            moved = {**config, key: float(value + step)}
-            if i is not None:
-                moved[key] = list(config[key])
-                moved[key][i] = float(value + step)
-            columns.append(_clean_free_decay(moved))
-        J[:, k] = (columns[0] - columns[1]) / (2 * h)
+        up, down = (_clean(impact_record(**_moved(config, key, i, value + s))) for s in (h, -h))
+        J[:, k] = (up - down) / (2 * h)
     J[:, -1] = 1.0  # the offset
-    crb = np.linalg.pinv(J.T @ J / sigma**2)
-    sd = np.sqrt(np.clip(np.diag(crb), 0, None))
+    sd = _standard_deviations(J, rec)
     return sd[:n_modes], sd[n_modes:2 * n_modes]

@@ -159,16 +159,15 @@ def _agreeing_poles(state, k: int, out) -> Mode | None:
     combined standard deviations: the nonlinear terms a weak band's sweep keeps then move nothing that the
     linear decay does not say within what the fit can tell, and both readings call the mode linear, as
     where the equation has no such terms. Else None."""
-    e = state.candidates[k].evidence.get("amplitude_dependence")
+    cand = state.candidates[k]
+    e = cand.evidence.get("amplitude_dependence")
     if not _doubtful(state, k, out) or e is None or e.nonlinear:
         return None
-    poles = linear_mode(state, k)
-    if poles is None:
-        return None
-    pairs = ((out.frequency_hz, out.frequency_std_hz, poles.frequency_hz, poles.frequency_std_hz),
-             (out.damping_ratio, out.damping_ratio_std, poles.damping_ratio, poles.damping_ratio_std))
+    # the poles' values are the candidate's (:func:`~.linear.linear_mode`): its mode is built only if kept
+    pairs = ((out.frequency_hz, out.frequency_std_hz, cand.frequency_hz, cand.frequency_std_hz),
+             (out.damping_ratio, out.damping_ratio_std, cand.damping_ratio, cand.damping_ratio_std))
     agree = all(abs(a - b) <= DOUBT_SIGMAS * np.hypot(sa, sb) for a, sa, b, sb in pairs)
-    return poles if agree else None
+    return linear_mode(state, k) if agree else None
 
 
 def _envelope_instead(state, k: int, out):
