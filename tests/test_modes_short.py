@@ -153,3 +153,37 @@ def test_free_decay_states_keep_the_pole():
     (k, c), *_ = np.linalg.lstsq(-x[inner], x_dot[inner, 1], rcond=None)
     assert np.sqrt(k) == pytest.approx(w, rel=5e-3)
     assert c / (2 * np.sqrt(k)) == pytest.approx(zeta, rel=1e-2)
+
+
+def _notes(rec):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        survey = identify_modes(rec.y, fs=rec.fs)
+    return survey, [str(w.message) for w in caught]
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_a_clean_short_record_without_pre_trigger_is_not_called_noisy(seed):
+    # 5,446 samples at 50 kHz, three modes 47-58 dB over the noise and no pre-trigger to measure it by: the
+    # noise is the one the decay fit leaves, not the spectrum's floor standing on the modes' skirts
+    rec = impact_record([804.0, 2400.0, 4800.0], [0.01, 0.005, 0.006], fs=50000, duration=0.11,
+                        pre_trigger=0.005, sensor="acceleration", snr_db=40, random_state=seed)
+    survey, said = _notes(rec)
+    assert len(survey.modes) == 3 and not any("noise" in s for s in said)
+    quality = survey.preprocessing[0].quality
+    assert quality.noise_measured and 25 < quality.snr_db < 40
+
+
+def test_a_noisy_short_record_without_pre_trigger_is_still_called_noisy():
+    rec = impact_record([804.0, 2400.0], [0.01, 0.005], fs=50000, duration=0.11, pre_trigger=0.005,
+                        sensor="acceleration", snr_db=12, random_state=0)
+    _, said = _notes(rec)
+    assert any("low signal-to-noise ratio" in s for s in said)
+
+
+def test_a_repaired_clipping_is_said_once():
+    rec = impact_record([804.0, 2400.0, 4800.0], [0.01, 0.005, 0.006], fs=50000, duration=0.11,
+                        pre_trigger=0.005, sensor="acceleration", snr_db=40, clip=0.6, random_state=0)
+    _, said = _notes(rec)
+    saturated = [s for s in said if "saturated" in s]
+    assert len(saturated) == 1 and "repaired" in saturated[0] and not any("drop them" in s for s in said)

@@ -122,3 +122,31 @@ def test_snr_without_pre_trigger_uses_the_peaks_floor():
     y = add_noise(x, 40, random_state=2)
     report = check_quality(y, FS, peaks=spectral_peaks(y, FS))
     assert report.snr_db == pytest.approx(40, abs=1.5)
+
+
+def test_snr_without_pre_trigger_is_bounded_by_the_tail_where_the_floor_stands_on_the_modes():
+    # a short hammer record of strongly ringing modes (5,446 samples at 50 kHz, 40 dB): the spectrum's floor
+    # stands on their skirts, above the whole ring-down's power; the decay's quiet last tenth bounds the noise
+    from sindy_impulse import impact_record
+    from sindy_impulse.preprocessing.pipeline import prepare_record
+
+    rec = impact_record([804.0, 2400.0, 4800.0], [0.01, 0.005, 0.006], fs=50000, duration=0.11,
+                        pre_trigger=0.005, sensor="acceleration", snr_db=40, random_state=0)
+    pre, raw = prepare_record(rec.y, fs=rec.fs)
+    ring = pre.y[pre.impact.ringdown_index:]
+    peaks = spectral_peaks(ring, rec.fs, refine=False)
+    report = check_quality(raw, rec.fs, onset_index=pre.impact.onset_index, peaks=peaks)
+    floor = np.sum(peaks.spectrum.floor) * peaks.spectrum.frequency_hz[1]
+    assert floor > np.mean(ring**2)  # what the floor alone would say: no signal above the noise
+    assert "snr" not in report.problems and 25 < report.snr_db < 40
+    assert not report.noise_measured
+
+
+def test_the_snr_measured_again_words_its_problem_again():
+    t, y = record(MODES, noise=0.2)
+    report = check_quality(y, FS, onset_index=1000)
+    assert report.noise_measured and "snr" in report.problems
+    better = report.with_snr(35.0)
+    assert better.snr_db == 35.0 and "snr" not in better.problems and better.noise_measured
+    assert better.with_snr(5.0).problems["snr"].startswith("low signal-to-noise ratio (5.0 dB)")
+    assert better.offset_ratio == report.offset_ratio and better.n_peaks == report.n_peaks

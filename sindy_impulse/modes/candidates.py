@@ -29,7 +29,7 @@ from ..poles.decay_fit import MAX_DAMPING, MISFIT_REACH, MISFIT_SHARE, fit_decay
 from ..preprocessing.partition import at_harmonic_place, peak_bands, resolved
 from ..preprocessing.peaks import SpectralPeaks, spectral_peaks
 from ..preprocessing.pipeline import prepare_record
-from ..preprocessing.quality import check_quality
+from ..preprocessing.quality import check_quality, ringdown_snr_db
 from ..preprocessing.spectrum import detection_threshold_db, search_range
 from ._clipped import clipping_report
 from .kinds import Kind
@@ -155,10 +155,13 @@ def read_record(state) -> None:
     quality = check_quality(raw, pre.fs, onset_index=pre.impact.onset_index, peaks=peaks)
     state.pre, state.raw = replace(pre, peaks=peaks, quality=quality), raw
     state.start = decay_start(state.pre)
-    for check, problem in quality.problems.items():
-        if check != "offset":  # removed here
-            state.note(problem)
     clipped, products = clipping_report(state.pre, state.index)
+    # the offset is removed here, the clipping's note says what was done with it, and the SNR is judged
+    # where the noise is known (fit_candidates: the modes' residual, where no pre-trigger measured it)
+    held = {"offset", "snr"} | ({"clipping"} if clipped else set())
+    for check, problem in quality.problems.items():
+        if check not in held:
+            state.note(problem)
     state.notes += clipped
     state.rejected += products
     if pre.impact.double_hit:
@@ -343,12 +346,26 @@ def fit_candidates(state) -> None:
     spectrum = pre.peaks.spectrum if fit is None else _floored(pre.peaks.spectrum, fit)
     peaks = replace(pre.peaks, spectrum=spectrum)
     state.pre = replace(pre, peaks=_as_peaks(state.candidates, peaks, threshold, fs, given))
+    _signal_to_noise(state)
     state.decide(f"{len(state.candidates)} candidate(s) over {threshold:.1f} dB after {rounds} round(s): "
                  + ", ".join(f"{c.frequency_hz:.5g} Hz ({c.height_db:.0f} dB)" for c in state.candidates))
     if state.hidden:
         hidden = ", ".join(f"{c.frequency_hz:.5g} Hz ({c.height_db:.0f} dB)" for c in state.hidden)
         state.decide(f"{len(state.hidden)} stable pole(s) of no candidate fitted as hidden component(s), "
                      f"removed from the modes' signals: {hidden}")
+
+
+def _signal_to_noise(state) -> None:
+    """The record's SNR note: where no pre-trigger measured the noise, the SNR is measured again against
+    the noise the decay fit leaves (the upper bounds read off a short ring-down of strong modes stand on
+    the modes themselves: a clean record would read as one with no signal above the noise)."""
+    quality, fit = state.pre.quality, state.fit
+    if not quality.noise_measured and fit is not None and np.isfinite(fit.noise_rms) and fit.noise_rms > 0:
+        ring = state.pre.y[state.pre.impact.ringdown_index:]
+        quality = quality.with_snr(ringdown_snr_db(ring, state.pre.fs, noise_rms=fit.noise_rms))
+        state.pre = replace(state.pre, quality=quality)
+    if "snr" in quality.problems:
+        state.note(quality.problems["snr"])
 
 
 def _with_hidden(fit, ring: np.ndarray, fs: float, table, noise, threshold_db: float):

@@ -107,6 +107,14 @@ class DecayFit:
         return int(self.frequency_hz.size)
 
     @property
+    def noise_rms(self) -> float:
+        """Standard deviation in time of the noise floor :attr:`noise_power` (of the first channel): what
+        the fitted modes leave, integrated over frequency (Parseval)."""
+        if self.noise_power is None or self.n_samples < 2:
+            return float("nan")
+        return float(np.sqrt(2.0 * np.sum(self.noise_power[1:]) / self.n_samples**2))
+
+    @property
     def damped_frequency_hz(self) -> np.ndarray:
         """``frequency_hz * sqrt(1 - damping_ratio**2)``."""
         return self.frequency_hz * np.sqrt(np.maximum(1.0 - self.damping_ratio**2, 0.0))

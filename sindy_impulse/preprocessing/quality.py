@@ -24,7 +24,7 @@ together.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from numbers import Integral, Real
 
 import numpy as np
@@ -221,6 +221,11 @@ class QualityReport:
     problems : dict
         One sentence per check past its limit (:data:`LIMITS`), saying what to do, keyed by check:
         ``"offset"``, ``"clipping"``, ``"quantisation"``, ``"snr"``, ``"no_ringdown"``.
+    noise_measured : bool
+        Whether the SNR's noise was measured (on a pre-trigger of :data:`PRE_TRIGGER_SAMPLES` samples or
+        more, or given: :meth:`with_snr`); False where it is an upper bound read off the ring-down itself
+        (its spectrum's floor, its last tenth), which on a short record of strong modes stands on the modes
+        and makes the SNR too low.
     """
 
     offset_ratio: float
@@ -231,6 +236,24 @@ class QualityReport:
     decay_db: float
     n_peaks: int
     problems: dict
+    noise_measured: bool = True
+
+    def with_snr(self, snr_db: float) -> QualityReport:
+        """The report with the SNR measured against a better noise estimate (e.g. the residual of the
+        modes fitted to the ring-down), its problems worded again.
+
+        Examples
+        --------
+        >>> t = np.arange(150) / 1000
+        >>> noise = 1e-4 * np.random.default_rng(0).normal(size=150)
+        >>> y = np.exp(-40 * t) * np.sin(2 * np.pi * 60 * t) + noise
+        >>> report = check_quality(y, 1000.0)
+        >>> report.noise_measured, "snr" in report.with_snr(45.0).problems
+        (False, False)
+        """
+        problems = _problems(self.offset_ratio, self.clipped, self.relative_step, snr_db, self.decay_db,
+                             self.n_peaks)
+        return replace(self, snr_db=float(snr_db), problems=problems, noise_measured=True)
 
     @property
     def ringdown_found(self) -> bool:
@@ -267,16 +290,26 @@ def _problems(offset, clipped, relative_step, snr, decay, n_peaks) -> dict:
     return out
 
 
-def _noise_rms(pre: np.ndarray, peaks: SpectralPeaks | None) -> float | None:
-    """Noise standard deviation: robust, of the pre-trigger (32 samples or more), else from the floor of
-    the peaks' spectrum (the residual of the modes' fit) when there is one; None to estimate it."""
-    if pre.size >= 32:
+#: Fewest pre-trigger samples whose spread measures the noise.
+PRE_TRIGGER_SAMPLES = 32
+
+
+def _noise_rms(pre: np.ndarray, peaks: SpectralPeaks | None, ring: np.ndarray) -> tuple[float | None, bool]:
+    """Noise standard deviation and whether it was measured: robust, of the pre-trigger
+    (:data:`PRE_TRIGGER_SAMPLES` or more); else, where the peaks' spectrum has a floor, the smaller of the
+    two upper bounds :func:`ringdown_snr_db` takes (that floor integrated over frequency, which stands on
+    the skirts of strong modes in a short record, and the mean square of the ring-down's last tenth);
+    None to estimate it."""
+    if pre.size >= PRE_TRIGGER_SAMPLES:
         noise = 1.4826 * float(np.median(np.abs(pre - np.median(pre))))
-        return noise or None
+        if noise > 0:
+            return noise, True
     if peaks is not None and np.isfinite(peaks.threshold_db):
         spectrum = peaks.spectrum
-        return float(np.sqrt(np.sum(spectrum.floor) * spectrum.frequency_hz[1])) or None
-    return None
+        floor = float(np.sum(spectrum.floor) * spectrum.frequency_hz[1])
+        tail = float(np.mean(ring[int(0.9 * ring.size):] ** 2))
+        return float(np.sqrt(min(floor, tail))) or None, False
+    return None, False
 
 
 def check_quality(y, fs: float, *, onset_index: int = 0, peaks: SpectralPeaks | None = None) -> QualityReport:
@@ -316,7 +349,9 @@ def check_quality(y, fs: float, *, onset_index: int = 0, peaks: SpectralPeaks | 
     amplitude = max(float(np.max(np.abs(ring))), np.finfo(float).tiny)
     clipped = clipping_mask(arr)
     step = quantisation_step(arr)
-    snr, decay = ringdown_snr_db(ring, rate, noise_rms=_noise_rms(arr[:onset_index], peaks)), decay_db(ring)
+    noise, measured = _noise_rms(arr[:onset_index], peaks, ring)
+    snr, decay = ringdown_snr_db(ring, rate, noise_rms=noise), decay_db(ring)
     n_peaks = len(spectral_peaks(ring, rate) if peaks is None else peaks)
     problems = _problems(offset.relative, clipped, step / amplitude, snr, decay, n_peaks)
-    return QualityReport(offset.relative, clipped, step, step / amplitude, snr, decay, n_peaks, problems)
+    return QualityReport(offset.relative, clipped, step, step / amplitude, snr, decay, n_peaks, problems,
+                         measured)
