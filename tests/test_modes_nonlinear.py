@@ -533,3 +533,52 @@ def test_a_nonlinear_mode_found_by_its_pieces_is_removed_by_its_own_free_decays_
     weak = min(found.modes, key=lambda m: abs(m.frequency_hz - 269.1))
     assert abs(weak.frequency_hz / 269.14048426677795 - 1) < 3e-3
     assert len(found.modes) == 3
+
+
+_STRONG_CHIRPS = {
+    # a hardening spring moving the frequency 5.9 % over the decay: one candidate at 419.7 Hz, which neither
+    # its linear decay nor the first-order averaged equations describe (reported from its poles, 5 % high)
+    "hardening": (dict(frequencies_hz=[399.44270318215644], damping_ratios=[0.0011597906765431736],
+                       amplitudes=[1.0], fs=10000.0, duration=1.9257, sensor="velocity",
+                       pre_trigger=0.037200695933014914, offset=1.1813921964639962,
+                       snr_db=35.125100416582896, random_state=1906004012,
+                       cubic_stiffness=8589796198464.558), 399.443, 0.00116),
+    # a softening one, its chirp in pieces: 82.2 Hz and 85.6 Hz reported, neither its 86.18 Hz
+    "softening": (dict(frequencies_hz=[86.17670491403949], damping_ratios=[0.001996084248083358],
+                       amplitudes=[1.0], fs=5000.0, duration=1.2624, sensor="acceleration",
+                       pre_trigger=0.009077156192738123, offset=0.45782362672982024,
+                       snr_db=49.92124538722315, random_state=16201863,
+                       cubic_stiffness=-4376684588759502.5), 86.177, 0.002),
+}
+
+
+@pytest.mark.parametrize("kind", sorted(_STRONG_CHIRPS))
+def test_a_strong_chirp_that_neither_cheap_reading_describes_gets_the_papers_fit(kind):
+    config, f, zeta = _STRONG_CHIRPS[kind]
+    found = _survey(impact_record(**config))
+    assert len(found.modes) == 1
+    mode = found.modes[0]
+    assert mode.source in ("equation", "envelope") and mode.frequency_hz == pytest.approx(f, rel=3e-3)
+    assert mode.damping_ratio == pytest.approx(zeta, rel=0.1)
+    assert any("harmonic 3" in r.reason for r in found.rejected)
+
+
+def test_what_makes_a_candidate_an_undescribed_chirp():
+    from sindy_impulse.modes._envelope import AmplitudeDependence
+    from sindy_impulse.modes.classify import _undescribed
+
+
+    def cand(explained=False, lack_of_fit=2000.0):
+        return types.SimpleNamespace(explained=explained, lack_of_fit=lack_of_fit, frequency_hz=420.0,
+                                     damping_ratio=0.005)
+
+    def reading(misfit=8.0, f0=400.0):
+        return AmplitudeDependence(0.059, 0.0001, 0.0, 0.01, (0.9, 0.01),
+                                   (2 * np.pi * f0, 180.0, 3.0, 0.0), (0.1, 1.0, 0.1, 0.1), misfit=misfit)
+
+    assert _undescribed(cand(), reading())
+    assert not _undescribed(cand(explained=True), reading())  # its linear decay describes it
+    assert not _undescribed(cand(), reading(misfit=2.0))  # the averaged equations describe it: nonlinear
+    assert not _undescribed(cand(lack_of_fit=100.0), reading())  # both readings about as far off
+    assert not _undescribed(cand(), reading(f0=419.0))  # small-amplitude frequency within its band
+    assert not _undescribed(cand(), None)

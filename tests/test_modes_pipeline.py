@@ -169,6 +169,34 @@ def test_a_doubtful_mode_whose_equation_agrees_with_its_poles_takes_their_values
     assert case(nonlinear=True) is None and case(explained=False) is None
 
 
+def test_an_undescribed_chirp_whose_equation_is_linear_keeps_its_poles(three_modes, monkeypatch):
+    """A candidate sent to the paper's fit because neither cheap reading described it: an equation without
+    nonlinear terms calls it linear after all, and its poles' mode is its answer; a nonlinear equation
+    stands."""
+    from dataclasses import replace
+    from types import SimpleNamespace
+
+    from sindy_impulse.modes import identify
+
+    base = three_modes[1].modes[0]
+    poles = replace(base, source="poles", frequency_hz=100.0)
+    monkeypatch.setattr(identify, "linear_mode", lambda state, k: poles)
+    monkeypatch.setattr(identify, "with_uncertainty", lambda out, index: out)
+
+    def case(nonlinear_terms: bool, undescribed=True):
+        monkeypatch.setattr(identify, "_nonlinear_equation", lambda out: nonlinear_terms)
+        e = SimpleNamespace(nonlinear=False)
+        cand = SimpleNamespace(explained=False, kind=Kind.NONLINEAR, parent=None, frequency_hz=100.0,
+                               evidence={"amplitude_dependence": e, "undescribed": undescribed})
+        state = SimpleNamespace(candidates=[cand], index=0)
+        out = replace(base, source="equation", frequency_hz=96.0)
+        return identify._kept(state, 0, out)[0][1]
+
+    assert case(False) is poles
+    assert case(True).frequency_hz == 96.0 and case(True).source == "equation"
+    assert case(False, undescribed=False).frequency_hz == 96.0  # not sent for that: its equation stands
+
+
 def test_kinds_and_reasons_have_words():
     assert all(k.words for k in Kind) and all(r.words for r in Reason)
     assert Reason("tone") is Reason.TONE

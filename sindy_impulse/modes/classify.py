@@ -22,6 +22,8 @@ The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence;
   is in its free decay, read again with the nonlinear candidates removed by their own averaged equations
   and their squared amplitudes moving it too (a nonlinear mode's chirp, left by its linear decay, hides
   how a weak mode coupled to it moves: :func:`_beside_nonlinear`);
+  or a strong chirp that neither reading describes, the averaged equations far closer than the linear
+  decay and putting its small-amplitude frequency outside its half-power band (:func:`_undescribed`);
   or that makes a harmonic. The paper's sweep and refinement identify its equation (and where they miss
   the dependence its free decay shows, the averaged equations fitted there stand:
   :func:`~.linear.envelope_mode`). (A significant misfit alone is common on real records at 60-70 dB: a
@@ -61,6 +63,9 @@ TONE_SIGMAS = 3.0
 TONE_DECAY = 3.0
 #: ... or whose amplitude before the hit is at least this share of its amplitude after it.
 TONE_SHARE = 0.5
+#: Largest share of its linear decay's misfit (the square root of its lack of fit: both over the noise)
+#: that the averaged equations of a chirp leave (:func:`_undescribed`).
+CHIRP_MISFIT = 0.5
 #: Fewest periods of a component in the pre-trigger for its amplitude there to be read.
 _PRE_PERIODS = 4.0
 
@@ -293,6 +298,11 @@ def _amplitude_dependent(state) -> None:
         if _depends(c, e):
             c.kind = Kind.NONLINEAR
     _beside_nonlinear(state, linear)
+    for k in linear:  # what the second look left undescribed: the paper's fit decides
+        c = cands[k]
+        if c.kind is Kind.LINEAR and _undescribed(c, c.evidence.get("amplitude_dependence")):
+            c.kind = Kind.NONLINEAR
+            c.evidence["undescribed"] = True
 
 
 def _free_decay_dependence(state, k: int, correction: np.ndarray | None = None, neighbours=()):
@@ -306,6 +316,24 @@ def _free_decay_dependence(state, k: int, correction: np.ndarray | None = None, 
         y = y + correction[:stop]
     return decay_dependence(y, fs, complex(c.amplitude[0]), c.decay_rate, c.damped_frequency_hz, c.noise_std,
                             _squared_amplitudes(state, neighbours))
+
+
+def _undescribed(cand, e) -> bool:
+    """Whether a candidate is a strong oscillator's chirp that neither cheap reading describes: its linear
+    decay leaves a misfit (not :attr:`~.candidates.Candidate.explained`), the averaged equations of its decay
+    leave one too (over :data:`~._envelope.ENVELOPE_MISFIT`: a frequency that moves by several per cent
+    goes beyond their first order) but at most :data:`CHIRP_MISFIT` of the linear decay's (they follow
+    the chirp the linear decay averages over), and they put its small-amplitude frequency outside its
+    linear decay's half-power band (the linear decay's frequency, an average over the amplitudes, is then
+    not the mode's). The paper's fit decides; where its equation has no nonlinear terms the mode is linear
+    and its poles stand. (A real structure's mode that no sum of damped sinusoids describes exactly leaves
+    both readings about as far off, or puts the small-amplitude frequency within its band.)"""
+    if e is None or cand.explained or e.misfit <= ENVELOPE_MISFIT or len(e.coefficients) != 4:
+        return False
+    w0, _, s0, _ = e.coefficients
+    small = np.hypot(w0, s0) / (2 * np.pi)
+    outside = abs(small - cand.frequency_hz) > cand.damping_ratio * cand.frequency_hz
+    return bool(outside and e.misfit <= CHIRP_MISFIT * np.sqrt(cand.lack_of_fit))
 
 
 def _depends(cand, e) -> bool:

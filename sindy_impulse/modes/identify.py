@@ -133,8 +133,8 @@ def _kept(state, k: int, out) -> list:
         return _apart(state, k)
     kept = _envelope_instead(state, k, out)
     if kept is out:
-        if _doubtful(state, k, out) and not _nonlinear_equation(out):  # both readings call it linear
-            return [(k, linear_mode(state, k) or out)]
+        if (_doubtful(state, k, out) or _undescribed(state, k, out)) and not _nonlinear_equation(out):
+            return [(k, linear_mode(state, k) or out)]  # both readings call it linear
         done = with_uncertainty(out, state.index)
         if done is not out:  # the standard deviations failed: the fit failed
             return _kept(state, k, _linear_instead(state, k, f"the paper's fit gave no mode ({done.reason})"))
@@ -150,6 +150,14 @@ def _doubtful(state, k: int, out) -> bool:
     cand = state.candidates[k]
     return (isinstance(out, Mode) and out.source == "equation" and cand.explained
             and len(_members(state, k)) == 1)
+
+
+def _undescribed(state, k: int, out) -> bool:
+    """Whether ``out`` is the paper's fit of a single component sent to it because neither its linear decay
+    nor its averaged equations describe it (:func:`~.classify._undescribed`). Where its equation has no
+    nonlinear terms, the mode is linear after all, and its poles' values stand."""
+    return (isinstance(out, Mode) and out.source == "equation" and len(_members(state, k)) == 1
+            and bool(state.candidates[k].evidence.get("undescribed")))
 
 
 def _agreeing_poles(state, k: int, out) -> Mode | None:
