@@ -187,3 +187,9 @@ def test_a_repaired_clipping_is_said_once():
     _, said = _notes(rec)
     saturated = [s for s in said if "saturated" in s]
     assert len(saturated) == 1 and "repaired" in saturated[0] and not any("drop them" in s for s in said)
+
+
+def test_noise_without_a_pre_trigger_is_said_to_hold_no_signal():
+    y = np.random.default_rng(0).standard_normal(5000)
+    survey, said = _notes(type("Rec", (), {"y": y, "fs": 5000.0})())
+    assert not survey.modes and any(s.startswith("record 0: no signal above the noise") for s in said)

@@ -150,3 +150,13 @@ def test_the_snr_measured_again_words_its_problem_again():
     assert better.snr_db == 35.0 and "snr" not in better.problems and better.noise_measured
     assert better.with_snr(5.0).problems["snr"].startswith("low signal-to-noise ratio (5.0 dB)")
     assert better.offset_ratio == report.offset_ratio and better.n_peaks == report.n_peaks
+
+
+def test_the_snr_measured_again_refuses_what_is_not_a_level_and_calls_a_negative_one_no_signal():
+    t, y = record(MODES, noise=0.2)
+    report = check_quality(y, FS, onset_index=1000)
+    for bad, error in (("30", TypeError), (None, TypeError), (True, TypeError), (float("nan"), ValueError)):
+        with pytest.raises(error, match="snr_db"):
+            report.with_snr(bad)
+    for quieter in (-np.inf, -11.0, 0.0):
+        assert report.with_snr(quieter).problems["snr"].startswith("no signal above the noise")

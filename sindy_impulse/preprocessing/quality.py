@@ -34,7 +34,7 @@ from ._record import check_fs, check_signal_1d
 from .offset import estimate_offset
 from .peaks import SpectralPeaks, spectral_peaks
 from .saturation import clipping_mask
-from .spectrum import ringdown_spectrum
+from .spectrum import Spectrum, ringdown_spectrum
 
 __all__ = [
     "LIMITS",
@@ -156,14 +156,17 @@ def quantisation_step(y) -> float:
     return step if np.mean(np.abs(ratio - np.round(ratio)) < 0.01) >= 0.99 else 0.0
 
 
-def ringdown_snr_db(y, fs: float, *, noise_rms: float | None = None) -> float:
+def ringdown_snr_db(y, fs: float, *, noise_rms: float | None = None,
+                    spectrum: Spectrum | None = None) -> float:
     """``10 log10(P_signal / P_noise)`` of a ring-down (from the onset, offset removed).
 
     ``P_noise`` is ``noise_rms**2`` when given (e.g. from the pre-trigger), else the smaller of the
     spectrum's noise floor integrated over frequency and the mean square of the last tenth of the
     ring-down (both upper bounds of the noise: the first under the skirts of strong modes, the second
-    while the modes still ring at the end). ``P_signal`` is the mean square minus ``P_noise``; ``-inf``
-    when the mean square does not exceed ``P_noise`` (no signal above the noise).
+    while the modes still ring at the end); ``spectrum``: the ring-down's
+    :func:`~sindy_impulse.preprocessing.ringdown_spectrum` when already computed. ``P_signal`` is the mean
+    square minus ``P_noise``; ``-inf`` when the mean square does not exceed ``P_noise`` (no signal above
+    the noise).
 
     Examples
     --------
@@ -176,8 +179,11 @@ def ringdown_snr_db(y, fs: float, *, noise_rms: float | None = None) -> float:
     arr = check_signal_1d(y, "y")
     rate = check_fs(fs)
     check_param("noise_rms", noise_rms, [None, Interval(Real, 0, None, "neither")], "ringdown_snr_db")
+    if spectrum is not None and not isinstance(spectrum, Spectrum):
+        raise TypeError(f"ringdown_snr_db: spectrum must be None or the ring-down's Spectrum "
+                        f"(ringdown_spectrum), got {type(spectrum).__name__}")
     if noise_rms is None:
-        spectrum = ringdown_spectrum(arr, rate)
+        spectrum = ringdown_spectrum(arr, rate) if spectrum is None else spectrum
         floor = float(np.sum(spectrum.floor) * (spectrum.frequency_hz[1] - spectrum.frequency_hz[0]))
         noise = min(floor, float(np.mean(arr[int(0.9 * arr.size) :] ** 2)))
     else:
@@ -251,6 +257,11 @@ class QualityReport:
         >>> report.noise_measured, "snr" in report.with_snr(45.0).problems
         (False, False)
         """
+        if isinstance(snr_db, bool) or not isinstance(snr_db, Real):
+            raise TypeError(f"QualityReport.with_snr: snr_db must be a number in dB; got {snr_db!r}")
+        if np.isnan(snr_db):
+            raise ValueError("QualityReport.with_snr: snr_db must be a number in dB (-inf: no signal above "
+                             "the noise), got nan")
         problems = _problems(self.offset_ratio, self.clipped, self.relative_step, snr_db, self.decay_db,
                              self.n_peaks)
         return replace(self, snr_db=float(snr_db), problems=problems, noise_measured=True)
@@ -281,7 +292,7 @@ def _problems(offset, clipped, relative_step, snr, decay, n_peaks) -> dict:
         out["quantisation"] = (
             f"coarse quantisation: step {relative_step:.3g} x the amplitude; use a finer input range"
         )
-    if snr == -np.inf:
+    if not snr > 0:  # (-inf: a mean square at most the noise's; under 0 dB: the ring-down is quieter)
         out["snr"] = "no signal above the noise: the ring-down is no louder than the noise; hit harder"
     elif snr < LIMITS["snr_db"]:
         out["snr"] = f"low signal-to-noise ratio ({snr:.1f} dB): expect scattered models; hit harder"
@@ -294,22 +305,12 @@ def _problems(offset, clipped, relative_step, snr, decay, n_peaks) -> dict:
 PRE_TRIGGER_SAMPLES = 32
 
 
-def _noise_rms(pre: np.ndarray, peaks: SpectralPeaks | None, ring: np.ndarray) -> tuple[float | None, bool]:
-    """Noise standard deviation and whether it was measured: robust, of the pre-trigger
-    (:data:`PRE_TRIGGER_SAMPLES` or more); else, where the peaks' spectrum has a floor, the smaller of the
-    two upper bounds :func:`ringdown_snr_db` takes (that floor integrated over frequency, which stands on
-    the skirts of strong modes in a short record, and the mean square of the ring-down's last tenth);
-    None to estimate it."""
-    if pre.size >= PRE_TRIGGER_SAMPLES:
-        noise = 1.4826 * float(np.median(np.abs(pre - np.median(pre))))
-        if noise > 0:
-            return noise, True
-    if peaks is not None and np.isfinite(peaks.threshold_db):
-        spectrum = peaks.spectrum
-        floor = float(np.sum(spectrum.floor) * spectrum.frequency_hz[1])
-        tail = float(np.mean(ring[int(0.9 * ring.size):] ** 2))
-        return float(np.sqrt(min(floor, tail))) or None, False
-    return None, False
+def _noise_rms(pre: np.ndarray) -> float | None:
+    """Noise standard deviation measured on the pre-trigger (robust; :data:`PRE_TRIGGER_SAMPLES` samples or
+    more), or None (:func:`ringdown_snr_db` then bounds it from the ring-down itself)."""
+    if pre.size < PRE_TRIGGER_SAMPLES:
+        return None
+    return 1.4826 * float(np.median(np.abs(pre - np.median(pre)))) or None
 
 
 def check_quality(y, fs: float, *, onset_index: int = 0, peaks: SpectralPeaks | None = None) -> QualityReport:
@@ -349,9 +350,10 @@ def check_quality(y, fs: float, *, onset_index: int = 0, peaks: SpectralPeaks | 
     amplitude = max(float(np.max(np.abs(ring))), np.finfo(float).tiny)
     clipped = clipping_mask(arr)
     step = quantisation_step(arr)
-    noise, measured = _noise_rms(arr[:onset_index], peaks, ring)
-    snr, decay = ringdown_snr_db(ring, rate, noise_rms=noise), decay_db(ring)
+    noise = _noise_rms(arr[:onset_index])
+    spectrum = peaks.spectrum if peaks is not None and np.isfinite(peaks.threshold_db) else None
+    snr, decay = ringdown_snr_db(ring, rate, noise_rms=noise, spectrum=spectrum), decay_db(ring)
     n_peaks = len(spectral_peaks(ring, rate) if peaks is None else peaks)
     problems = _problems(offset.relative, clipped, step / amplitude, snr, decay, n_peaks)
     return QualityReport(offset.relative, clipped, step, step / amplitude, snr, decay, n_peaks, problems,
-                         measured)
+                         noise is not None)
