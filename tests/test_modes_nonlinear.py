@@ -582,3 +582,16 @@ def test_what_makes_a_candidate_an_undescribed_chirp():
     assert not _undescribed(cand(lack_of_fit=100.0), reading())  # both readings about as far off
     assert not _undescribed(cand(), reading(f0=419.0))  # small-amplitude frequency within its band
     assert not _undescribed(cand(), None)
+
+
+def test_a_mode_found_again_from_a_broad_components_band_is_reported_once():
+    """A hardening mode with an amplitude-dependent damper (245.65 Hz): besides its own pieces, two broad
+    components (damping ratios 7 % and 19 %) make a band of their own, 53-1665 Hz, whose fit follows the
+    same mode (245.75 +- 3.1 Hz beside 245.66 +- 0.7 Hz): one mode, and a DUPLICATE row."""
+    rec = impact_record([245.64826425351256], [0.0035389711296579477], [0.11793687159674086], fs=10000.0,
+                        duration=1.2022, sensor="acceleration", pre_trigger=0.027294691266169215,
+                        offset=1.2413369479330616, snr_db=42.5043667966557, random_state=320870560,
+                        cubic_stiffness=5.8046055094219915e+19, damping_amplitude=1.5423213214695414e+16)
+    found = _survey(rec)
+    assert len(found.modes) == 1 and found.modes[0].frequency_hz == pytest.approx(245.648, rel=3e-3)
+    assert any(r.code is Reason.DUPLICATE for r in found.rejected)

@@ -197,6 +197,34 @@ def test_an_undescribed_chirp_whose_equation_is_linear_keeps_its_poles(three_mod
     assert case(False, undescribed=False).frequency_hz == 96.0  # not sent for that: its equation stands
 
 
+def test_one_mode_found_from_two_bands_is_reported_once(three_modes):
+    """Two modes closer than the wider one's half-power half-width whose frequencies agree within two
+    combined standard deviations are one mode: the more precise stands, the other is a DUPLICATE row; a
+    resolved pair, or one whose frequencies disagree beyond their standard deviations, stays two."""
+    from dataclasses import replace
+    from types import SimpleNamespace
+
+    from sindy_impulse.modes.reconcile import _found_twice
+
+    base = three_modes[1].modes[0]
+
+    def case(f2, std2=3.1, zeta=0.0035):
+        a = replace(base, frequency_hz=245.657, frequency_std_hz=0.7, damping_ratio=zeta)
+        b = replace(base, frequency_hz=f2, frequency_std_hz=std2, damping_ratio=zeta, band_hz=(52.7, 1665.0))
+        state = SimpleNamespace(modes=[b, a], origin=[3, 1], rejected=[], index=0)
+        _found_twice(state)
+        return state
+
+    twice = case(245.745)
+    assert [m.frequency_hz for m in twice.modes] == [245.657] and twice.origin == [1]
+    assert twice.rejected[0].code is Reason.DUPLICATE and twice.rejected[0].evidence["mode_hz"] == 245.657
+    assert len(case(245.745, std2=0.01).modes) == 1  # the more precise one stands, whichever it is
+    assert case(245.745, std2=0.01).modes[0].frequency_hz == 245.745
+    assert len(case(247.5).modes) == 2  # resolved: 1.84 Hz apart, half-widths 0.86 Hz
+    assert len(case(245.745, std2=0.01, zeta=0.01).modes) == 1
+    assert len(case(247.2, std2=0.1, zeta=0.01).modes) == 2  # unresolved, but 2.2 standard deviations apart
+
+
 def test_kinds_and_reasons_have_words():
     assert all(k.words for k in Kind) and all(r.words for r in Reason)
     assert Reason("tone") is Reason.TONE

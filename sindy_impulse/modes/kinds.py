@@ -61,6 +61,7 @@ class Reason(str, Enum):
     FIT_FAILED = "fit_failed"
     NO_SIGNAL = "no_signal"
     UNSUPPORTED = "unsupported"
+    DUPLICATE = "duplicate"
 
     @property
     def words(self) -> str:
@@ -77,4 +78,5 @@ _REASON_WORDS = {
     Reason.FIT_FAILED: "the identification failed",
     Reason.NO_SIGNAL: "no ring-down above the noise",
     Reason.UNSUPPORTED: "does not decay, and neither a stable pole nor a sinusoid describes it: not a mode",
+    Reason.DUPLICATE: "the same mode, found again from another component's band",
 }

@@ -14,6 +14,9 @@
 - Pieces merged into a nonlinear mode are said so in a note.
 - A mode a band's fit found outside its candidate's half-power band, nearer another candidate that has its
   own mode, is that neighbour's decay, not a second mode (:func:`_found_elsewhere`): rejected as a poor fit.
+- Two modes that no record tells apart (closer than the wider one's half-power half-width) at frequencies
+  that agree within their standard deviations are one mode found twice (:func:`_found_twice`): the more
+  precise one stands.
 """
 
 from __future__ import annotations
@@ -22,6 +25,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..preprocessing.partition import resolved
 from ._envelope import DECAY_CHANGE, DOUBT_SIGMAS, ENVELOPE_MISFIT, _missing_damping, _model_rate_change
 from ._harmonics import SIGMAS, _on_backbone, _reason, _unseen_harmonics
 from ._nonlinear import has_nonlinear_terms
@@ -37,6 +41,7 @@ def reconcile(state) -> None:
     """One answer per mode, named rejections, notes."""
     _named(state)
     _found_elsewhere(state)
+    _found_twice(state)
     _decided_by_backbones(state)
     _envelope_damping(state)
     pre = state.pre
@@ -114,6 +119,36 @@ def _found_elsewhere(state) -> None:
                     "neighbour_hz": float(cands[other].frequency_hz)}
         state.rejected.append(Rejected(mode.band_hz, why, state.index, evidence, Reason.POOR_FIT))
         drop.add(i)
+    _drop(state, drop)
+
+
+def _found_twice(state) -> None:
+    """One mode found from the bands of two candidates (a broad component beside a nonlinear mode's chirp
+    makes a band of its own, whose fit follows that mode): two modes closer than the wider one's
+    half-power half-width (:func:`~sindy_impulse.preprocessing.partition.resolved`) whose frequencies
+    agree within :data:`~._envelope.DOUBT_SIGMAS` of their combined standard deviations. The more precise
+    one stands; the other is a row saying so."""
+    drop = set()
+    order = sorted(range(len(state.modes)), key=lambda i: state.modes[i].frequency_hz)
+    for i, j in zip(order, order[1:]):
+        a, b = state.modes[i], state.modes[j]
+        if i in drop or j in drop:
+            continue
+        if resolved((a.frequency_hz, b.frequency_hz), (a.damping_ratio, b.damping_ratio)):
+            continue
+        spread = np.hypot(a.frequency_std_hz, b.frequency_std_hz)
+        if not abs(a.frequency_hz - b.frequency_hz) <= DOUBT_SIGMAS * spread:
+            continue
+        keep, other = (i, j) if a.frequency_std_hz <= b.frequency_std_hz else (j, i)
+        kept, twice = state.modes[keep], state.modes[other]
+        why = (f"a mode at {twice.frequency_hz:.6g} +- {twice.frequency_std_hz:.2g} Hz from the band "
+               f"{twice.band_hz[0]:.5g}-{twice.band_hz[1]:.5g} Hz is the mode at {kept.frequency_hz:.6g} +- "
+               f"{kept.frequency_std_hz:.2g} Hz found again (closer than its half-power half-width, within "
+               f"their standard deviations)")
+        evidence = {"frequency_hz": float(twice.frequency_hz), "mode_hz": float(kept.frequency_hz),
+                    "frequency_std_hz": float(twice.frequency_std_hz)}
+        state.rejected.append(Rejected(twice.band_hz, why, state.index, evidence, Reason.DUPLICATE))
+        drop.add(other)
     _drop(state, drop)
 
 
