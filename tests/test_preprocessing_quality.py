@@ -160,3 +160,13 @@ def test_the_snr_measured_again_refuses_what_is_not_a_level_and_calls_a_negative
             report.with_snr(bad)
     for quieter in (-np.inf, -11.0, 0.0):
         assert report.with_snr(quieter).problems["snr"].startswith("no signal above the noise")
+
+
+def test_the_snr_takes_a_spectrum_already_computed_and_refuses_anything_else():
+    t, y = record(MODES, onset=0.0, noise=1e-3)
+    from sindy_impulse.preprocessing import ringdown_spectrum
+
+    spectrum = ringdown_spectrum(y, FS)
+    assert ringdown_snr_db(y, FS, spectrum=spectrum) == pytest.approx(ringdown_snr_db(y, FS))
+    with pytest.raises(TypeError, match="spectrum"):
+        ringdown_snr_db(y, FS, spectrum=np.ones(10))

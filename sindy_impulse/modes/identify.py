@@ -125,15 +125,15 @@ def _supported(state, k: int, out):
 def _kept(state, k: int, out) -> list:
     """What nonlinear candidate ``k``'s paper's fit ``out`` gives: its unconfirmed neighbours apart where it
     has no nonlinear equation (:func:`_apart`), else ``out``, the averaged equations' mode
-    (:func:`_envelope_instead`) or, where both readings call it linear, its poles' mode (:func:`_doubtful`,
-    :func:`_agreeing_poles`). The fit's standard deviations are computed for a mode that is kept only
-    (:func:`~.band_fit.with_uncertainty`); where that fails, the fit failed (as if inside it: the decay
-    fit's values instead, :func:`_linear_instead`)."""
+    (:func:`_envelope_instead`) or, where both readings call it linear, its poles' mode
+    (:func:`_sent_on_doubt`, :func:`_agreeing_poles`). The fit's standard deviations are computed for a
+    mode that is kept only (:func:`~.band_fit.with_uncertainty`); where that fails, the fit failed (as if
+    inside it: the decay fit's values instead, :func:`_linear_instead`)."""
     if "unconfirmed" in state.candidates[k].evidence and not _nonlinear_equation(out):
         return _apart(state, k)
     kept = _envelope_instead(state, k, out)
     if kept is out:
-        if (_doubtful(state, k, out) or _undescribed(state, k, out)) and not _nonlinear_equation(out):
+        if _sent_on_doubt(state, k, out) and not _nonlinear_equation(out):
             return [(k, linear_mode(state, k) or out)]  # both readings call it linear
         done = with_uncertainty(out, state.index)
         if done is not out:  # the standard deviations failed: the fit failed
@@ -142,22 +142,25 @@ def _kept(state, k: int, out) -> list:
     return [(k, kept)]
 
 
+def _single_equation(state, k: int, out) -> bool:
+    """Whether ``out`` is an equation of the paper's fit of candidate ``k`` alone (no pieces merged)."""
+    return isinstance(out, Mode) and out.source == "equation" and len(_members(state, k)) == 1
+
+
 def _doubtful(state, k: int, out) -> bool:
     """Whether ``out`` is the paper's fit of a single component that the linear decay explains (a candidate
-    sent to it because its frequency's change with amplitude was doubtful). Where its equation has no
-    nonlinear terms, both readings call the mode linear, and its poles' values, the sharper reading with
-    their calibrated standard deviations, are its answer, as for any linear mode."""
+    sent to it because its frequency's change with amplitude was doubtful)."""
+    return _single_equation(state, k, out) and state.candidates[k].explained
+
+
+def _sent_on_doubt(state, k: int, out) -> bool:
+    """Whether ``out`` is the paper's fit of a single component sent to it on doubt: a doubtful change of
+    its frequency (:func:`_doubtful`), or neither its linear decay nor its averaged equations describing it
+    (:func:`~.classify._undescribed`). Where its equation has no nonlinear terms, both readings call the
+    mode linear, and its poles' values, the sharper reading with their calibrated standard deviations, are
+    its answer, as for any linear mode."""
     cand = state.candidates[k]
-    return (isinstance(out, Mode) and out.source == "equation" and cand.explained
-            and len(_members(state, k)) == 1)
-
-
-def _undescribed(state, k: int, out) -> bool:
-    """Whether ``out`` is the paper's fit of a single component sent to it because neither its linear decay
-    nor its averaged equations describe it (:func:`~.classify._undescribed`). Where its equation has no
-    nonlinear terms, the mode is linear after all, and its poles' values stand."""
-    return (isinstance(out, Mode) and out.source == "equation" and len(_members(state, k)) == 1
-            and bool(state.candidates[k].evidence.get("undescribed")))
+    return _single_equation(state, k, out) and (cand.explained or bool(cand.evidence.get("undescribed")))
 
 
 def _agreeing_poles(state, k: int, out) -> Mode | None:
