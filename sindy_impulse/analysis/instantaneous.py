@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import fft, ndimage, signal
 
+from .._utils.robust import robust_std
 from ..exceptions import DataWarning
 
 #: Periods dropped at each end of the record (Hilbert transform end effects).
@@ -154,7 +155,7 @@ def _noise_level(y: np.ndarray, ln_a: np.ndarray, phase: np.ndarray, window: int
     smooth_phase, _ = _local_fit(phase, window, dt)
     envelope = np.exp(smooth_ln_a)
     residual = y[h : len(y) - h] - envelope * np.cos(smooth_phase)
-    return 1.4826 * float(np.median(np.abs(residual - np.median(residual)))), envelope
+    return robust_std(residual), envelope
 
 
 def _window_periods(envelope: np.ndarray, dt: float, w0: float, n_periods: float) -> tuple[float, float]:

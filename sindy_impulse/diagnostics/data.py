@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._utils.robust import robust_std
 from ..preprocessing.peaks import spectral_peaks
 from ..preprocessing.quality import LIMITS, check_quality, clipping_mask
 from ..preprocessing.states import RestLevel, clipped_rows
@@ -194,7 +195,7 @@ def _spikes(raw, filtered) -> np.ndarray:
     clipped = np.concatenate(clipped_rows(raw, widen=2))
     amplitude = np.max(np.abs(np.vstack(filtered) - np.median(np.vstack(filtered), axis=0)), axis=0)
     centre = np.median(removed, axis=0)
-    spread = 1.4826 * np.median(np.abs(removed - centre), axis=0)
+    spread = robust_std(removed, axis=0)
     limit = np.maximum(SPIKE_SIGMA * spread, SPIKE_FLOOR * amplitude)
     far = (np.abs(removed - centre) > limit) & ~clipped[:, None]
     return far.sum(axis=0)

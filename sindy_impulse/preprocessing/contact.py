@@ -30,6 +30,7 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
 from .._utils.params import Interval, check_param
+from .._utils.robust import robust_std
 from .._utils.threads import one_thread
 from ._record import check_signal_1d
 from .saturation import clipping_mask
@@ -45,10 +46,6 @@ _ORDER, _SAMPLES, _HUBER, _ROUNDS = 48, 4096, 3.0, 4
 #: alone the end of such a contact goes unfound, and the spectrum from the onset holds the pulse's lobe
 #: (there 3.6 kHz, damping ratio 0.18) as a peak.
 _FORCED, _GAP, _QUIET, _LATEST = 6.0, 16, 0.002, 0.25
-
-
-def _robust_scale(x: np.ndarray) -> float:
-    return 1.4826 * float(np.median(np.abs(x - np.median(x))))
 
 
 def _backward_errors(y: np.ndarray, order: int) -> tuple[np.ndarray, float]:
@@ -68,7 +65,7 @@ def _backward_errors(y: np.ndarray, order: int) -> tuple[np.ndarray, float]:
             except np.linalg.LinAlgError:
                 coef = np.linalg.lstsq(weighted, target * root_w, rcond=None)[0]
             error = target - design @ coef
-            scale = _robust_scale(error)
+            scale = robust_std(error)
             if scale <= 0:
                 break
             root_w = np.sqrt(np.minimum(1.0, _HUBER * scale / np.maximum(np.abs(error), 1e-300)))

@@ -21,6 +21,7 @@ from numbers import Real
 import numpy as np
 
 from .._utils.params import Interval, check_param
+from .._utils.robust import robust_std
 from ..exceptions import DataWarning
 from ._record import MIN_SAMPLES, check_fs, check_signal_1d
 from .contact import contact_end
@@ -37,7 +38,7 @@ _MIN_PRE = 16
 def _noise_band(x: np.ndarray) -> tuple[float, float]:
     """Centre (median) and robust standard deviation (1.4826 MAD) of a stretch."""
     centre = float(np.median(x))
-    return centre, 1.4826 * float(np.median(np.abs(x - centre)))
+    return centre, robust_std(x)
 
 
 def _first_sustained(exceeds: np.ndarray) -> int:

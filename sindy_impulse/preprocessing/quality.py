@@ -30,6 +30,7 @@ from numbers import Integral, Real
 import numpy as np
 
 from .._utils.params import Interval, check_param
+from .._utils.robust import robust_std
 from ._record import check_fs, check_signal_1d
 from .offset import estimate_offset
 from .peaks import SpectralPeaks, spectral_peaks
@@ -310,7 +311,7 @@ def _noise_rms(pre: np.ndarray) -> float | None:
     more), or None (:func:`ringdown_snr_db` then bounds it from the ring-down itself)."""
     if pre.size < PRE_TRIGGER_SAMPLES:
         return None
-    return 1.4826 * float(np.median(np.abs(pre - np.median(pre)))) or None
+    return robust_std(pre) or None
 
 
 def check_quality(y, fs: float, *, onset_index: int = 0, peaks: SpectralPeaks | None = None) -> QualityReport:
