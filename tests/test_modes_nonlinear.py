@@ -595,3 +595,56 @@ def test_a_mode_found_again_from_a_broad_components_band_is_reported_once():
     found = _survey(rec)
     assert len(found.modes) == 1 and found.modes[0].frequency_hz == pytest.approx(245.648, rel=3e-3)
     assert any(r.code is Reason.DUPLICATE for r in found.rejected)
+
+
+def test_two_close_modes_each_moved_by_one_element_are_not_a_chirps_pieces():
+    """Two close modes (120.89 Hz at 1.33 %, 124.99 Hz at 0.12 %, 4 Hz apart: three half-power half-widths)
+    coupled by a cubic spring and an amplitude-dependent damper: neither linear decay describes its mode,
+    but both are stable poles and each free decay is described by its own averaged equations. They were
+    merged as a chirp's pieces into one mode at 124.99 +- 0.56 Hz with a damping ratio of 0.17 %; both
+    modes stand."""
+    rec = impact_record([31.527020768156145, 120.89093860564448, 124.987799576881],
+                        [0.024938185782078286, 0.013267706563001325, 0.0011765801864282068],
+                        [0.2761056521473365, 0.6322345253482167, 0.12435305616706802], fs=1000.0,
+                        duration=2.708, sensor="velocity", pre_trigger=0.08922449693436026,
+                        offset=1.6384535251780596, snr_db=49.68300638855164, random_state=1085459384,
+                        cubic_stiffness=53784175999.16911, damping_amplitude=143199178.0734679)
+    found = _survey(rec)
+    assert np.allclose([m.frequency_hz for m in found.modes], [31.527, 120.891, 124.988], rtol=3e-3)
+    assert np.allclose([m.damping_ratio for m in found.modes], [0.02494, 0.01327, 0.001177], rtol=0.1)
+
+
+def test_a_chirps_two_stable_pieces_each_read_as_an_oscillator_stay_one_mode():
+    """A hardening mode (210.33 Hz, frequency up 1.8 % at the start) whose decay fit holds two pieces, 211.1
+    and 214.1 Hz, both stable poles and each described by its own averaged equations: one oscillator reads
+    their joint decay (misfit 2.4) far better than their two linear decays (19 and 14 times the noise), so
+    they stay one mode."""
+    rec = impact_record([210.32629345429578], [0.0033058213120545086], [0.34687350649041876], fs=10000.0,
+                        duration=2.9836, sensor="displacement", pre_trigger=0.014760169023037374,
+                        offset=4.565435604651791, snr_db=30.030591858457235, random_state=1509029393,
+                        cubic_stiffness=1673325.2374980606)
+    found = _survey(rec)
+    assert len(found.modes) == 1 and found.modes[0].frequency_hz == pytest.approx(210.326, rel=3e-3)
+
+
+def test_what_keeps_close_candidates_apart_as_modes_of_their_own(monkeypatch):
+    from sindy_impulse.modes import classify
+    from sindy_impulse.modes._envelope import ENVELOPE_MISFIT
+
+    def cand(stable=True, misfit=1.0, lack_of_fit=100.0):
+        reading = None if misfit is None else types.SimpleNamespace(misfit=misfit)
+        return types.SimpleNamespace(stable=stable, evidence={"amplitude_dependence": reading},
+                                     lack_of_fit=lack_of_fit)
+
+    def own(a, b, joint=30.0):
+        reading = None if joint is None else types.SimpleNamespace(misfit=joint)
+        monkeypatch.setattr(classify, "_joint_dependence", lambda state, i, j: reading)
+        return classify._own_modes(types.SimpleNamespace(candidates=[a, b]), 0, 1)
+
+    assert own(cand(), cand())  # one oscillator (misfit 30) reads them worse than their linear decays (10)
+    assert not own(cand(), cand(), joint=3.0)  # one oscillator reads them better: a chirp's pieces
+    assert not own(cand(), cand(lack_of_fit=2500.0))  # ... better than the larger of their linear decays
+    assert not own(cand(), cand(), joint=None)  # no joint reading: nothing keeps them apart
+    assert not own(cand(), cand(stable=False))  # one the diagram does not confirm
+    assert not own(cand(misfit=2 * ENVELOPE_MISFIT), cand())  # no oscillator: a harmonic piece
+    assert not own(cand(), cand(misfit=None))  # one without a reading

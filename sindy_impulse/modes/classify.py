@@ -78,7 +78,7 @@ def classify_candidates(state) -> None:
     _tones(state)
     _pieces(cands)
     _amplitude_dependent(state)
-    _unconfirmed(cands)
+    _unconfirmed(state)
     _harmonics(state)  # of whole modes: a chirp's pieces are one parent
     _unsupported(cands)
     counts = {k: sum(c.kind is k for c in cands) for k in Kind}
@@ -454,21 +454,31 @@ def _beside(mode, other, gap: float) -> bool:
     return mode.kind is Kind.NONLINEAR and not other.stable and gap < reach
 
 
-def _unconfirmed(cands: list) -> None:
+def _unconfirmed(state) -> None:
     """Runs of close neighbours (within :data:`CLOSE` times their half-power half-widths and
-    :data:`CLOSE_SHARE` of their frequency) that are not
-    sure to be modes of their own: two the stabilisation diagram does not confirm (its poles wander with the
-    model order: a frequency that moves along the decay), one unconfirmed beside a nonlinear mode, or two
-    the linear decay does not explain (a chirp's start and end, each fitted with the other's misfit).
-    Beside a nonlinear mode they are pieces of it; a run of linear ones is one nonlinear mode to be tested
-    as such (``evidence["unconfirmed"]``: :mod:`.identify` keeps them apart when one oscillator does not
-    need nonlinear terms to reproduce them)."""
+    :data:`CLOSE_SHARE` of their frequency) that are not sure to be modes of their own: two the
+    stabilisation diagram does not confirm (its poles wander with the model order: a frequency that moves
+    along the decay), one unconfirmed beside a nonlinear mode, or two the linear decay does not explain (a
+    chirp's start and end, each fitted with the other's misfit) that are not modes of their own
+    (:func:`_own_modes`). Beside a nonlinear mode they are pieces of it; a run of linear ones is one
+    nonlinear mode to be tested as such (``evidence["unconfirmed"]``: :mod:`.identify` keeps them apart
+    when one oscillator does not need nonlinear terms to reproduce them)."""
+    cands = state.candidates
+    index = {id(c): k for k, c in enumerate(cands)}
+    own = {}  # (i, j): whether they are modes of their own (each pair read once)
+
     def joined(a, b) -> bool:
         width = a.damping_ratio * a.frequency_hz + b.damping_ratio * b.frequency_hz
         gap = b.frequency_hz - a.frequency_hz
         close = gap < CLOSE * width and gap < CLOSE_SHARE * a.frequency_hz
-        if close and (not (a.stable or b.stable) or not (a.explained or b.explained)):
+        if close and not (a.stable or b.stable):
             return True
+        if close and not (a.explained or b.explained):
+            pair = (index[id(a)], index[id(b)])
+            if pair not in own:
+                own[pair] = _own_modes(state, *pair)
+            if not own[pair]:
+                return True
         return _beside(a, b, gap) or _beside(b, a, gap)
 
     runs = _runs(cands, (Kind.LINEAR, Kind.NONLINEAR), joined)
@@ -477,6 +487,46 @@ def _unconfirmed(cands: list) -> None:
             nonlinear = any(cands[k].kind is Kind.NONLINEAR for k in run)
             _merge(cands, run, "pieces" if nonlinear else "unconfirmed")
         runs = _runs(cands, (Kind.LINEAR, Kind.NONLINEAR), joined)
+
+
+def _own_modes(state, i: int, j: int) -> bool:
+    """Whether close candidates ``i`` and ``j``, neither of which its linear decay explains, are modes of
+    their own rather than pieces of one chirping signal: each is confirmed by a stable pole and its free
+    decay (the others removed) is described by its own averaged equations (misfit at most
+    :data:`~._envelope.ENVELOPE_MISFIT`: an oscillator, not a harmonic's piece), and one oscillator's
+    averaged equations read on their joint free decay (:func:`_joint_dependence`) describe it no better
+    than their two linear decays do (a misfit at least the larger of theirs; without a joint reading,
+    nothing keeps them apart). A chirp is one oscillator: its pieces' linear decays leave far more than its
+    equations (they follow the frequency the pieces average over). Two modes moved by one nonlinear element
+    beat: one oscillator does not follow the beating, their two decays do."""
+    a, b = state.candidates[i], state.candidates[j]
+    for c in (a, b):
+        e = c.evidence.get("amplitude_dependence")
+        if not (c.stable and e is not None and e.misfit <= ENVELOPE_MISFIT):
+            return False
+    joint = _joint_dependence(state, i, j)
+    return joint is not None and joint.misfit >= np.sqrt(max(a.lack_of_fit, b.lack_of_fit))
+
+
+def _joint_dependence(state, i: int, j: int):
+    """One oscillator's averaged equations (:func:`~._envelope.decay_dependence`) on the joint free decay of
+    candidates ``i`` and ``j`` (the others removed) while either stands out of the noise, started from the
+    stronger one's linear decay and from their amplitude-weighted mean; the reading with the smaller misfit,
+    or None."""
+    cands, fs = state.candidates, state.pre.fs
+    a, b = cands[i], cands[j]
+    y = deflated(state, i, keep=(j,))[state.start:]
+    stops = [_audible(c, fs) for c in (a, b)]
+    y = y[:max(stops)] if None not in stops else y
+    weights = np.abs([a.amplitude[0], b.amplitude[0]])
+    head = max((a, b), key=_energy)
+    starts = [(complex(head.amplitude[0]), head.decay_rate, head.damped_frequency_hz),
+              (complex(a.amplitude[0] + b.amplitude[0]), float(np.average([a.decay_rate, b.decay_rate],
+                                                                           weights=weights)),
+               float(np.average([a.damped_frequency_hz, b.damped_frequency_hz], weights=weights)))]
+    noise = max(a.noise_std, b.noise_std)
+    readings = [e for e in (decay_dependence(y, fs, *start, noise) for start in starts) if e is not None]
+    return min(readings, key=lambda e: e.misfit) if readings else None
 
 
 def _pieces(cands: list) -> None:

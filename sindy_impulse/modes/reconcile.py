@@ -86,9 +86,9 @@ def _named(state) -> None:
         pieces = [c.frequency_hz] + [cands[j].frequency_hz for j in merged]
         if len(pieces) > 1 and c.kind is Kind.NONLINEAR:
             listed = ", ".join(f"{f:.5g}" for f in sorted(pieces))
-            state.note(f"the components at {listed} Hz, closer than their "
-                       f"half-power bandwidth, are one nonlinear mode (its frequency or damping changes with "
-                       f"amplitude)")
+            state.note(f"the components at {listed} Hz are pieces of one nonlinear mode (too close to "
+                       f"be modes of their own, which their decays do not show: its frequency or damping "
+                       f"changes with amplitude)")
 
 
 def _found_elsewhere(state) -> None:
