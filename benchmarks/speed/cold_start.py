@@ -9,12 +9,12 @@ the first process had imported), and ``beyond_dependencies`` is issue 36's measu
 imports and first fit minus that bare import (the package's own cost on a new machine, compilation and
 the background build's competition for the cores included).
 
-Variants: ``pip install`` (a wheel built from the source tree by ``pip wheel`` and installed by ``pip``: the
-package as ``pip install .`` ships it, its kernels compiled into it at the build), ``warm-up`` (the
-package copied without a compiled kernel: the first import builds them in the background),
-``no warm-up`` (``SINDY_IMPULSE_PRECOMPILE=0``: each kernel compiled at its first call, the baseline),
-``read-only package`` (numba cannot write next to the package and caches in the user's directory), and a
-second process after the first (the cache is there).
+Variants: ``pip install`` (a wheel built by ``pip wheel`` from a copy of the project as a fresh clone holds
+it, and installed by ``pip``: the package as ``pip install .`` ships it, its kernels compiled into it at the
+build), ``warm-up`` (the package copied without a compiled kernel: the first import builds them in the
+background), ``no warm-up`` (``SINDY_IMPULSE_PRECOMPILE=0``: each kernel compiled at its first call, the
+baseline), ``read-only package`` (numba cannot write next to the package and caches in the user's
+directory), and a second process after the first (the cache is there).
 """
 
 from __future__ import annotations
@@ -60,9 +60,23 @@ print(json.dumps({"dependencies": time.perf_counter() - t0}))
 """
 
 
+#: What a fresh clone holds of the project that a build reads (the rest, and what earlier builds or runs
+#: left in the source tree, is not copied).
+_PROJECT_FILES = ("pyproject.toml", "README.md")
+_NOT_SHIPPED = shutil.ignore_patterns("__pycache__", "*.pyc", "kernels_shipped.json")
+
+
 def _pip_install(package: Path, target: Path) -> None:
     """Build a wheel of the package's project (``pip wheel``, the build isolated as ``pip install .``
-    isolates it) and install it into ``target`` (its dependencies are the running environment's)."""
+    isolates it) and install it into ``target`` (its dependencies are the running environment's).
+
+    The wheel is built from a copy of the project as a fresh clone has it (its sources, ``pyproject.toml``
+    and the README), not from the source tree itself: setuptools builds in the tree's ``build/``
+    directory, which earlier builds have filled and which two builds from one tree at a time share."""
+    project = target.parent / "project"
+    shutil.copytree(package, project / package.name, ignore=_NOT_SHIPPED)
+    for name in _PROJECT_FILES:
+        shutil.copy2(package.parent / name, project / name)
     wheels = target.parent / "wheel"
 
     def pip(*args) -> None:
@@ -70,7 +84,7 @@ def _pip_install(package: Path, target: Path) -> None:
         if out.returncode != 0:
             raise RuntimeError(out.stderr[-2000:])
 
-    pip("wheel", "--no-deps", "-q", "-w", str(wheels), str(package.parent))
+    pip("wheel", "--no-deps", "-q", "-w", str(wheels), str(project))
     pip("install", "--no-deps", "-q", "--target", str(target), *map(str, wheels.glob("*.whl")))
 
 
