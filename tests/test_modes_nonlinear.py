@@ -648,3 +648,36 @@ def test_what_keeps_close_candidates_apart_as_modes_of_their_own(monkeypatch):
     assert not own(cand(), cand(stable=False))  # one the diagram does not confirm
     assert not own(cand(misfit=2 * ENVELOPE_MISFIT), cand())  # no oscillator: a harmonic piece
     assert not own(cand(), cand(misfit=None))  # one without a reading
+
+
+@pytest.mark.parametrize("config, f", [
+    # a quadratic spring at 580 Hz: its harmonic 2 locked (ratio 2.0002 +- 0.0005) with the amplitude exponent
+    # 1.99 +- 0.03, but it decays 2.05 times as fast as its mode's linear decay, which explains the record;
+    # tested as a linear parent's harmonic (exactly twice as fast), it was reported as a mode at 1159.2 Hz
+    (dict(frequencies_hz=[580.3962856439836], damping_ratios=[0.019829245781848488], amplitudes=[1.0],
+          fs=10000.0, duration=1.4001, sensor="acceleration", pre_trigger=0.09248600424876768,
+          offset=4.017974977289109, snr_db=46.48352104838544, random_state=1887910813,
+          quadratic_stiffness=-34914466710801.703), 580.396),
+    # ... at 24.7 Hz, 23.8 s: locked (1.9985 +- 0.0011), exponent 2.43 +- 0.16 (a nonlinear parent's harmonic
+    # by its decay exponent, 2.15); reported as a mode at 49.26 Hz
+    (dict(frequencies_hz=[24.742994678404425], damping_ratios=[0.014037055495042404], amplitudes=[1.0],
+          fs=1000.0, duration=23.801, sensor="displacement", pre_trigger=0.034400915782757925,
+          offset=3.5199369896620647, snr_db=36.875869657840184, random_state=1222577885,
+          quadratic_stiffness=4863.8951179405585), 24.743),
+])
+def test_the_harmonic_of_a_mode_found_nonlinear_is_named_though_its_linear_decay_explains_it(config, f):
+    found = _survey(impact_record(**config))
+    assert len(found.modes) == 1 and found.modes[0].frequency_hz == pytest.approx(f, rel=3e-3)
+    assert any(r.code is Reason.HARMONIC and "harmonic 2" in r.reason for r in found.rejected)
+
+
+def test_which_parents_may_move_for_the_harmonic_test():
+    from sindy_impulse.modes.classify import _moves
+    from sindy_impulse.modes.kinds import Kind
+
+    def parent(explained, kind):
+        return types.SimpleNamespace(explained=explained, kind=kind)
+
+    assert not _moves(parent(True, Kind.LINEAR))  # a constant decay rate: its harmonic decays n times as fast
+    assert _moves(parent(False, Kind.LINEAR))  # its linear decay leaves a misfit
+    assert _moves(parent(True, Kind.NONLINEAR))  # its chirp's pieces, or its amplitude dependence

@@ -207,7 +207,7 @@ def _harmonics(state) -> None:
             y1, y2 = y1[:stop], y2[:stop]
             try:
                 e = _evidence(state.pre, None, None, i, parent, band2, noise2, order, cand,
-                              nonlinear=not parent.explained, own=(y1, y2, band1, noise1))
+                              nonlinear=_moves(parent), own=(y1, y2, band1, noise1))
             except (ValueError, ArithmeticError, np.linalg.LinAlgError):
                 continue
             cand.evidence.setdefault("harmonic_tests", []).append(e)
@@ -219,6 +219,15 @@ def _harmonics(state) -> None:
                     parent.kind = Kind.NONLINEAR
                 _sweep_pieces(state, i, j, order)
                 break
+
+
+def _moves(parent) -> bool:
+    """Whether a would-be parent's frequency or decay rate may move along its decay, for the harmonic test:
+    its linear decay does not explain it, or the classification has found it nonlinear (pieces of its
+    chirp merged into it, or its amplitude dependence). Only a parent that neither says moves keeps a
+    constant decay rate, whose harmonic decays exactly a whole number of times as fast
+    (:func:`~._harmonics._evidence`)."""
+    return not parent.explained or parent.kind is Kind.NONLINEAR
 
 
 def _sweep_pieces(state, i: int, j: int, order: int) -> None:
