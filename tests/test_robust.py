@@ -30,3 +30,10 @@ def test_along_an_axis_each_column_has_its_own():
 
 def test_scale_is_the_gaussian_one():
     assert MAD_TO_STD == pytest.approx(1 / 0.6744897501960817, rel=1e-4)
+
+
+def test_a_centre_given_is_the_median_not_computed_again():
+    rng = np.random.default_rng(4)
+    x = rng.normal(2.0, 1.5, (3000, 3))
+    assert robust_std(x[:, 0], centre=float(np.median(x[:, 0]))) == robust_std(x[:, 0])
+    np.testing.assert_array_equal(robust_std(x, axis=0, centre=np.median(x, axis=0)), robust_std(x, axis=0))

@@ -13,9 +13,10 @@ __all__ = ["MAD_TO_STD", "robust_std"]
 MAD_TO_STD = 1.4826
 
 
-def robust_std(x, axis: int | None = None):
+def robust_std(x, axis: int | None = None, centre=None):
     """Robust standard deviation of ``x``: :data:`MAD_TO_STD` times its median absolute deviation from its
-    median (along ``axis``; a float for ``axis=None``).
+    median (along ``axis``; a float for ``axis=None``). ``centre``: that median when the caller already has
+    it (it is not computed again).
 
     Examples
     --------
@@ -23,6 +24,9 @@ def robust_std(x, axis: int | None = None):
     2.0
     """
     x = np.asarray(x, float)
-    centre = np.median(x, axis=axis, keepdims=axis is not None)
+    if centre is None:
+        centre = np.median(x, axis=axis)
+    if axis is not None:
+        centre = np.expand_dims(centre, axis)
     spread = MAD_TO_STD * np.median(np.abs(x - centre), axis=axis)
     return float(spread) if axis is None else spread

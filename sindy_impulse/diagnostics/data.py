@@ -195,7 +195,7 @@ def _spikes(raw, filtered) -> np.ndarray:
     clipped = np.concatenate(clipped_rows(raw, widen=2))
     amplitude = np.max(np.abs(np.vstack(filtered) - np.median(np.vstack(filtered), axis=0)), axis=0)
     centre = np.median(removed, axis=0)
-    spread = robust_std(removed, axis=0)
+    spread = robust_std(removed, axis=0, centre=centre)
     limit = np.maximum(SPIKE_SIGMA * spread, SPIKE_FLOOR * amplitude)
     far = (np.abs(removed - centre) > limit) & ~clipped[:, None]
     return far.sum(axis=0)

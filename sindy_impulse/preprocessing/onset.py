@@ -38,7 +38,7 @@ _MIN_PRE = 16
 def _noise_band(x: np.ndarray) -> tuple[float, float]:
     """Centre (median) and robust standard deviation (1.4826 MAD) of a stretch."""
     centre = float(np.median(x))
-    return centre, robust_std(x)
+    return centre, robust_std(x, centre=centre)
 
 
 def _first_sustained(exceeds: np.ndarray) -> int:
