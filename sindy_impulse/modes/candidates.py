@@ -12,6 +12,9 @@
   (:func:`~sindy_impulse.poles.decay_fit.missing_peaks`), away from modes it does not explain (there the
   residual is that mode's own amplitude dependence, not another mode), and a component under the detection
   threshold is dropped: a mode is a candidate when it stands out of the noise, as a spectral peak must. A
+  persistent stable pole that no component accounts for is fitted beside them: where the linear decay
+  explains every component, it is a candidate when it stands over the lower threshold of the few places the
+  poles name (:func:`_confirmed_by_poles`), else a hidden component removed from its neighbours' signals. A
   component the linear decay does not explain is refitted as the two or more stable poles in its
   half-power band, or, where the diagram did not resolve them, as itself and the peak of what it leaves
   beside it (:func:`_split_unexplained`): two modes whose half-power bands touch.
@@ -334,7 +337,15 @@ def fit_candidates(state) -> None:
     hidden = np.zeros(0 if fit is None else len(fit), bool)
     if fit is not None and not given:
         fit = _split_unexplained(fit, ring, fs, state.poles, noise, threshold)
-        fit, hidden = _with_hidden(fit, ring, fs, state.poles, noise, threshold)
+        fit, hidden, places = _with_hidden(fit, ring, fs, state.poles, noise, threshold)
+        confirmed = hidden & _confirmed_by_poles(fit, places)
+        hidden &= ~confirmed
+        if confirmed.any():
+            at = detection_threshold_db(places)
+            state.decide(f"{int(confirmed.sum())} stable pole(s) under the detection threshold stand over "
+                         f"the {at:.1f} dB of {places} place(s) the poles name, in a record the linear decay "
+                         "explains: candidate(s) at "
+                         + ", ".join(f"{f:.5g} Hz" for f in fit.frequency_hz[confirmed]))
     state.fit = fit
     found = [] if fit is None else _candidates(fit, state.poles)
     state.hidden = [c for c, h in zip(found, hidden) if h]
@@ -370,7 +381,8 @@ def _signal_to_noise(state) -> None:
 
 def _with_hidden(fit, ring: np.ndarray, fs: float, table, noise, threshold_db: float):
     """The decay fit refitted with the persistent stable poles (:func:`persistent_modes`) that none of its
-    components accounts for, as hidden components: ``(fit, hidden)``, ``hidden`` a mask of its components.
+    components accounts for, as hidden components: ``(fit, hidden, places)``, ``hidden`` a mask of its
+    components, ``places`` the number of poles tried.
 
     Such a pole belongs to no candidate (the rounds dropped its component under the detection threshold:
     it does not stand out of the noise as a spectral peak must), but it is in the record: left out of the
@@ -387,9 +399,10 @@ def _with_hidden(fit, ring: np.ndarray, fs: float, table, noise, threshold_db: f
     added = [m for m in persistent_modes(table)
              if np.all(np.abs(f - m.frequency_hz) > np.maximum(zeta * f, 1.5 * resolution))
              and 0 < m.frequency_hz < TOP * fs]
+    places = len(added)
     for _ in range(2):  # the poles, then those of them that stand
         if not added:
-            return fit, np.zeros(len(fit), bool)
+            return fit, np.zeros(len(fit), bool), places
         fa = np.array([m.frequency_hz * np.sqrt(1 - m.damping_ratio**2) for m in added])
         seeds = np.concatenate([fit.damped_frequency_hz, fa])
         sa = [2 * np.pi * m.frequency_hz * m.damping_ratio for m in added]
@@ -400,9 +413,24 @@ def _with_hidden(fit, ring: np.ndarray, fs: float, table, noise, threshold_db: f
         if stands.all():
             mask = np.zeros(len(trial), bool)
             mask[where] = True
-            return trial, mask
+            return trial, mask, places
         added = [m for m, ok in zip(added, stands) if ok]
-    return fit, np.zeros(len(fit), bool)
+    return fit, np.zeros(len(fit), bool), places
+
+
+def _confirmed_by_poles(fit, places: int) -> np.ndarray:
+    """Which components stand out of the noise at a place the stable poles name: a mode, though under the
+    detection threshold, where the linear decay explains every component of the fit.
+
+    The detection threshold guards a search of the whole spectrum (:func:`detection_threshold_db` of its
+    bins); a stable pole names its place before the fit looks there, so its component is tested against
+    the threshold of the ``places`` poles tried. A record whose components the linear decay does not all
+    explain holds a nonlinear mode, whose chirp spreads stable poles along its band and whose harmonics
+    and combination tones stand where no mode is: there a pole does not name a mode.
+    """
+    if places < 1 or np.any(_misfit(fit.lack_of_fit, fit.lack_of_fit_p)):
+        return np.zeros(len(fit), bool)
+    return np.asarray(fit.height_db) >= detection_threshold_db(places)
 
 
 def _standing(fit, hidden: np.ndarray, threshold_db: float) -> np.ndarray:
