@@ -284,3 +284,27 @@ def test_a_frequency_moved_by_a_neighbours_amplitude_is_read_at_zero_amplitudes(
     band = _envelope.amplitude_dependence(z, fs, 10.0, noise, neighbours=[(b2, rate)])
     assert band.coefficients[0] / (2 * np.pi) == pytest.approx(62.0, abs=1e-3)
     assert band.frequency_change == pytest.approx(-0.004, rel=0.05)
+
+
+def test_the_standard_errors_use_the_residuals_power_near_the_mode():
+    """The averaged equations' standard errors scale with the residual's power near the mode, where their
+    Jacobian has its energy: white noise gives its variance; a misfit beside the mode (a neighbour's beat,
+    an amplitude dependence they do not describe) counts fully, one far from it not at all."""
+    fs, n = 1000.0, 4000
+    rng = np.random.default_rng(3)
+    t = np.arange(n) / fs
+    white = 0.1 * rng.standard_normal(n)
+    near = _envelope._variance_near(white, fs, 100.0, 2.0, 6)
+    assert near == pytest.approx(0.01, rel=0.25)
+    beside = white + 0.1 * np.cos(2 * np.pi * 101.0 * t)  # variance 0.005 more, all of it near 100 Hz
+    far = white + 0.1 * np.cos(2 * np.pi * 300.0 * t)
+    assert _envelope._variance_near(beside, fs, 100.0, 2.0, 6) > 5 * near
+    assert _envelope._variance_near(far, fs, 100.0, 2.0, 6) == pytest.approx(near, rel=0.05)
+    # a decay with a beat 2 Hz from the mode widens its frequency's standard error; the same beat far from
+    # the mode, which the fit's Jacobian does not see, leaves it at the noise's
+    y = np.exp(-2.0 * t) * np.cos(2 * np.pi * 100.0 * t) + 0.01 * white
+    decays = {f: 0.02 * np.exp(-2.0 * t) * np.cos(2 * np.pi * f * t) for f in (102.0, 300.0)}
+    read = {f: _envelope.decay_dependence(y + b, fs, 1.0 + 0j, 2.0, 100.0, 1e-3) for f, b in decays.items()}
+    clean = _envelope.decay_dependence(y, fs, 1.0 + 0j, 2.0, 100.0, 1e-3)
+    assert read[102.0].coefficients_std[0] > 3 * read[300.0].coefficients_std[0]
+    assert read[300.0].coefficients_std[0] == pytest.approx(clean.coefficients_std[0], rel=0.5)

@@ -25,7 +25,7 @@ the levels; and the time the standard deviations took as a share of the survey's
 families.py``; a record the generator refuses is left out) and prints the same columns by the source of the
 mode's values (``poles``, ``envelope``, ``equation``). Its truth is the family's: in family g, the
 small-amplitude frequency and damping ratio of modes that a nonlinear element moves, which the record's
-noise alone does not account for (measured, seed 131: the poles' ± holds the truth for 38 % of 120 modes).
+noise alone does not account for (measured, seed 131: the poles' ± holds the truth for 37 % of 123 modes).
 
 Measured (seed 0, 200 records per level, ``--jobs 2``, 22 min on a loaded 2-core machine; 3 of 900 true
 modes not found):

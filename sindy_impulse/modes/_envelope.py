@@ -290,6 +290,9 @@ _ITERATIONS = 6
 _TOLERANCE, _HOPELESS = 1e-6, 10 * ENVELOPE_MISFIT
 #: ... on every m-th sample of the free decay: at least this many per period, and about this many in all.
 _PER_PERIOD, _SAMPLES = 4, 2048
+#: The residual's variance that the standard errors use is its power near the mode: within this many
+#: half-power half-widths of the mode's frequency, and at least this many bins either side.
+_NEAR_WIDTHS, _NEAR_BINS = 5.0, 20
 
 
 def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: float, frequency_hz: float,
@@ -359,7 +362,7 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
     x, residual, normal, scale = best
     if not (x[2] > 0 and x[3] > 0):
         return None
-    variance = float(residual @ residual) / max(y.size - x.size, 1)
+    variance = _variance_near(residual, fs / stride, frequency_hz, decay_rate, x.size)
     cov = np.linalg.pinv(normal) / np.outer(scale, scale) * variance
     sigma0, omega0, omega2, sigma2 = x[2], x[3], x[4], x[5]
     largest, smallest = abs(amplitude), abs(amplitude) * np.exp(-decay_rate * t_end)
@@ -374,6 +377,25 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
                                (float(largest), float(smallest)),
                                (float(omega0), float(omega2), float(sigma0), float(sigma2)),
                                (std(3), std(4), std(2), std(5)), misfit, start)
+
+
+def _variance_near(residual: np.ndarray, fs: float, frequency_hz: float, decay_rate: float,
+                   n_parameters: int) -> float:
+    """The residual's variance as the standard errors of a fit of one mode need it: its power near the
+    mode's frequency (:data:`_NEAR_WIDTHS` half-power half-widths, at least :data:`_NEAR_BINS` bins either
+    side), where the fit's Jacobian has its energy. For white noise it is the residual's variance; what the
+    averaged equations leave of a decay they do not describe lies near the mode, where it moves the
+    parameters as much as noise of its power would (its total variance averaged over every frequency would
+    understate it)."""
+    n = residual.size
+    white = float(residual @ residual) / max(n - n_parameters, 1)
+    power = np.abs(np.fft.rfft(residual)) ** 2 / n
+    width = max(_NEAR_WIDTHS * decay_rate / (2 * np.pi), _NEAR_BINS * fs / n)
+    near = np.abs(np.fft.rfftfreq(n, 1 / fs) - frequency_hz) <= width
+    near[0] = near[-1] = False  # the real-valued ends count once, not twice
+    if near.sum() < _NEAR_BINS:
+        return white
+    return float(np.mean(power[near])) * n / max(n - n_parameters, 1)
 
 
 def _change(slopes: np.ndarray, cov: np.ndarray, spans: np.ndarray, value: float) -> tuple[float, float]:
