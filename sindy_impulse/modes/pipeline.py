@@ -110,7 +110,8 @@ class SurveyState:
         The modes of the free decay and what they need (``candidates``, ``classify``).
     hidden : list of Candidate
         Components of the decay fit under the detection threshold that a persistent stable pole confirms
-        (``candidates``): not modes of the table, but in the record, so removed from every mode's own signal.
+        and that are not candidates (``candidates``: :func:`~.candidates._confirmed_by_poles`): not modes
+        of the table, but in the record, so removed from every mode's own signal.
     modes, rejected, notes : list
         The result (``identify``, ``reconcile``).
     origin : list of int
