@@ -106,3 +106,16 @@ def test_results_are_plain_json():
 def test_results_are_ignored_by_git_but_their_readme_is_not():
     ignore = (ROOT / ".gitignore").read_text()
     assert "benchmarks/results/*.json" in ignore and (PACKAGE / "results" / "README.md").is_file()
+
+
+def test_the_calibration_of_a_family_is_tabled_by_the_source_of_the_values():
+    """``uncertainty --family X``: a modes-benchmark family's records (the generator's refusals left out),
+    their modes' error over std by where the values come from; an unknown family is refused."""
+    done = _runner("--no-save", "uncertainty", "--family", "a", "--n", "2", "--seed", "0")
+    assert done.returncode == 0, done.stderr
+    assert "2 records of family a, seed 0" in done.stdout
+    assert "family a, by the source of the mode's values" in done.stdout
+    rows = [line.split() for line in done.stdout.splitlines() if line.startswith(("poles", "equation"))]
+    assert rows and all(row[1] in ("frequency", "damping") and int(row[2]) >= 1 for row in rows)
+    refused = _runner("--no-save", "uncertainty", "--family", "z")
+    assert refused.returncode != 0 and "invalid choice" in refused.stderr
