@@ -392,7 +392,7 @@ def _variance_near(residual: np.ndarray, fs: float, frequency_hz: float, decay_r
     power = np.abs(np.fft.rfft(residual)) ** 2 / n
     width = max(_NEAR_WIDTHS * decay_rate / (2 * np.pi), _NEAR_BINS * fs / n)
     near = np.abs(np.fft.rfftfreq(n, 1 / fs) - frequency_hz) <= width
-    near[0] = near[-1] = False  # the real-valued ends count once, not twice
+    near[0] = near[-1] = False  # the ends left out (zero, and the Nyquist bin of an even length: real)
     if near.sum() < _NEAR_BINS:
         return white
     return float(np.mean(power[near])) * n / max(n - n_parameters, 1)
