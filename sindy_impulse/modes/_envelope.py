@@ -33,8 +33,8 @@ import numpy as np
 
 from ..feature_library.terms import term_table
 
-__all__ = ["AmplitudeDependence", "decay_dependence", "amplitude_dependence", "envelope_decay",
-           "FREQUENCY_CHANGE", "DECAY_CHANGE"]
+__all__ = ["AmplitudeDependence", "decay_dependence", "amplitude_dependence", "joint_dependence",
+           "envelope_decay", "FREQUENCY_CHANGE", "DECAY_CHANGE"]
 
 #: A mode is nonlinear for the survey when its frequency changes by more than ``FREQUENCY_CHANGE``
 #: (relative) over the amplitudes of its decay (a modal table's frequencies are read to about 0.1 %) or its
@@ -70,6 +70,12 @@ class AmplitudeDependence:
     #: on; None for a band's envelope (:func:`amplitude_dependence`), whose signal it does not describe, and
     #: where neighbours' amplitudes move the mode (its free decay needs theirs).
     start: tuple | None = None
+    #: The other modes whose squared amplitudes move it (indices of :func:`joint_dependence`'s drivers).
+    drivers: tuple = ()
+    #: How far its values with every amplitude gone lie beyond the stretch read (:func:`joint_dependence`):
+    #: the frequency's shift still left at its end, over its change within it (0 where its own amplitude
+    #: alone moves it: its decay shows it gone).
+    beyond: float = 0.0
 
     def free_decay(self, n: int, fs: float) -> np.ndarray | None:
         """The averaged equations' free decay over ``n`` samples at ``fs`` from the decay's start (the signal
@@ -419,3 +425,216 @@ def _scaled_normal(jac: np.ndarray, scaled: bool = False) -> tuple:
     columns = jac / scale
     normal = columns.T @ columns
     return (normal, scale, columns) if scaled else (normal, scale)
+
+
+#: A term of :func:`joint_dependence` (one mode's frequency and decay rate moved by one mode's squared
+#: amplitude) is added where it lowers the squared residual by this many times the residual's variance:
+#: the chi-square of its two slopes at about one chance in a million under white noise (a free decay of a
+#: few modes offers tens of such terms).
+JOINT_SCORE = 27.6
+#: Gauss-Newton iterations of :func:`joint_dependence` per term added, at most, and halvings of a step
+#: that does not lower the residual.
+_JOINT_ITERATIONS, _HALVINGS = 20, 4
+
+
+def joint_dependence(y: np.ndarray, fs: float, components: list, noise_std: float, stops: list,
+                     movable: list | None = None, drivers: list | None = None) -> list:
+    """The averaged equations of several modes read together off their joint free decay ``y`` (every other
+    component removed): each mode's frequency and decay rate moved by the squared amplitudes of the modes
+    that the data show move it, its own included (a nonlinear element shared by several modes moves each
+    one's frequency with the others' amplitudes as well as its own).
+
+    ``components``: ``(complex amplitude, decay rate, damped frequency_hz)`` of each one's linear decay,
+    where the fit starts; ``stops``: samples over which each is read (its decay's audible stretch);
+    ``movable``: which components are modes whose equations are read (the others, e.g. a chirp's merged
+    pieces, keep linear decays, fitted too), by default all; ``drivers``: ``(squared amplitude, decay rate,
+    component or None)`` of the linear decays of the modes whose squared amplitudes may move them (a mode
+    already removed from ``y`` may move those in it), by default the movable components'. The model is
+    :func:`decay_dependence`'s,
+    summed: ``y(t) = sum_k Re[c_k exp(-sigma_k t + i omega_k t + sum_j (i omega_kj - sigma_kj) I_j(t))]``
+    with ``I_j`` the integral of mode ``j``'s linear decay's squared amplitude. The terms ``(k, j)`` enter
+    one at a time, each the one whose slopes lower the residual most (their score: the chi-square of the
+    step onto them, the fitted terms projected out), while the fit with it lowers the squared residual by
+    :data:`JOINT_SCORE` times the residual's variance; every mode starts linear. Returns one
+    :class:`AmplitudeDependence` per component (None for one not movable or not decaying): its changes
+    over its stretch from every term that moves it, ``coefficients`` with its own slopes (zero where its
+    own amplitude does not move it), ``drivers`` the other drivers that move it, ``misfit`` the joint
+    residual's RMS over ``noise_std``. Returns ``[]`` where the fit fails.
+
+    Examples
+    --------
+    Two modes, the second's frequency moved by the first's amplitude (0.5 % at the start) alone:
+
+    >>> fs, t = 2000.0, np.arange(8000) / 2000.0
+    >>> i1 = (1 - np.exp(-2 * 1.0 * t)) / 2.0
+    >>> y = np.real(np.exp(-1.0 * t + 2j * np.pi * 40 * t)
+    ...             + 0.5 * np.exp(-3.0 * t + 2j * np.pi * 90 * t * 1.0 + 1j * 0.005 * 2 * np.pi * 90 * i1))
+    >>> y = y + 0.001 * np.random.default_rng(0).standard_normal(t.size)
+    >>> first, second = joint_dependence(y, fs, [(1.0, 1.0, 40.0), (0.5, 3.0, 90.45)], 0.001, [8000, 8000])
+    >>> second.drivers, round(second.coefficients[0] / (2 * np.pi), 2)
+    ((0,), 90.0)
+    """
+    y = np.asarray(y, float)
+    movable = list(range(len(components))) if movable is None else list(movable)
+    stride = _joint_stride(fs, components, y.size)
+    if drivers is None:
+        drivers = [(abs(components[j][0]) ** 2, components[j][1], j) for j in movable]
+    drivers = [d for d in drivers if d[1] > 0]
+    decay = _JointDecay(y[::stride], fs / stride, components, drivers)
+    terms: list = []  # (k, j): mode k's frequency and decay rate moved by driver j's squared amplitude
+    cost, best = decay.fit(decay.start, terms)
+    if best is None:
+        return []
+    while True:  # the terms one at a time, while one lowers the residual by JOINT_SCORE variances
+        variance = cost / max(decay.y.size - best[0].size, 1)
+        untried = [(k, j) for k in movable for j in range(len(drivers)) if (k, j) not in terms]
+        if not untried:
+            break
+        scores = decay.scores(best, untried, variance)
+        k, j = untried[int(np.argmax(scores))]
+        if max(scores) < JOINT_SCORE:
+            break
+        longer = np.concatenate([best[0], [0.0, 0.0]])
+        trial_terms = terms + [(k, j)]
+        trial_cost, trial = decay.fit(longer, trial_terms)
+        own = next((i for i, d in enumerate(drivers) if d[2] == k), None)
+        if own is not None and own != j and (k, own) not in terms:
+            # another mode's amplitude whose decay its own follows closely: where the data cannot tell
+            # them apart, its own amplitude is the simpler explanation of its chirp
+            own_cost, own_fit = decay.fit(longer, terms + [(k, own)])
+            if own_fit is not None and own_cost <= trial_cost + JOINT_SCORE * variance:
+                trial_terms, trial_cost, trial = terms + [(k, own)], own_cost, own_fit
+        if trial is None or (cost - trial_cost) < JOINT_SCORE * variance:
+            break
+        terms, cost, best = trial_terms, trial_cost, trial
+    x, residual, normal, scale = best[:4]
+    cov = np.linalg.pinv(normal) / np.outer(scale, scale)
+    misfit = float(np.sqrt(np.mean(residual**2))) / max(noise_std, 1e-300)
+    return [_joint_reading(k, x, cov, residual, decay.fs, terms, drivers, stops[k] / fs, misfit)
+            if k in movable else None for k in range(len(components))]
+
+
+#: A stride of :func:`joint_dependence` keeps the folded frequencies of its components (and their images at
+#: zero and the folded Nyquist frequency) this many times their half-power half-widths, plus two bins, apart
+#: (or as far apart as they are).
+_ALIAS_GAP = 10.0
+
+
+def _joint_stride(fs: float, components: list, n: int) -> int:
+    """Every m-th sample for :func:`joint_dependence`: about :data:`_SAMPLES` per component in all, the
+    largest stride at which folding brings no two components (nor one and its own image) closer (a
+    parametric fit in time needs no band limit, only frequencies the samples tell apart)."""
+    frequencies = np.array([f for _, _, f in components], float)
+    widths = np.array([rate for _, rate, _ in components], float) / (2 * np.pi)
+    for stride in range(max(1, -(-n // (_SAMPLES * len(components)))), 1, -1):
+        rate = fs / stride
+        folded = np.abs((frequencies + rate / 2) % rate - rate / 2)
+        gap = _ALIAS_GAP * np.abs(widths) + 2 * rate / (n / stride)
+        distance = np.abs(folded[:, None] - folded[None, :])
+        true = np.abs(frequencies[:, None] - frequencies[None, :])
+        apart = (distance >= gap[:, None] + gap[None, :]) | (distance >= true * (1 - 1e-9))
+        images = np.minimum(folded, rate / 2 - folded) >= np.minimum(gap, frequencies * (1 - 1e-9))
+        if apart.all() and images.all():
+            return stride
+    return 1
+
+
+class _JointDecay:
+    """The free decay of :func:`joint_dependence`'s model: ``x`` holds per component ``(Re c, Im c, sigma,
+    omega)``, then per term ``(omega_kj, sigma_kj)``."""
+
+    def __init__(self, y, fs, components, drivers):
+        self.y, self.fs, self.n = y, fs, len(components)
+        self.t = np.arange(y.size) / fs
+        self.integrals = [_linear_integral(a2, rate, self.t) for a2, rate, _ in drivers]
+        self.start = np.concatenate([[complex(a).real, complex(a).imag, rate, 2 * np.pi * f]
+                                     for a, rate, f in components])
+
+    def signals(self, x, terms) -> np.ndarray:
+        """Each component's complex signal ``c_k exp(...)``."""
+        exponents = np.outer(-x[2:4 * self.n:4] + 1j * x[3:4 * self.n:4], self.t)
+        for i, (k, j) in enumerate(terms):
+            slope = x[4 * self.n + 2 * i]
+            exponents[k] += (-x[4 * self.n + 2 * i + 1] + 1j * slope) * self.integrals[j]
+        with np.errstate(over="ignore", invalid="ignore"):
+            return (x[0:4 * self.n:4] + 1j * x[1:4 * self.n:4])[:, None] * np.exp(exponents)
+
+    def fit(self, x, terms) -> tuple:
+        """Gauss-Newton from ``x`` (a step that does not lower the residual halved): ``(squared residual,
+        (x, residual, normal matrix, its scales, scaled Jacobian, signals))``, or ``(inf, None)``."""
+        cost, best, step = np.inf, None, None
+        for _ in range(_JOINT_ITERATIONS * _HALVINGS):
+            ce = self.signals(x, terms)
+            residual = self.y - ce.real.sum(axis=0)
+            new_cost = float(residual @ residual)
+            if not np.isfinite(new_cost) or new_cost > cost * (1 - _TOLERANCE):
+                if step is None or np.max(np.abs(step)) < 1e-12 * np.max(np.abs(best[0])):
+                    break
+                step = step / 2  # (a step too long for the exponent: halved from the last point)
+                x = best[0] + step
+                continue
+            normal, scale, scaled = _scaled_normal(self.jacobian(x, ce, terms), scaled=True)
+            cost, best = new_cost, (x, residual, normal, scale, scaled, ce)
+            try:
+                step = np.linalg.solve(normal, scaled.T @ residual) / scale
+            except np.linalg.LinAlgError:
+                break
+            x = x + step
+        return cost, best
+
+    def jacobian(self, x, ce, terms) -> np.ndarray:
+        amplitudes = x[0:4 * self.n:4] + 1j * x[1:4 * self.n:4]
+        z = ce / np.where(amplitudes == 0, 1, amplitudes)[:, None]
+        columns = []
+        for k in range(self.n):
+            columns += [z[k].real, -z[k].imag, -self.t * ce[k].real, -self.t * ce[k].imag]
+        for k, j in terms:
+            columns += self.term_columns(ce, k, j)
+        return np.column_stack(columns)
+
+    def term_columns(self, ce, k: int, j: int) -> list:
+        return [-self.integrals[j] * ce[k].imag, -self.integrals[j] * ce[k].real]
+
+    def scores(self, best, untried, variance) -> list:
+        """Each untried term's chi-square: the squared residual a Gauss-Newton step onto its slopes alone
+        removes, the fitted parameters' directions projected out, over the residual's variance."""
+        residual, scaled, ce = best[1], best[4], best[5]
+        q, _ = np.linalg.qr(scaled)
+        scores = []
+        for k, j in untried:
+            new = np.column_stack(self.term_columns(ce, k, j))
+            new = new - q @ (q.T @ new)
+            g = new.T @ residual
+            scores.append(float(g @ np.linalg.pinv(new.T @ new) @ g) / variance)
+        return scores
+
+
+def _joint_reading(k: int, x, cov, residual, fs: float, terms: list, drivers: list, t_end: float,
+                   misfit: float) -> AmplitudeDependence | None:
+    """Component ``k``'s :class:`AmplitudeDependence` from :func:`joint_dependence`'s fit (``cov`` its
+    unscaled covariance, times the residual's power near the mode), read over its stretch of ``t_end``
+    seconds; None where it does not decay."""
+    n = (x.size - 2 * len(terms)) // 4
+    sigma0, omega0 = x[4 * k + 2], x[4 * k + 3]
+    if not (sigma0 > 0 and omega0 > 0):
+        return None
+    cov = cov * _variance_near(residual, fs, omega0 / (2 * np.pi), sigma0, x.size)
+    std = lambda i: float(np.sqrt(max(cov[i, i], 0.0)))  # noqa: E731
+    mine = [i for i, (m, _) in enumerate(terms) if m == k]
+    own = [i for i in mine if drivers[terms[i][1]][2] == k]
+    w_idx, s_idx = [4 * n + 2 * i for i in mine], [4 * n + 2 * i + 1 for i in mine]
+    a2 = np.array([drivers[terms[i][1]][0] for i in mine])
+    fall = np.exp(-2 * np.array([drivers[terms[i][1]][1] for i in mine]) * t_end)
+    spans = a2 * (1 - fall)  # each squared amplitude's change over the stretch; a2 * fall: left at its end
+    frequency, decay, beyond = (0.0, 0.0), (0.0, 0.0), 0.0
+    if mine:
+        frequency = _change(x[w_idx], cov[np.ix_(w_idx, w_idx)], spans, omega0)
+        decay = _change(x[s_idx], cov[np.ix_(s_idx, s_idx)], spans, sigma0)
+        beyond = abs(float(x[w_idx] @ (a2 * fall))) / max(abs(frequency[0] * omega0), 1e-300)
+    slopes = (x[w_idx[mine.index(own[0])]], x[s_idx[mine.index(own[0])]]) if own else (0.0, 0.0)
+    slopes_std = (std(w_idx[mine.index(own[0])]), std(s_idx[mine.index(own[0])])) if own else (0.0, 0.0)
+    largest = float(np.hypot(x[4 * k], x[4 * k + 1]))
+    return AmplitudeDependence(*frequency, *decay, (largest, largest * float(np.exp(-sigma0 * t_end))),
+                               (float(omega0), float(slopes[0]), float(sigma0), float(slopes[1])),
+                               (std(4 * k + 3), slopes_std[0], std(4 * k + 2), slopes_std[1]), misfit,
+                               drivers=tuple(terms[i][1] for i in mine if i not in own), beyond=float(beyond))

@@ -24,7 +24,10 @@ The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence;
   how a weak mode coupled to it moves: :func:`_beside_nonlinear`);
   or a strong chirp that neither reading describes, the averaged equations far closer than the linear
   decay and putting its small-amplitude frequency outside its half-power band (:func:`_undescribed`);
-  or that makes a harmonic. The paper's sweep and refinement identify its equation (and where they miss
+  or that makes a harmonic; or, in a record with a nonlinear mode, a linear candidate that changes
+  when read together with the nonlinear ones, each moved by the amplitudes of those that move it
+  (:func:`_read_jointly`: a mode moved by a longer-lived one's amplitude shows no change of its own). The
+  paper's sweep and refinement identify its equation (and where they miss
   the dependence its free decay shows, the averaged equations fitted there stand:
   :func:`~.linear.envelope_mode`). (A significant misfit alone is common on real records at 60-70 dB: a
   structure is never exactly a sum of damped sinusoids.) Components closer than the wider one's
@@ -43,12 +46,21 @@ The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence;
 
 from __future__ import annotations
 
+from dataclasses import replace
+from types import SimpleNamespace
+
 import numpy as np
 from scipy.fft import next_fast_len
 
 from ..preprocessing.filters import transient_samples
 from ..preprocessing.partition import _TOP, peak_bands, resolved
-from ._envelope import CHANGE_SIGMAS, ENVELOPE_MISFIT, amplitude_dependence, decay_dependence
+from ._envelope import (
+    CHANGE_SIGMAS,
+    ENVELOPE_MISFIT,
+    amplitude_dependence,
+    decay_dependence,
+    joint_dependence,
+)
 from ._harmonics import NEAR, ORDERS, RATIO_TOL, _evidence
 from .candidates import MISFIT_REACH, MISFIT_SHARE
 from .kinds import Kind
@@ -56,6 +68,16 @@ from .signals import _members, analytic, component, deflated
 
 __all__ = ["classify_candidates", "TONE_SIGMAS", "TONE_SHARE"]
 
+#: A joint reading whose values with every amplitude gone lie further beyond its stretch than twice the
+#: change it shows within it (:attr:`~._envelope.AmplitudeDependence.beyond`) is an extrapolation the record
+#: does not support: the amplitudes that move the mode have not fallen by a third while it is heard.
+MAX_BEYOND = 2.0
+#: At most this many candidates are read together (:func:`_read_jointly`): the joint fit's work grows as
+#: the cube of their number, and a record with more to read (a real structure's many modes at 60-80 dB,
+#: none exactly a damped sinusoid) keeps each one's own reading.
+MAX_TOGETHER = 6
+#: What a candidate without amplitude-dependence evidence counts as: described (nothing to read again).
+_DESCRIBED = SimpleNamespace(misfit=0.0)
 #: A component whose decay rate is within this many standard deviations of zero does not decay.
 TONE_SIGMAS = 3.0
 #: ... and which at most decays this many e-folds over the record at that many standard deviations above its
@@ -80,12 +102,16 @@ def classify_candidates(state) -> None:
     _amplitude_dependent(state)
     _unconfirmed(state)
     _harmonics(state)  # of whole modes: a chirp's pieces are one parent
+    _read_jointly(state)
     _unsupported(cands)
     counts = {k: sum(c.kind is k for c in cands) for k in Kind}
     again = [f"{c.frequency_hz:.5g} Hz" for c in cands if c.evidence.get("beside_nonlinear")]
+    joint = [f"{c.frequency_hz:.5g} Hz" for c in cands if c.evidence.get("joint")]
     state.decide(", ".join(f"{n} {k.value}" for k, n in counts.items() if n) or "no candidate")
     if again:
         state.decide(f"read again with the nonlinear candidates' own equations removed: {', '.join(again)}")
+    if joint:
+        state.decide(f"read together, each moved by the others' amplitudes: {', '.join(joint)}")
 
 
 def _unsupported(cands: list) -> None:
@@ -398,6 +424,51 @@ def _beside_nonlinear(state, linear: list) -> None:
             c.evidence.update(amplitude_dependence=second, beside_nonlinear=True)
             if _depends(c, second):
                 c.kind = Kind.NONLINEAR
+
+
+def _read_jointly(state) -> None:
+    """The nonlinear candidates and the linear ones whose averaged equations do not describe their own free
+    decay, read together (:func:`~._envelope.joint_dependence`): each one's frequency and decay rate moved
+    by the squared amplitudes of those the data show move it.
+
+    A nonlinear element shared by several modes moves each one's frequency and decay rate with the others'
+    amplitudes. Read one at a time, the others removed by their linear decays, each keeps the others'
+    chirps in its free decay, and a mode moved by a longer-lived one's amplitude shows a linear decay
+    whose frequency and decay rate are averages over the other's amplitudes, not its own small-amplitude
+    ones. Where the joint reading describes the decay (misfit at most :data:`~._envelope.ENVELOPE_MISFIT`)
+    and its values with every amplitude gone lie within the record's reach (:data:`MAX_BEYOND`), it is the
+    evidence of each linear candidate read, and of each nonlinear one that other modes' amplitudes move
+    (one moved by its own alone keeps its own reading); a linear candidate whose joint reading changes
+    beyond a modal table's reading becomes nonlinear. (A chirp's merged pieces stay in the decay the
+    reading fits: its one oscillator's equations follow them.) Where more than :data:`MAX_TOGETHER`
+    candidates would be read, none is."""
+    cands = state.candidates
+    read = [k for k, c in enumerate(cands) if c.kind is Kind.NONLINEAR]
+    if not read:
+        return
+    read += [k for k, c in enumerate(cands) if c.kind is Kind.LINEAR
+             and not (c.evidence.get("amplitude_dependence") or _DESCRIBED).misfit <= ENVELOPE_MISFIT]
+    if len(read) > MAX_TOGETHER:
+        return
+    n = state.pre.y.size - state.start
+    stops = [min(_audible(cands[k], state.pre.fs) or n, n) for k in read]
+    y = deflated(state, read[0], keep=read[1:])[state.start:][:max(stops)]
+    drivers = [k for k in read if cands[k].decay_rate > 0]
+    starts = [(complex(cands[k].amplitude[0]), cands[k].decay_rate, cands[k].damped_frequency_hz)
+              for k in read]
+    squared = [(abs(starts[read.index(j)][0]) ** 2, cands[j].decay_rate, read.index(j)) for j in drivers]
+    readings = joint_dependence(y, state.pre.fs, starts, min(cands[k].noise_std for k in read), stops,
+                                drivers=squared)
+    for k, e in zip(read, readings):
+        if e is None or not e.misfit <= ENVELOPE_MISFIT or e.beyond > MAX_BEYOND:
+            continue
+        c = cands[k]
+        e = replace(e, drivers=tuple(drivers[j] for j in e.drivers))
+        if c.kind is Kind.NONLINEAR and not e.drivers:
+            continue
+        c.evidence.update(amplitude_dependence=e, joint=True)
+        if c.kind is Kind.LINEAR and _depends(c, e):
+            c.kind = Kind.NONLINEAR
 
 
 def _second_look(state, k: int, correction, neighbours: list, linear: list):

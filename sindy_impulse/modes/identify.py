@@ -2,13 +2,17 @@
 
 Each candidate's route follows from its kind (:mod:`.classify`):
 
-- :attr:`~.kinds.Kind.LINEAR`: :func:`.linear.linear_mode`, the oscillator of its poles (no sweep);
+- :attr:`~.kinds.Kind.LINEAR`: :func:`.linear.linear_mode`, the oscillator of its poles (no sweep); where
+  it was read together with the modes a nonlinear element moves (:func:`~.classify._read_jointly`), the
+  oscillator of that reading (its linear decay fitted with their chirps described, not left in its own);
 - :attr:`~.kinds.Kind.NONLINEAR`: the paper's machinery on its band signal (:func:`.band_fit.fit_band`:
   derivative states, the threshold sweep scored on the simulation error, the bounded refinement), its band
   spanning the pieces merged into it, the other components removed (:mod:`.signals`); where the band cut
   among the nonlinear modes keeps too few periods, its own band regardless of its neighbours (removed).
   When that gives no mode (its model does not reproduce the band, or its mode is not damped) the decay
-  fit's values stand, with a note: an average over the decay's amplitudes, not the small-amplitude limit;
+  fit's values stand, with a note: an average over the decay's amplitudes, not the small-amplitude limit.
+  Where other modes' amplitudes move it (the joint reading's ``drivers``), the averaged equations give its
+  values with every amplitude gone: an equation of its band alone holds its own amplitude only;
 - a mode carried by the decay fit's values alone is rejected where nothing else supports it: no stable
   pole, a linear decay that does not explain it and does not reproduce its band (:func:`_supported`; the
   paper's fit on such a band gives no better: a damping ratio of tens of per cent, or a mode elsewhere);
@@ -88,7 +92,7 @@ def _one(state, k: int) -> list:
         with one_thread(), warnings.catch_warnings():
             warnings.simplefilter("ignore")
             if cand.kind is Kind.LINEAR:
-                outs = [(k, linear_mode(state, k) or nonlinear_mode(state, k))]
+                outs = [(k, _jointly_read(state, k) or linear_mode(state, k) or nonlinear_mode(state, k))]
             else:
                 outs = _kept(state, k, nonlinear_mode(state, k, uncertainty=False))
             return [(j, _supported(state, j, out)) for j, out in outs]
@@ -184,12 +188,24 @@ def _agreeing_poles(state, k: int, out) -> Mode | None:
 def _envelope_instead(state, k: int, out):
     """The averaged equations' mode (:func:`.linear.envelope_mode`) where the candidate's free decay shows
     an amplitude dependence (:attr:`~._envelope.AmplitudeDependence.nonlinear`) that the paper's fit did
-    not give (a linear equation, or none)."""
-    e = state.candidates[k].evidence.get("amplitude_dependence")
-    pieces = len(_members(state, k)) > 1  # its free decay's fit had them removed as linear decays
-    if e is None or pieces or _nonlinear_equation(out) or not e.nonlinear:
+    not give (a linear equation, or none), or where other modes' amplitudes move it (the joint reading's
+    ``drivers``: an equation of its band alone holds its own amplitude only, and cannot say what the mode
+    is with theirs gone)."""
+    cand = state.candidates[k]
+    e = cand.evidence.get("amplitude_dependence")
+    # its free decay's fit had its pieces removed as linear decays (not the joint reading's)
+    pieces = len(_members(state, k)) > 1 and not cand.evidence.get("joint")
+    if e is None or pieces or not e.nonlinear or (_nonlinear_equation(out) and not e.drivers):
         return out
     return envelope_mode(state, k, e) or out
+
+
+def _jointly_read(state, k: int):
+    """A linear candidate's mode from the averaged equations of the joint free decay it was read in
+    (:func:`~.classify._read_jointly`), or None: beside modes whose amplitudes move their frequencies, its
+    linear decay is fitted there with their chirps described, not left in its free decay."""
+    e = state.candidates[k].evidence.get("amplitude_dependence")
+    return envelope_mode(state, k, e) if state.candidates[k].evidence.get("joint") else None
 
 
 def _nonlinear_equation(out) -> bool:

@@ -132,10 +132,16 @@ def envelope_mode(state, k: int, e) -> Mode | None:
         terms[3, 0] = 8 * w0 * w2 / 3, 8 * math.hypot(w0 * w2_std, w2 * w0_std) / 3
     if e.changes(CHANGE_SIGMAS, frequency=False):
         terms[2, 1] = 8 * s2, 8 * s2_std
+    if state.candidates[k].evidence.get("joint"):
+        moved = ", ".join(f"{state.candidates[j].frequency_hz:.5g}" for j in e.drivers)
+        note = ("the averaged equations of the free decay of the modes read together, every amplitude gone"
+                + (f" (moved by the amplitudes of the modes at {moved} Hz)" if moved else ""))
+    else:
+        note = ("the averaged equations of its free decay (the paper's fit did not give the amplitude "
+                "dependence its envelope shows)")
     return _fixed_mode(state, k, terms, "envelope", frequency_hz=wn / (2 * np.pi), damping_ratio=s0 / wn,
                        frequency_std_hz=wn_std / (2 * np.pi), damping_ratio_std=s0_std / wn,
-                       uncertainty_note="the averaged equations of its free decay (the paper's fit did not "
-                                        "give the amplitude dependence its envelope shows)")
+                       uncertainty_note=note)
 
 
 def linear_amplitude(state, cand) -> float:
