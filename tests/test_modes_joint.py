@@ -112,3 +112,37 @@ def test_survey_reads_a_mode_moved_by_a_stronger_ones_amplitude_with_it_gone():
     third = survey.modes[int(np.argmin(abs(found - rec.modes.frequency_hz[2])))]
     assert third.source == "envelope" and "read together" in third.uncertainty_note
     assert any("read together" in d for stage in survey.trace for d in stage.decisions)
+
+
+def _candidate(frequency_hz, damping_ratio, stable, explained=False):
+    from types import SimpleNamespace
+
+    from sindy_impulse.modes.kinds import Kind
+
+    rate = damping_ratio * 2 * np.pi * frequency_hz
+    return SimpleNamespace(frequency_hz=frequency_hz, damped_frequency_hz=frequency_hz,
+                           damping_ratio=damping_ratio, decay_rate=rate, stable=stable, explained=explained,
+                           amplitude=np.array([1.0 + 0j]), kind=Kind.LINEAR, parent=None, evidence={})
+
+
+def test_a_broad_component_between_two_confirmed_modes_does_not_merge_them():
+    """A broad component (damping 11 %) whose half-power band overlaps two modes 17 % apart, each a stable
+    pole of the diagram: it is a piece of the stronger one, and the other stays a mode of its own (a run of
+    overlapping bands joined them through it). Two overlapping components the diagram does not confirm,
+    and stable ones within a chirp's sweep (5 %) of the strongest, are still one mode's pieces."""
+    from sindy_impulse.modes.classify import _pieces
+    from sindy_impulse.modes.kinds import Kind
+
+    low, broad = _candidate(616.8, 0.0134, True), _candidate(682.8, 0.115, True)
+    high = _candidate(725.9, 0.0048, True)
+    low.amplitude = np.array([3.0 + 0j])
+    _pieces([low, broad, high])
+    assert broad.kind is Kind.MERGED and broad.parent == 0
+    assert high.kind is Kind.LINEAR and low.kind is Kind.NONLINEAR
+    a, b = _candidate(100.0, 0.01, False), _candidate(100.5, 0.01, False)
+    _pieces([a, b])
+    assert {a.kind, b.kind} == {Kind.NONLINEAR, Kind.MERGED}
+    chirp = [_candidate(69.86, 0.017, True), _candidate(70.44, 0.0075, True), _candidate(71.17, 0.004, True)]
+    chirp[0].amplitude = np.array([3.0 + 0j])
+    _pieces(chirp)
+    assert [c.kind for c in chirp] == [Kind.NONLINEAR, Kind.MERGED, Kind.MERGED]

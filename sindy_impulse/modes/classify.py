@@ -561,12 +561,32 @@ def _unconfirmed(state) -> None:
                 return True
         return _beside(a, b, gap) or _beside(b, a, gap)
 
-    runs = _runs(cands, (Kind.LINEAR, Kind.NONLINEAR), joined)
-    while runs:  # until none is left: a merged run is a nonlinear mode, whose neighbours are then beside it
+    # until none is left: a merged run is a nonlinear mode, whose neighbours are then beside it
+    runs = _joined_runs(cands, joined)
+    while runs:
         for run in runs:
             nonlinear = any(cands[k].kind is Kind.NONLINEAR for k in run)
             _merge(cands, run, "pieces" if nonlinear else "unconfirmed")
-        runs = _runs(cands, (Kind.LINEAR, Kind.NONLINEAR), joined)
+        runs = _joined_runs(cands, joined)
+
+
+def _joined_runs(cands: list, joined) -> list:
+    """The runs of linear and nonlinear candidates ``joined`` by frequency (:func:`_runs`), less the
+    confirmed modes (stable poles of the diagram) farther than a chirp's pieces lie from the run's
+    strongest member (:data:`CLOSE_SHARE` of its frequency) that the run joins to it only through others
+    (a broad component overlapping two modes' bands, a piece within reach of both): a mode of its own, not
+    a piece of its neighbour's. (A chirp spreads stable poles over the frequencies it sweeps.)"""
+    def piece(c, head) -> bool:
+        near = abs(c.frequency_hz - head.frequency_hz) < CLOSE_SHARE * head.frequency_hz
+        return c is head or not c.stable or near or joined(*sorted((c, head), key=lambda d: d.frequency_hz))
+
+    out = []
+    for run in _runs(cands, (Kind.LINEAR, Kind.NONLINEAR), joined):
+        head = cands[max(run, key=lambda k: _energy(cands[k]))]
+        run = [k for k in run if piece(cands[k], head)]
+        if len(run) > 1:
+            out.append(run)
+    return out
 
 
 def _own_modes(state, i: int, j: int) -> bool:
@@ -617,5 +637,5 @@ def _pieces(cands: list) -> None:
         overlap = abs(f[1] - f[0]) < z[0] * f[0] + z[1] * f[1]
         return not resolved(f, z) or (overlap and not (a.explained and b.explained))
 
-    for run in _runs(cands, (Kind.LINEAR, Kind.NONLINEAR), joined):
+    for run in _joined_runs(cands, joined):
         _merge(cands, run, "pieces")
