@@ -474,6 +474,8 @@ def _split_unexplained(fit, ring: np.ndarray, fs: float, table, noise, threshold
         others = np.arange(len(fit)) != k
         alone = None
         for fi, si, by_poles in _split_seeds(fit, k, poles, resolution, threshold_db, unresolved):
+            if np.any(fi <= 0) or np.any(fi >= fs / 2):  # a broad component's mirror seed beyond the band
+                continue
             if not by_poles:  # first alone, on the record without the other components: a cheap test
                 alone = _alone(fit, ring, k, left) if alone is None else alone
                 if not _split_holds(fit_decay(alone, fs, fi, si, noise=noise, refloor=False), fi, resolution,
