@@ -433,8 +433,11 @@ def _scaled_normal(jac: np.ndarray, scaled: bool = False) -> tuple:
 #: few modes offers tens of such terms).
 JOINT_SCORE = 27.6
 #: Gauss-Newton iterations of :func:`joint_dependence` per term added, at most, and halvings of a step
-#: that does not lower the residual.
-_JOINT_ITERATIONS, _HALVINGS = 20, 4
+#: that does not lower the residual; it stops where a step lowers the squared residual by less than this
+#: share of the residual's variance (its decisions are in units of that variance: :data:`JOINT_SCORE`).
+_JOINT_ITERATIONS, _HALVINGS, _JOINT_TOLERANCE = 20, 4, 0.1
+#: ... and per trial of a term (from the fit without it: enough to measure what the term lowers).
+_TRIAL_ITERATIONS = 5
 
 
 def joint_dependence(y: np.ndarray, fs: float, components: list, noise_std: float, stops: list,
@@ -496,17 +499,20 @@ def joint_dependence(y: np.ndarray, fs: float, components: list, noise_std: floa
             break
         longer = np.concatenate([best[0], [0.0, 0.0]])
         trial_terms = terms + [(k, j)]
-        trial_cost, trial = decay.fit(longer, trial_terms)
+        trial_cost, trial = decay.fit(longer, trial_terms, _TRIAL_ITERATIONS)
         own = next((i for i, d in enumerate(drivers) if d[2] == k), None)
         if own is not None and own != j and (k, own) not in terms:
             # another mode's amplitude whose decay its own follows closely: where the data cannot tell
             # them apart, its own amplitude is the simpler explanation of its chirp
-            own_cost, own_fit = decay.fit(longer, terms + [(k, own)])
+            own_cost, own_fit = decay.fit(longer, terms + [(k, own)], _TRIAL_ITERATIONS)
             if own_fit is not None and own_cost <= trial_cost + JOINT_SCORE * variance:
                 trial_terms, trial_cost, trial = terms + [(k, own)], own_cost, own_fit
         if trial is None or (cost - trial_cost) < JOINT_SCORE * variance:
             break
         terms, cost, best = trial_terms, trial_cost, trial
+    if terms:  # the terms chosen, fitted to convergence
+        cost, polished = decay.fit(best[0], terms)
+        best = polished or best
     x, residual, normal, scale = best[:4]
     cov = np.linalg.pinv(normal) / np.outer(scale, scale)
     misfit = float(np.sqrt(np.mean(residual**2))) / max(noise_std, 1e-300)
@@ -559,11 +565,12 @@ class _JointDecay:
         with np.errstate(over="ignore", invalid="ignore"):
             return (x[0:4 * self.n:4] + 1j * x[1:4 * self.n:4])[:, None] * np.exp(exponents)
 
-    def fit(self, x, terms) -> tuple:
-        """Gauss-Newton from ``x`` (a step that does not lower the residual halved): ``(squared residual,
-        (x, residual, normal matrix, its scales, scaled Jacobian, signals))``, or ``(inf, None)``."""
+    def fit(self, x, terms, iterations: int = _JOINT_ITERATIONS) -> tuple:
+        """Gauss-Newton from ``x`` (a step that does not lower the residual halved), ``iterations`` at most:
+        ``(squared residual, (x, residual, normal matrix, its scales, scaled Jacobian, signals))``, or
+        ``(inf, None)``."""
         cost, best, step = np.inf, None, None
-        for _ in range(_JOINT_ITERATIONS * _HALVINGS):
+        for _ in range(iterations * _HALVINGS):
             ce = self.signals(x, terms)
             residual = self.y - ce.real.sum(axis=0)
             new_cost = float(residual @ residual)
@@ -574,7 +581,10 @@ class _JointDecay:
                 x = best[0] + step
                 continue
             normal, scale, scaled = _scaled_normal(self.jacobian(x, ce, terms), scaled=True)
+            settled = cost - new_cost < _JOINT_TOLERANCE * new_cost / self.y.size
             cost, best = new_cost, (x, residual, normal, scale, scaled, ce)
+            if settled:  # (a step worth less than a tenth of one sample's residual decides nothing)
+                break
             try:
                 step = np.linalg.solve(normal, scaled.T @ residual) / scale
             except np.linalg.LinAlgError:
