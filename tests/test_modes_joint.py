@@ -146,3 +146,14 @@ def test_a_broad_component_between_two_confirmed_modes_does_not_merge_them():
     chirp[0].amplitude = np.array([3.0 + 0j])
     _pieces(chirp)
     assert [c.kind for c in chirp] == [Kind.NONLINEAR, Kind.MERGED, Kind.MERGED]
+
+
+def test_joint_dependence_refuses_what_it_cannot_read():
+    """No component, a stop missing, or a 2-D decay: a ValueError that names what was given."""
+    y = np.zeros(100)
+    with pytest.raises(ValueError, match="0 component"):
+        _envelope.joint_dependence(y, FS, [], 1e-4, [])
+    with pytest.raises(ValueError, match="1 stop"):
+        _envelope.joint_dependence(y, FS, [(1.0, 1.0, 40.0), (1.0, 1.0, 90.0)], 1e-4, [100])
+    with pytest.raises(ValueError, match="shape"):
+        _envelope.joint_dependence(np.zeros((100, 2)), FS, [(1.0, 1.0, 40.0)], 1e-4, [100])

@@ -441,7 +441,7 @@ _TRIAL_ITERATIONS = 5
 
 
 def joint_dependence(y: np.ndarray, fs: float, components: list, noise_std: float, stops: list,
-                     movable: list | None = None, drivers: list | None = None) -> list:
+                     drivers: list | None = None) -> list:
     """The averaged equations of several modes read together off their joint free decay ``y`` (every other
     component removed): each mode's frequency and decay rate moved by the squared amplitudes of the modes
     that the data show move it, its own included (a nonlinear element shared by several modes moves each
@@ -449,17 +449,16 @@ def joint_dependence(y: np.ndarray, fs: float, components: list, noise_std: floa
 
     ``components``: ``(complex amplitude, decay rate, damped frequency_hz)`` of each one's linear decay,
     where the fit starts; ``stops``: samples over which each is read (its decay's audible stretch);
-    ``movable``: which components are modes whose equations are read (the others, e.g. a chirp's merged
-    pieces, keep linear decays, fitted too), by default all; ``drivers``: ``(squared amplitude, decay rate,
-    component or None)`` of the linear decays of the modes whose squared amplitudes may move them (a mode
-    already removed from ``y`` may move those in it), by default the movable components'. The model is
+    ``drivers``: ``(squared amplitude, decay rate, component or None)`` of the linear decays of the modes
+    whose squared amplitudes may move them (a mode already removed from ``y`` may move those in it), by
+    default the components'. The model is
     :func:`decay_dependence`'s,
     summed: ``y(t) = sum_k Re[c_k exp(-sigma_k t + i omega_k t + sum_j (i omega_kj - sigma_kj) I_j(t))]``
     with ``I_j`` the integral of mode ``j``'s linear decay's squared amplitude. The terms ``(k, j)`` enter
     one at a time, each the one whose slopes lower the residual most (their score: the chi-square of the
     step onto them, the fitted terms projected out), while the fit with it lowers the squared residual by
     :data:`JOINT_SCORE` times the residual's variance; every mode starts linear. Returns one
-    :class:`AmplitudeDependence` per component (None for one not movable or not decaying): its changes
+    :class:`AmplitudeDependence` per component (None for one not decaying): its changes
     over its stretch from every term that moves it, ``coefficients`` with its own slopes (zero where its
     own amplitude does not move it), ``drivers`` the other drivers that move it, ``misfit`` the joint
     residual's RMS over ``noise_std``. Returns ``[]`` where the fit fails.
@@ -478,10 +477,12 @@ def joint_dependence(y: np.ndarray, fs: float, components: list, noise_std: floa
     ((0,), 90.0)
     """
     y = np.asarray(y, float)
-    movable = list(range(len(components))) if movable is None else list(movable)
+    if y.ndim != 1 or not components or len(stops) != len(components):
+        raise ValueError(f"joint_dependence needs a 1-D free decay and one stop per component; got y of "
+                         f"shape {y.shape}, {len(components)} component(s) and {len(stops)} stop(s)")
     stride = _joint_stride(fs, components, y.size)
     if drivers is None:
-        drivers = [(abs(components[j][0]) ** 2, components[j][1], j) for j in movable]
+        drivers = [(abs(components[j][0]) ** 2, components[j][1], j) for j in range(len(components))]
     drivers = [d for d in drivers if d[1] > 0]
     decay = _JointDecay(y[::stride], fs / stride, components, drivers)
     terms: list = []  # (k, j): mode k's frequency and decay rate moved by driver j's squared amplitude
@@ -490,7 +491,7 @@ def joint_dependence(y: np.ndarray, fs: float, components: list, noise_std: floa
         return []
     while True:  # the terms one at a time, while one lowers the residual by JOINT_SCORE variances
         variance = cost / max(decay.y.size - best[0].size, 1)
-        untried = [(k, j) for k in movable for j in range(len(drivers)) if (k, j) not in terms]
+        untried = [(k, j) for k in range(len(components)) for j in range(len(drivers)) if (k, j) not in terms]
         if not untried:
             break
         scores = decay.scores(best, untried, variance)
@@ -517,7 +518,7 @@ def joint_dependence(y: np.ndarray, fs: float, components: list, noise_std: floa
     cov = np.linalg.pinv(normal) / np.outer(scale, scale)
     misfit = float(np.sqrt(np.mean(residual**2))) / max(noise_std, 1e-300)
     return [_joint_reading(k, x, cov, residual, decay.fs, terms, drivers, stops[k] / fs, misfit)
-            if k in movable else None for k in range(len(components))]
+            for k in range(len(components))]
 
 
 #: A stride of :func:`joint_dependence` keeps the folded frequencies of its components (and their images at

@@ -47,7 +47,6 @@ The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence;
 from __future__ import annotations
 
 from dataclasses import replace
-from types import SimpleNamespace
 
 import numpy as np
 from scipy.fft import next_fast_len
@@ -76,8 +75,6 @@ MAX_BEYOND = 2.0
 #: the cube of their number, and a record with more to read (a real structure's many modes at 60-80 dB,
 #: none exactly a damped sinusoid) keeps each one's own reading.
 MAX_TOGETHER = 6
-#: What a candidate without amplitude-dependence evidence counts as: described (nothing to read again).
-_DESCRIBED = SimpleNamespace(misfit=0.0)
 #: A component whose decay rate is within this many standard deviations of zero does not decay.
 TONE_SIGMAS = 3.0
 #: ... and which at most decays this many e-folds over the record at that many standard deviations above its
@@ -446,8 +443,7 @@ def _read_jointly(state) -> None:
     read = [k for k, c in enumerate(cands) if c.kind is Kind.NONLINEAR]
     if not read:
         return
-    read += [k for k, c in enumerate(cands) if c.kind is Kind.LINEAR
-             and not (c.evidence.get("amplitude_dependence") or _DESCRIBED).misfit <= ENVELOPE_MISFIT]
+    read += [k for k, c in enumerate(cands) if c.kind is Kind.LINEAR and _undescribed_alone(c)]
     if len(read) > MAX_TOGETHER:
         return
     n = state.pre.y.size - state.start
@@ -456,7 +452,8 @@ def _read_jointly(state) -> None:
     drivers = [k for k in read if cands[k].decay_rate > 0]
     starts = [(complex(cands[k].amplitude[0]), cands[k].decay_rate, cands[k].damped_frequency_hz)
               for k in read]
-    squared = [(abs(starts[read.index(j)][0]) ** 2, cands[j].decay_rate, read.index(j)) for j in drivers]
+    squared = [(float(np.abs(cands[j].amplitude[0])) ** 2, cands[j].decay_rate, read.index(j))
+               for j in drivers]
     readings = joint_dependence(y, state.pre.fs, starts, min(cands[k].noise_std for k in read), stops,
                                 drivers=squared)
     for k, e in zip(read, readings):
@@ -469,6 +466,13 @@ def _read_jointly(state) -> None:
         c.evidence.update(amplitude_dependence=e, joint=True)
         if c.kind is Kind.LINEAR and _depends(c, e):
             c.kind = Kind.NONLINEAR
+
+
+def _undescribed_alone(cand) -> bool:
+    """Whether a candidate's own averaged equations were read and do not describe its free decay (misfit
+    over :data:`~._envelope.ENVELOPE_MISFIT`)."""
+    e = cand.evidence.get("amplitude_dependence")
+    return e is not None and not e.misfit <= ENVELOPE_MISFIT
 
 
 def _second_look(state, k: int, correction, neighbours: list, linear: list):
