@@ -157,3 +157,19 @@ def test_joint_dependence_refuses_what_it_cannot_read():
         _envelope.joint_dependence(y, FS, [(1.0, 1.0, 40.0), (1.0, 1.0, 90.0)], 1e-4, [100])
     with pytest.raises(ValueError, match="shape"):
         _envelope.joint_dependence(np.zeros((100, 2)), FS, [(1.0, 1.0, 40.0)], 1e-4, [100])
+
+
+@pytest.mark.parametrize("iterations", [1, 3])
+def test_a_joint_fit_takes_at_most_its_iterations_in_steps(iterations, monkeypatch):
+    """A fit asked for ``iterations`` Gauss-Newton steps takes at most that many (one Jacobian per point
+    accepted: the start and each step's end), and each step lowers the squared residual."""
+    y, components, _ = _two_modes(0)
+    decay = _envelope._JointDecay(y, FS, components, [(1.0, 1.0, 0), (0.09, 4.0, 1)])
+    points = []
+    jacobian = decay.jacobian
+    monkeypatch.setattr(decay, "jacobian", lambda x, ce, terms: points.append(x) or jacobian(x, ce, terms))
+    start = decay.start * (1 + 1e-3)  # (away from the optimum: every step counts)
+    cost, best = decay.fit(start, [], iterations)
+    assert 1 < len(points) <= iterations + 1
+    costs = [float(np.sum((y - decay.signals(x, []).real.sum(axis=0)) ** 2)) for x in points]
+    assert all(b < a for a, b in zip(costs, costs[1:])) and cost == pytest.approx(costs[-1])

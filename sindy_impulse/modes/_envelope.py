@@ -567,10 +567,10 @@ class _JointDecay:
             return (x[0:4 * self.n:4] + 1j * x[1:4 * self.n:4])[:, None] * np.exp(exponents)
 
     def fit(self, x, terms, iterations: int = _JOINT_ITERATIONS) -> tuple:
-        """Gauss-Newton from ``x`` (a step that does not lower the residual halved), ``iterations`` at most:
-        ``(squared residual, (x, residual, normal matrix, its scales, scaled Jacobian, signals))``, or
-        ``(inf, None)``."""
-        cost, best, step = np.inf, None, None
+        """Gauss-Newton from ``x``: ``iterations`` steps at most (the halvings of a step that does not lower
+        the residual not counted): ``(squared residual, (x, residual, normal matrix, its scales, scaled
+        Jacobian, signals))``, or ``(inf, None)``."""
+        cost, best, step, steps = np.inf, None, None, 0
         for _ in range(iterations * _HALVINGS):
             ce = self.signals(x, terms)
             residual = self.y - ce.real.sum(axis=0)
@@ -584,8 +584,9 @@ class _JointDecay:
             normal, scale, scaled = _scaled_normal(self.jacobian(x, ce, terms), scaled=True)
             settled = cost - new_cost < _JOINT_TOLERANCE * new_cost / self.y.size
             cost, best = new_cost, (x, residual, normal, scale, scaled, ce)
-            if settled:  # (a step worth less than a tenth of one sample's residual decides nothing)
-                break
+            if settled or steps == iterations:  # (settled: a step worth less than a tenth of one
+                break                           # sample's residual decides nothing)
+            steps += 1
             try:
                 step = np.linalg.solve(normal, scaled.T @ residual) / scale
             except np.linalg.LinAlgError:
