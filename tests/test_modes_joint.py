@@ -167,9 +167,23 @@ def test_a_joint_fit_takes_at_most_its_iterations_in_steps(iterations, monkeypat
     decay = _envelope._JointDecay(y, FS, components, [(1.0, 1.0, 0), (0.09, 4.0, 1)])
     points = []
     jacobian = decay.jacobian
-    monkeypatch.setattr(decay, "jacobian", lambda x, ce, terms: points.append(x) or jacobian(x, ce, terms))
+    monkeypatch.setattr(decay, "jacobian", lambda x, *rest: points.append(x) or jacobian(x, *rest))
     start = decay.start * (1 + 1e-3)  # (away from the optimum: every step counts)
     cost, best = decay.fit(start, [], iterations)
     assert 1 < len(points) <= iterations + 1
     costs = [float(np.sum((y - decay.signals(x, []).real.sum(axis=0)) ** 2)) for x in points]
     assert all(b < a for a, b in zip(costs, costs[1:])) and cost == pytest.approx(costs[-1])
+
+
+def test_a_joint_fit_of_one_component_holds_the_others():
+    """A fit with ``free=k`` moves only component k's parameters and its terms' slopes, lowers the squared
+    residual, and returns the normal matrix of every parameter (the selection's scores project on all)."""
+    y, components, _ = _two_modes(0)
+    decay = _envelope._JointDecay(y, FS, components, [(1.0, 1.0, 0), (0.09, 4.0, 1)])
+    terms = [(1, 0)]
+    start = np.concatenate([decay.start, [0.0, 0.0]])
+    cost, best = decay.fit(start, terms, 5, free=1)
+    moved = np.flatnonzero(best[0] != start)
+    assert set(moved) <= set(decay.parameters_of(1, terms)) and set(moved) & {8, 9}
+    first = float(np.sum((y - decay.signals(start, terms).real.sum(axis=0)) ** 2))
+    assert cost < first and best[2].shape == (start.size, start.size)

@@ -457,7 +457,8 @@ def joint_dependence(y: np.ndarray, fs: float, components: list, noise_std: floa
     with ``I_j`` the integral of mode ``j``'s linear decay's squared amplitude. The terms ``(k, j)`` enter
     one at a time, each the one whose slopes lower the residual most (their score: the chi-square of the
     step onto them, the fitted terms projected out), while the fit with it lowers the squared residual by
-    :data:`JOINT_SCORE` times the residual's variance; every mode starts linear. Returns one
+    :data:`JOINT_SCORE` times the residual's variance (the fit tried with the mode it moves refitted alone,
+    the others held), the chosen terms then fitted together; every mode starts linear. Returns one
     :class:`AmplitudeDependence` per component (None for one not decaying): its changes
     over its stretch from every term that moves it, ``coefficients`` with its own slopes (zero where its
     own amplitude does not move it), ``drivers`` the other drivers that move it, ``misfit`` the joint
@@ -500,12 +501,12 @@ def joint_dependence(y: np.ndarray, fs: float, components: list, noise_std: floa
             break
         longer = np.concatenate([best[0], [0.0, 0.0]])
         trial_terms = terms + [(k, j)]
-        trial_cost, trial = decay.fit(longer, trial_terms, _TRIAL_ITERATIONS)
+        trial_cost, trial = decay.fit(longer, trial_terms, _TRIAL_ITERATIONS, free=k)
         own = next((i for i, d in enumerate(drivers) if d[2] == k), None)
         if own is not None and own != j and (k, own) not in terms:
             # another mode's amplitude whose decay its own follows closely: where the data cannot tell
             # them apart, its own amplitude is the simpler explanation of its chirp
-            own_cost, own_fit = decay.fit(longer, terms + [(k, own)], _TRIAL_ITERATIONS)
+            own_cost, own_fit = decay.fit(longer, terms + [(k, own)], _TRIAL_ITERATIONS, free=k)
             if own_fit is not None and own_cost <= trial_cost + JOINT_SCORE * variance:
                 trial_terms, trial_cost, trial = terms + [(k, own)], own_cost, own_fit
         if trial is None or (cost - trial_cost) < JOINT_SCORE * variance:
@@ -566,10 +567,13 @@ class _JointDecay:
         with np.errstate(over="ignore", invalid="ignore"):
             return (x[0:4 * self.n:4] + 1j * x[1:4 * self.n:4])[:, None] * np.exp(exponents)
 
-    def fit(self, x, terms, iterations: int = _JOINT_ITERATIONS) -> tuple:
+    def fit(self, x, terms, iterations: int = _JOINT_ITERATIONS, free: int | None = None) -> tuple:
         """Gauss-Newton from ``x``: ``iterations`` steps at most (the halvings of a step that does not lower
-        the residual not counted): ``(squared residual, (x, residual, normal matrix, its scales, scaled
-        Jacobian, signals))``, or ``(inf, None)``."""
+        the residual not counted), of every parameter or, with ``free``, of that component's and its terms'
+        alone (the others held: components apart in frequency barely share their residual's directions):
+        ``(squared residual, (x, residual, normal matrix, its scales, scaled Jacobian, signals))``, the
+        normal matrix and Jacobian of every parameter; or ``(inf, None)``."""
+        index = None if free is None else self.parameters_of(free, terms)
         cost, best, step, steps = np.inf, None, None, 0
         for _ in range(iterations * _HALVINGS):
             ce = self.signals(x, terms)
@@ -581,27 +585,41 @@ class _JointDecay:
                 step = step / 2  # (a step too long for the exponent: halved from the last point)
                 x = best[0] + step
                 continue
-            normal, scale, scaled = _scaled_normal(self.jacobian(x, ce, terms), scaled=True)
+            normal, scale, scaled = _scaled_normal(self.jacobian(x, ce, terms, index), scaled=True)
             settled = cost - new_cost < _JOINT_TOLERANCE * new_cost / self.y.size
             cost, best = new_cost, (x, residual, normal, scale, scaled, ce)
             if settled or steps == iterations:  # (settled: a step worth less than a tenth of one
                 break                           # sample's residual decides nothing)
             steps += 1
             try:
-                step = np.linalg.solve(normal, scaled.T @ residual) / scale
+                solved = np.linalg.solve(normal, scaled.T @ residual) / scale
             except np.linalg.LinAlgError:
                 break
+            step = np.zeros(x.size)  # (the held parameters do not move)
+            step[slice(None) if index is None else index] = solved
             x = x + step
+        if best is not None and index is not None:  # every parameter's normal matrix at the point reached
+            x, residual, ce = best[0], best[1], best[5]
+            best = (x, residual, *_scaled_normal(self.jacobian(x, ce, terms), scaled=True), ce)
         return cost, best
 
-    def jacobian(self, x, ce, terms) -> np.ndarray:
+    def parameters_of(self, k: int, terms) -> np.ndarray:
+        """The indices in ``x`` of component ``k``'s parameters and of its terms' slopes."""
+        own = [4 * self.n + 2 * i + d for i, (m, _) in enumerate(terms) if m == k for d in (0, 1)]
+        return np.array([4 * k, 4 * k + 1, 4 * k + 2, 4 * k + 3] + own)
+
+    def jacobian(self, x, ce, terms, index=None) -> np.ndarray:
+        """The Jacobian's columns of every parameter, or of those at ``index`` (:meth:`parameters_of`)."""
         amplitudes = x[0:4 * self.n:4] + 1j * x[1:4 * self.n:4]
         z = ce / np.where(amplitudes == 0, 1, amplitudes)[:, None]
+        wanted = set(range(x.size)) if index is None else set(int(i) for i in index)
         columns = []
         for k in range(self.n):
-            columns += [z[k].real, -z[k].imag, -self.t * ce[k].real, -self.t * ce[k].imag]
-        for k, j in terms:
-            columns += self.term_columns(ce, k, j)
+            if 4 * k in wanted:
+                columns += [z[k].real, -z[k].imag, -self.t * ce[k].real, -self.t * ce[k].imag]
+        for i, (k, j) in enumerate(terms):
+            if 4 * self.n + 2 * i in wanted:
+                columns += self.term_columns(ce, k, j)
         return np.column_stack(columns)
 
     def term_columns(self, ce, k: int, j: int) -> list:
@@ -610,12 +628,12 @@ class _JointDecay:
     def scores(self, best, untried, variance) -> list:
         """Each untried term's chi-square: the squared residual a Gauss-Newton step onto its slopes alone
         removes, the fitted parameters' directions projected out, over the residual's variance."""
-        residual, scaled, ce = best[1], best[4], best[5]
-        q, _ = np.linalg.qr(scaled)
-        scores = []
+        residual, normal, scaled, ce = best[1], best[2], best[4], best[5]
+        inverse = np.linalg.pinv(normal)  # (the projection onto the fitted columns through their normal
+        scores = []                       # matrix: two columns at a time, not a factorisation of all)
         for k, j in untried:
             new = np.column_stack(self.term_columns(ce, k, j))
-            new = new - q @ (q.T @ new)
+            new = new - scaled @ (inverse @ (scaled.T @ new))
             g = new.T @ residual
             scores.append(float(g @ np.linalg.pinv(new.T @ new) @ g) / variance)
         return scores
