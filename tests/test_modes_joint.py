@@ -187,3 +187,16 @@ def test_a_joint_fit_of_one_component_holds_the_others():
     assert set(moved) <= set(decay.parameters_of(1, terms)) and set(moved) & {8, 9}
     first = float(np.sum((y - decay.signals(start, terms).real.sum(axis=0)) ** 2))
     assert cost < first and best[2].shape == (start.size, start.size)
+
+
+def test_a_joint_fit_that_overflows_says_nothing_and_fails_cleanly():
+    """A start whose exponent overflows (a growing component) gives ``(inf, None)`` without a NumPy
+    RuntimeWarning reaching the user."""
+    y, components, _ = _two_modes(0)
+    decay = _envelope._JointDecay(y, FS, components, [(1.0, 1.0, 0), (0.09, 4.0, 1)])
+    start = decay.start.copy()
+    start[2] = -1e5  # (the first component grows as exp(1e5 t))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        cost, best = decay.fit(start, [])
+    assert cost == np.inf and best is None

@@ -577,8 +577,9 @@ class _JointDecay:
         cost, best, step, steps = np.inf, None, None, 0
         for _ in range(iterations * _HALVINGS):
             ce = self.signals(x, terms)
-            residual = self.y - ce.real.sum(axis=0)
-            new_cost = float(residual @ residual)
+            with np.errstate(over="ignore", invalid="ignore"):  # (a step too long: not finite, halved)
+                residual = self.y - ce.real.sum(axis=0)
+                new_cost = float(residual @ residual)
             if not np.isfinite(new_cost) or new_cost > cost * (1 - _TOLERANCE):
                 if step is None or np.max(np.abs(step)) < 1e-12 * np.max(np.abs(best[0])):
                     break
