@@ -370,9 +370,11 @@ def _undescribed(cand, e) -> bool:
 
 def _depends(cand, e) -> bool:
     """Whether a candidate's amplitude dependence ``e`` makes it nonlinear, or doubtful (its equation then
-    decides). Of a candidate the linear decay explains, only the frequency's change counts (the decay
-    rate's strays beyond its standard errors where the envelope is noisy)."""
-    return e is not None and (e.doubtful or (e.nonlinear and not cand.explained))
+    decides). Of a candidate the linear decay explains, the frequency's change counts, and the decay rate's
+    only far beyond its standard errors (:attr:`~._envelope.AmplitudeDependence.decays_nonlinearly`: it
+    strays beyond them where the envelope is noisy); a linear decay averages a decay rate that changes with
+    the amplitude, and its damping ratio is then not the small-amplitude one."""
+    return e is not None and (e.doubtful or e.decays_nonlinearly or (e.nonlinear and not cand.explained))
 
 
 def _beside_nonlinear(state, linear: list) -> None:
