@@ -200,3 +200,24 @@ def test_a_joint_fit_that_overflows_says_nothing_and_fails_cleanly():
         warnings.simplefilter("error")
         cost, best = decay.fit(start, [])
     assert cost == np.inf and best is None
+
+
+def test_a_harmonic_of_a_nonlinear_mode_read_together_is_not_made_a_mode():
+    """A linear candidate within a harmonic's reach of twice or three times a nonlinear one read with it,
+    moved by that one's amplitude or its own, is left to the harmonic tests; one away from every order, or
+    moved by another candidate too, is not."""
+    import types
+
+    from sindy_impulse.modes.classify import _at_their_harmonic
+    from sindy_impulse.modes.kinds import Kind
+
+    def cand(f, kind):
+        return types.SimpleNamespace(damped_frequency_hz=f, damping_ratio=0.005, kind=kind)
+
+    cands = [cand(158.56, Kind.NONLINEAR), cand(468.04, Kind.LINEAR), cand(400.0, Kind.LINEAR),
+             cand(250.0, Kind.LINEAR)]
+    read = [0, 1, 2, 3]
+    assert _at_their_harmonic(cands, 1, read, (0,)) and _at_their_harmonic(cands, 1, read, ())
+    assert not _at_their_harmonic(cands, 2, read, (0,))  # 2.52 times: no order
+    assert not _at_their_harmonic(cands, 1, read, (0, 3))  # a linear candidate moves it too
+    assert not _at_their_harmonic(cands, 1, [1, 2, 3], ())  # its parent is not read with it

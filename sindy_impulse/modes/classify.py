@@ -463,11 +463,24 @@ def _read_jointly(state) -> None:
             continue
         c = cands[k]
         e = replace(e, drivers=tuple(drivers[j] for j in e.drivers))
-        if c.kind is Kind.NONLINEAR and not e.drivers:
+        if (c.kind is Kind.NONLINEAR and not e.drivers) or _at_their_harmonic(cands, k, read, e.drivers):
             continue
         c.evidence.update(amplitude_dependence=e, joint=True)
         if c.kind is Kind.LINEAR and _depends(c, e):
             c.kind = Kind.NONLINEAR
+
+
+def _at_their_harmonic(cands: list, k: int, read: list, movers) -> bool:
+    """Whether linear candidate ``k`` lies within a harmonic's reach (:data:`~._harmonics.NEAR` plus its
+    damping ratio) of an order of :data:`~._harmonics.ORDERS` of a nonlinear candidate of ``read``, and
+    the other candidates that move it (``movers``) are such: a nonlinear mode's harmonic follows that
+    mode's amplitude (and its own, a power of it) as a mode the element moves would, so the joint reading
+    does not make it a mode; the harmonic tests decide."""
+    c = cands[k]
+    parents = {j for j in read if cands[j].kind is Kind.NONLINEAR and any(
+        abs(c.damped_frequency_hz / (n * cands[j].damped_frequency_hz) - 1) <= NEAR + c.damping_ratio
+        for n in ORDERS)}
+    return bool(c.kind is Kind.LINEAR and parents and set(movers) <= parents)
 
 
 def _undescribed_alone(cand) -> bool:
