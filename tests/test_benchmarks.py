@@ -117,5 +117,10 @@ def test_the_calibration_of_a_family_is_tabled_by_the_source_of_the_values():
     assert "family a, by the source of the mode's values" in done.stdout
     rows = [line.split() for line in done.stdout.splitlines() if line.startswith(("poles", "equation"))]
     assert rows and all(row[1] in ("frequency", "damping") and int(row[2]) >= 1 for row in rows)
+    # the pole-valued modes again, by whether their record had a mode found nonlinear (a linear family:
+    # none had), each group only where it has modes
+    poles = {int(row[2]) for row in rows if row[0] == "poles"}
+    alone = {int(row[2]) for row in rows if row[0] == "poles:nothing-nonlinear"}
+    assert poles and alone == poles and not any(row[0] == "poles:beside-nonlinear" for row in rows)
     refused = _runner("--no-save", "uncertainty", "--family", "z")
     assert refused.returncode != 0 and "invalid choice" in refused.stderr
