@@ -46,6 +46,15 @@ def _mode(x, t, omega, zeta, row, nonlinear=True) -> Mode:
     return mode
 
 
+def _quiet_survey(rec):
+    """``identify_modes`` of a generated record, its warnings silenced."""
+    from sindy_impulse import identify_modes
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return identify_modes(rec.y, fs=rec.fs)
+
+
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_envelope_regression_recovers_the_zero_amplitude_damping(seed):
     rng = np.random.default_rng(seed)
@@ -165,16 +174,14 @@ def test_a_linear_modes_steady_decay_keeps_its_equations_damping():
     errors of noise, sent it to the paper's fit, and the windowed envelope regression then replaced its
     damping ratio by an intercept 18 % off, though its free decay read against the averaged equations
     showed a steady decay rate (-0.05 +- 0.10). The whole free decay's reading stands."""
-    from sindy_impulse import identify_modes, impact_record
+    from sindy_impulse import impact_record
 
     rec = impact_record([222.88891456805715, 375.6570511972677, 966.6378770231827],
                         [0.007515380521300491, 0.013524262717985552, 0.01622984656154227],
                         [0.6944900771804955, 0.3171230421971027, 0.10905412728675842], fs=10000.0,
                         duration=2.5909, sensor="velocity", pre_trigger=0.040695004952405946,
                         offset=0.49907466380892107, snr_db=35.695150293354395, random_state=9104617)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        survey = identify_modes(rec.y, fs=rec.fs)
+    survey = _quiet_survey(rec)
     assert len(survey.modes) == 3
     for mode, zeta in zip(survey.modes, rec.modes.damping_ratio):
         assert mode.damping_ratio == pytest.approx(zeta, rel=0.1)
@@ -223,7 +230,7 @@ def test_survey_of_a_weak_mode_coupled_to_a_stronger_one_reports_its_decays_damp
     but put the damping ratio 77 % high. Read together with the 57.5 Hz mode (``_read_jointly``), its
     frequency and damping ratio with every amplitude gone are the truth's, its note naming the mode that
     moves it."""
-    from sindy_impulse import identify_modes, impact_record
+    from sindy_impulse import impact_record
 
     rec = impact_record([57.54413162372022, 68.25936274023363, 339.08972176264393, 349.7996542498456],
                         [0.0180622149413307, 0.0013331926888609086, 0.013327948713728244,
@@ -232,9 +239,7 @@ def test_survey_of_a_weak_mode_coupled_to_a_stronger_one_reports_its_decays_damp
                         fs=5000.0, duration=0.9112, sensor="acceleration", pre_trigger=0.08447875803530178,
                         offset=0.9486624875615857, snr_db=45.93097734146423, random_state=670117531,
                         cubic_stiffness=3168469279901874.0)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        survey = identify_modes(rec.y, fs=rec.fs)
+    survey = _quiet_survey(rec)
     assert len(survey.modes) == 4
     mode = survey.modes[1]
     assert mode.frequency_hz == pytest.approx(rec.modes.frequency_hz[1], rel=1e-3)
@@ -333,12 +338,10 @@ def test_survey_of_a_damper_the_linear_decay_explains_gives_the_small_amplitude_
     """A 300 Hz mode (damping ratio 0.4 %) whose amplitude-dependent damper raises its decay rate by about
     40 % at the hit, 25 dB: its linear decay explains the record and averages the damping ratio 9 % high;
     the survey reports the small-amplitude damping ratio within 3 %."""
-    from sindy_impulse import identify_modes, impact_record
+    from sindy_impulse import impact_record
     record = impact_record([300.0], [0.004], fs=5000.0, duration=1.5, sensor="velocity", snr_db=25.0,
                            damping_amplitude=1e8, random_state=3)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        survey = identify_modes(record.y, fs=record.fs)
+    survey = _quiet_survey(record)
     (mode,) = survey.modes
     assert mode.frequency_hz == pytest.approx(300.0, rel=1e-3)
     assert mode.damping_ratio == pytest.approx(0.004, rel=0.03) and mode.source != "poles"

@@ -624,13 +624,13 @@ class _JointDecay:
         """The Jacobian's columns of every parameter, or of those at ``index`` (:meth:`parameters_of`)."""
         amplitudes = x[0:4 * self.n:4] + 1j * x[1:4 * self.n:4]
         z = ce / np.where(amplitudes == 0, 1, amplitudes)[:, None]
-        wanted = set(range(x.size)) if index is None else set(int(i) for i in index)
+        wanted = None if index is None else set(index.tolist())
         columns = []
         for k in range(self.n):
-            if 4 * k in wanted:
+            if wanted is None or 4 * k in wanted:
                 columns += [z[k].real, -z[k].imag, -self.t * ce[k].real, -self.t * ce[k].imag]
         for i, (k, j) in enumerate(terms):
-            if 4 * self.n + 2 * i in wanted:
+            if wanted is None or 4 * self.n + 2 * i in wanted:
                 columns += self.term_columns(ce, k, j)
         return np.column_stack(columns)
 

@@ -200,6 +200,18 @@ def _siblings(state, i: int, order: int) -> list:
             and c.evidence["harmonic"]["order"] == order]
 
 
+def _harmonic_order(cand, parent) -> int | None:
+    """The order of :data:`~._harmonics.ORDERS` whose multiple of ``parent``'s frequency ``cand`` lies
+    within a harmonic's reach of, or None. A broad component's frequency is known to its half-width (its
+    damping ratio is added); a parent the linear decay explains keeps its frequency, and its harmonic lies
+    at n times it (within the phase test's tolerance, :data:`~._harmonics.RATIO_TOL`), while a nonlinear
+    parent's moves (:data:`~._harmonics.NEAR`)."""
+    steady = parent.kind is Kind.LINEAR and parent.explained
+    near = (RATIO_TOL if steady else NEAR) + cand.damping_ratio
+    ratio = cand.damped_frequency_hz / parent.damped_frequency_hz
+    return next((n for n in ORDERS if abs(ratio / n - 1) <= near), None)
+
+
 def _harmonics(state) -> None:
     """Candidates phase-locked at 2 or 3 times a lower one, its amplitude a whole power of the lower one's."""
     live = sorted((k for k, c in enumerate(state.candidates) if c.kind in (Kind.LINEAR, Kind.NONLINEAR)),
@@ -213,12 +225,7 @@ def _harmonics(state) -> None:
             parent = cands[i]
             if parent.kind is Kind.HARMONIC:
                 continue
-            ratio = cand.damped_frequency_hz / parent.damped_frequency_hz
-            # a broad component's frequency is known to its half-width; a parent the linear decay explains
-            # keeps its frequency, and its harmonic lies at n times it (within the phase test's tolerance)
-            steady = parent.explained and parent.kind is Kind.LINEAR
-            near = (RATIO_TOL if steady else NEAR) + cand.damping_ratio
-            order = next((n for n in ORDERS if abs(ratio / n - 1) <= near), None)
+            order = _harmonic_order(cand, parent)
             if order is None or _energy(cand) > order**4 * _energy(parent):  # stronger than a harmonic can be
                 continue
             band1, band2 = _pair_bands(state, i, j, order)
@@ -471,15 +478,13 @@ def _read_jointly(state) -> None:
 
 
 def _at_their_harmonic(cands: list, k: int, read: list, movers) -> bool:
-    """Whether linear candidate ``k`` lies within a harmonic's reach (:data:`~._harmonics.NEAR` plus its
-    damping ratio) of an order of :data:`~._harmonics.ORDERS` of a nonlinear candidate of ``read``, and
-    the other candidates that move it (``movers``) are such: a nonlinear mode's harmonic follows that
-    mode's amplitude (and its own, a power of it) as a mode the element moves would, so the joint reading
-    does not make it a mode; the harmonic tests decide."""
+    """Whether linear candidate ``k`` lies within a harmonic's reach (:func:`_harmonic_order`) of a
+    nonlinear candidate of ``read``, and the other candidates that move it (``movers``) are such: a
+    nonlinear mode's harmonic follows that mode's amplitude (and its own, a power of it) as a mode the
+    element moves would, so the joint reading does not make it a mode; the harmonic tests decide."""
     c = cands[k]
-    parents = {j for j in read if cands[j].kind is Kind.NONLINEAR and any(
-        abs(c.damped_frequency_hz / (n * cands[j].damped_frequency_hz) - 1) <= NEAR + c.damping_ratio
-        for n in ORDERS)}
+    parents = {j for j in read
+               if cands[j].kind is Kind.NONLINEAR and _harmonic_order(c, cands[j]) is not None}
     return bool(c.kind is Kind.LINEAR and parents and set(movers) <= parents)
 
 
