@@ -14,6 +14,8 @@ import numpy as np
 import pytest
 from benchmark_helpers import PACKAGE, helper
 
+from sindy_impulse import impact_record
+
 ROOT = PACKAGE.parent
 FILES = sorted(p for p in PACKAGE.rglob("*.py") if "results" not in p.parts)
 GROUPS = ("accuracy", "real_records", "robustness", "speed", "pysindy_suite", "tracking")
@@ -124,3 +126,36 @@ def test_the_calibration_of_a_family_is_tabled_by_the_source_of_the_values():
     assert poles and alone == poles and not any(row[0] == "poles:beside-nonlinear" for row in rows)
     refused = _runner("--no-save", "uncertainty", "--family", "z")
     assert refused.returncode != 0 and "invalid choice" in refused.stderr
+
+
+def test_a_lone_mode_record_is_that_mode_of_the_same_structure_with_the_same_noise():
+    """``families.lone_mode_record``: the hit excites one mode of the record's own structure; without the
+    element the lone modes add up to the record (superposition), with it a lone mode holds no other mode."""
+    families = helper("accuracy.families")
+    linear = {"frequencies_hz": [40.0, 90.0], "damping_ratios": [0.01, 0.002], "amplitudes": [0.5, 1.0],
+              "fs": 1000.0, "duration": 2.0, "sensor": "displacement", "snr_db": 50.0, "random_state": 1}
+    rec = impact_record(**linear)
+    noise = rec.y - rec.y_clean
+    lone = [families.lone_mode_record(linear, i) for i in (0, 1)]
+    np.testing.assert_allclose(lone[0] + lone[1] - noise, rec.y, atol=1e-9 * np.abs(rec.y_clean).max())
+    assert np.std(lone[0] - noise) > 0.1 * np.std(rec.y_clean)  # each holds its mode
+    config = dict(linear, cubic_stiffness=4e3 / families.element_shares(linear).sum() ** 2)
+    nonlinear = impact_record(**config)
+    alone = families.lone_mode_record(config, 0) - (nonlinear.y - nonlinear.y_clean)
+    start = rec.free_decay_index
+    spectrum = np.abs(np.fft.rfft(alone[start:]))
+    both = np.abs(np.fft.rfft(nonlinear.y_clean[start:]))
+    f = np.fft.rfftfreq(alone.size - start, 1 / linear["fs"])
+    near = np.abs(f - 90) < 2  # the other mode: only what the element passes it from the lone one
+    assert spectrum[near].max() < 0.02 * both[near].max()
+    made = families.element_variants(config, 0)
+    assert set(made) == {"alone", "alone, element as strong", "no element"}
+    np.testing.assert_allclose(made["no element"][0], rec.y)
+    np.testing.assert_allclose(made["alone"][0], families.lone_mode_record(config, 0))
+    assert not np.allclose(made["alone, element as strong"][0], made["alone"][0])
+
+
+def test_the_coupling_study_runs_on_family_g():
+    done = _runner("--no-save", "coupling_misses", "--n", "2", "--seed", "0")
+    assert done.returncode == 0, done.stderr
+    assert "family g, seed 0: 2 records" in done.stdout

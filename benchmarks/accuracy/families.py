@@ -227,8 +227,9 @@ def family_f(rng: np.random.Generator) -> dict:
                  _record_terms(rng, fs, n_samples), bandwidths=float(k))
 
 
-def _mass0_displacement(config: dict) -> float:
-    """Upper bound of the displacement of mass 0 after the hit (sum of its modal amplitudes)."""
+def element_displacement(config: dict) -> float:
+    """Upper bound of the displacement at the nonlinear element's place (mass 0) after the hit: the sum of
+    the modal amplitudes there."""
     linear = {k: v for k, v in config.items() if k not in ("snr_db", "clip")}
     rec = impact_record(**linear, sensor_dof=0)
     amp = np.abs(np.asarray(rec.modes.amplitude, float))
@@ -236,12 +237,76 @@ def _mass0_displacement(config: dict) -> float:
                      for a, f in zip(amp, rec.modes.frequency_hz)))
 
 
+#: The nonlinear element's coefficients in ``impact_record``'s configuration.
+ELEMENT = ("cubic_stiffness", "damping_amplitude")
+
+
+def lone_mode_record(config: dict, i: int, element_scale: dict | None = None) -> np.ndarray:
+    """The record of ``config`` (family g: a nonlinear element at mass 0) with the hit exciting mode ``i``
+    only: the same structure (chain, element, sensor), the same noise and offset, every other mode at rest,
+    each of the element's coefficients multiplied by its factor in ``element_scale`` (``{name: factor}``).
+
+    ``impact_record`` shapes its chain from the modes' amplitudes, so scaling the other modes' amplitudes
+    would change the structure; here the hit's modal gains of the other modes are set to zero instead.
+    """
+    from dataclasses import replace
+    from inspect import signature
+
+    from sindy_impulse.datasets._impact_args import check_impact_args
+    from sindy_impulse.datasets.impact import _design_chain, _simulate
+
+    rec = impact_record(**config)
+    factors = element_scale or {}
+    scaled = dict(config, **{k: config[k] * factors.get(k, 1.0) for k in ELEMENT if config.get(k)})
+    defaults = {k: p.default for k, p in signature(impact_record).parameters.items()}
+    a = check_impact_args(**{**defaults, **scaled})
+    chain, unit = _design_chain(a)
+    shapes = chain.mode_shapes.copy()
+    others = np.arange(shapes.shape[1]) != i
+    shapes[a.tap_dof, others] = 0.0  # no modal gain from the hit: those modes stay at rest
+    lone = _simulate(a, replace(chain, mode_shapes=shapes), unit, rec.t)[:, 0]
+    return lone + (np.asarray(rec.y, float) - np.asarray(rec.y_clean, float))
+
+
+def element_shares(config: dict) -> np.ndarray:
+    """Each mode's displacement amplitude at the element's place (mass 0) at the hit, of a record of
+    ``config`` (the linear modal amplitudes there)."""
+    linear = {k: v for k, v in config.items() if k not in ("snr_db", "clip", *ELEMENT)}
+    rec = impact_record(**linear, sensor_dof=0)
+    return np.array([displacement_amplitude(abs(a), f, config["sensor"])
+                     for a, f in zip(rec.modes.amplitude, rec.modes.frequency_hz)])
+
+
+def element_variants(config: dict, i: int) -> dict:
+    """Records of ``config`` (family g) that take the element's coupling of the modes away from mode ``i``
+    (``{name: (y, fs)}``):
+
+    - ``"alone"``: the hit excites mode ``i`` only (:func:`lone_mode_record`): the element moves it through
+      its own amplitude only;
+    - ``"alone, element as strong"``: as ``"alone"``, with the element's coefficients multiplied by ``1 + 2
+      sum_j a_j**2 / a_i**2`` (``a``: the modes' displacement amplitudes at the element's place at the hit,
+      :func:`element_shares`). Averaged, ``k x**3`` moves mode ``i``'s squared frequency by ``3 k / 4
+      (a_i**2 + 2 sum_j a_j**2)`` and ``c x**2 x'`` its decay rate by ``c / 8 (a_i**2 + 2 sum_j a_j**2)``
+      (each times the mode's shape there squared): the others' amplitudes count twice. So the lone mode is
+      moved at the hit as much as in the record, through its own amplitude;
+    - ``"no element"``: the record without the element.
+    """
+    a2 = element_shares(config) ** 2
+    factor = 1.0 + 2.0 * (a2.sum() - a2[i]) / a2[i]
+    scale = {k: factor for k in ELEMENT}
+    linear = impact_record(**{k: v for k, v in config.items() if k not in ELEMENT})
+    fs = float(config["fs"])
+    return {"alone": (lone_mode_record(config, i), fs),
+            "alone, element as strong": (lone_mode_record(config, i, scale), fs),
+            "no element": (np.asarray(linear.y, float), fs)}
+
+
 def nonlinear_terms(rng: np.random.Generator, config: dict, kinds=("cubic", "damper", "both")) -> dict:
     """A cubic spring moving the lowest mode's frequency squared by 2-10 % (hardening or softening) at the
     initial amplitude of mass 0, an amplitude-dependent damper raising its damping ratio by 20-100 %, or
     both."""
     kind = str(rng.choice(kinds))
-    a0 = _mass0_displacement(config)
+    a0 = element_displacement(config)
     omega = 2 * np.pi * config["frequencies_hz"][0]
     zeta = config["damping_ratios"][0]
     terms = {}
