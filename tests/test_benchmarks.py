@@ -159,3 +159,17 @@ def test_the_coupling_study_runs_on_family_g():
     done = _runner("--no-save", "coupling_misses", "--n", "2", "--seed", "0")
     assert done.returncode == 0, done.stderr
     assert "family g, seed 0: 2 records" in done.stdout
+
+
+@pytest.mark.slow
+def test_the_failures_list_numbers_records_as_the_progress_lines_do():
+    """``modes --show-failures`` names a failing record by its draw's index, as its progress line does,
+    also after a record the generator refused (family g, seed 197: record 8 is refused)."""
+    done = _runner("--no-save", "modes", "--family", "g", "--n", "12", "--seed", "197", "--show-failures")
+    assert done.returncode == 0, done.stderr
+    lines = done.stdout.splitlines()
+    assert any(line.startswith("  [g #8] left out") for line in lines)
+    at = next(i for i, line in enumerate(lines) if line.startswith("failures of family g"))
+    wrong = {line.split("]")[0] for line in lines[:at] if "survey WRONG" in line}
+    listed = {line.split("]")[0] for line in lines[at + 1:] if line.startswith("  [g #")}
+    assert wrong == listed

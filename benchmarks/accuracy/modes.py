@@ -302,8 +302,9 @@ def family_table(rows: dict) -> None:
 
 
 def show_failures(name: str, results: list[dict], seed: int) -> None:
-    """Every record the survey got wrong: its index, the reproducer config and what went wrong."""
-    bad = [(i, r) for i, r in enumerate(results) if not r["ours"]["passed"]]
+    """Every record the survey got wrong: its index (the draw's, as the progress lines give it), the
+    reproducer config and what went wrong."""
+    bad = [(r.get("index", i), r) for i, r in enumerate(results) if not r["ours"]["passed"]]
     print(f"failures of family {name} (seed {seed}): {len(bad)} of {len(results)}")
     for i, r in bad:
         extra = {k: v for k, v in r["case"].items() if k not in ("config", "family")}
@@ -326,7 +327,7 @@ def run_families(names: list[str], n: int | None, seed: int, failures: bool, bud
                 print(f"  family {name}: time budget spent after {i} of {count} records")
                 break
             try:
-                r = run_family_case(draw(name, rng, i))
+                r = dict(run_family_case(draw(name, rng, i)), index=i)
             except KeyboardInterrupt:
                 print(f"  family {name}: interrupted after {i} of {count} records")
                 break
