@@ -99,3 +99,26 @@ def test_strongly_damped_mode_between_lightly_damped_ones_is_found(case):
         assert mode.damping_ratio == pytest.approx(z, rel=0.1)
     strong = survey.modes[int(np.argmax(case["damping_ratios"]))]
     assert strong.source == "poles" and np.isfinite(strong.damping_ratio_std)
+
+
+def test_the_cheap_test_of_a_split_takes_at_most_its_evaluations_and_the_pair_still_splits(monkeypatch):
+    """The split's cheap test (two components on the free decay without the others) asks only whether the
+    seeds come out separate modes: its fit is given :data:`TRIAL_EVALUATIONS` evaluations, and the pair
+    the poles do not resolve is still split."""
+    from sindy_impulse.modes import candidates
+
+    calls = []
+    fit_decay = candidates.fit_decay
+
+    def recorded(*args, **kwargs):
+        calls.append(kwargs)
+        return fit_decay(*args, **kwargs)
+
+    monkeypatch.setattr(candidates, "fit_decay", recorded)
+    f, zeta = [66.64, 66.96], [0.0030, 0.0015]
+    _, survey = _survey(frequencies_hz=f, damping_ratios=zeta, amplitudes=[0.44, 0.48], fs=1000.0,
+                        duration=12.0, sensor="displacement", pre_trigger=0.04, snr_db=50, random_state=0)
+    cheap = [c for c in calls if c.get("refloor") is False]
+    assert cheap and all(c["max_nfev"] == candidates.TRIAL_EVALUATIONS for c in cheap)
+    assert all("max_nfev" not in c for c in calls if c.get("refloor") is not False)  # the fits themselves
+    assert sorted(m.frequency_hz for m in survey) == pytest.approx(f, rel=1e-4)

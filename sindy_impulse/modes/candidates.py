@@ -66,6 +66,10 @@ PAIR_REACH = 3.0
 #: ... and within this many frequency resolutions of the survey's diagram (``fs / SEED_SAMPLES``): the
 #: diagram's poles resolve pairs farther apart.
 PAIR_RESOLUTIONS = 4.0
+#: Most evaluations of the residual in the cheap test of a split (two components on the free decay without the
+#: others, :func:`_split_unexplained`): the test asks whether the seeds come out separate modes, not their
+#: last digits, and a split of a chirp creeps along its misfit for every evaluation it is given.
+TRIAL_EVALUATIONS = 20
 #: Rounds of the search for modes the fit misses, and new modes per round at most.
 ROUNDS, NEW_PER_ROUND = 4, 8
 #: A mode whose lack of fit is this improbable from noise alone is not explained by a linear decay.
@@ -478,7 +482,8 @@ def _split_unexplained(fit, ring: np.ndarray, fs: float, table, noise, threshold
                 continue
             if not by_poles:  # first alone, on the record without the other components: a cheap test
                 alone = _alone(fit, ring, k, left) if alone is None else alone
-                if not _split_holds(fit_decay(alone, fs, fi, si, noise=noise, refloor=False), fi, resolution,
+                if not _split_holds(fit_decay(alone, fs, fi, si, noise=noise, refloor=False,
+                                              max_nfev=TRIAL_EVALUATIONS), fi, resolution,
                                     threshold_db, by_poles):
                     continue
             trial = fit_decay(ring, fs, np.concatenate([fit.damped_frequency_hz[others], fi]),
