@@ -120,3 +120,35 @@ def test_noise_floor_of_a_spectrum_too_short_for_a_window_is_its_lower_quartile(
     floor = noise_floor(psd, pad_factor=pad)
     assert floor.shape == (n,) and np.all(floor == floor[0])
     assert 0.2 < floor[0] < 2.0  # the lower quartile of an exponential of mean 2 is 0.58
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_candidate_peaks_measures_prominence_on_the_high_maxima_only_with_the_same_answer(seed):
+    """Prominences are measured for the local maxima high enough and in range only (a long spectrum holds
+    thousands of noise ripples): the same peaks and heights as measuring every maximum's."""
+    from scipy.signal import find_peaks
+
+    from sindy_impulse.preprocessing.spectrum import (
+        _noise_prominence_db,
+        candidate_peaks,
+        peak_threshold_db,
+        ringdown_spectrum,
+        search_range,
+    )
+
+    rng = np.random.default_rng(seed)
+    fs, t = 2000.0, np.arange(40000) / 2000.0
+    y = sum(a * np.exp(-r * t) * np.cos(2 * np.pi * f * t + p) for a, r, f, p in
+            zip(rng.uniform(0.01, 1, 6), rng.uniform(0.1, 5, 6), rng.uniform(5, 900, 6), rng.uniform(0, 6, 6)))
+    s = ringdown_spectrum(y + 1e-4 * rng.standard_normal(t.size), fs)
+    lo, hi = search_range(s)
+    idx, height = candidate_peaks(s, lo, hi, 13.0, 3.0)
+    level = 10 * np.log10(np.maximum(s.psd, np.finfo(float).tiny))
+    every, props = find_peaks(level, prominence=3.0)
+    h = level[every] - 10 * np.log10(s.floor[every])
+    f = s.frequency_hz[every]
+    keep = ((f >= lo) & (f <= hi) & (h >= peak_threshold_db(f, s, 13.0))
+            & (props["prominences"] >= np.maximum(3.0, _noise_prominence_db(h))))
+    assert idx.size >= 3
+    np.testing.assert_array_equal(idx, every[keep])
+    np.testing.assert_array_equal(height, h[keep])

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from numbers import Integral, Real
 
 import numpy as np
-from scipy.signal import find_peaks
+from scipy.signal import find_peaks, peak_prominences
 
 from .._utils.params import Interval, check_param
 from ._record import check_fs, check_signal_1d
@@ -215,11 +215,13 @@ def candidate_peaks(spectrum: Spectrum, lo: float, hi: float, threshold_db: floa
     """
     level_db = 10.0 * np.log10(np.maximum(spectrum.psd, np.finfo(float).tiny))
     height_db = level_db - 10.0 * np.log10(spectrum.floor)
-    idx, props = find_peaks(level_db, prominence=prominence_db)
+    idx = find_peaks(level_db)[0]
     f = spectrum.frequency_hz[idx]
+    idx = idx[(f >= lo) & (f <= hi) & (height_db[idx] >= peak_threshold_db(f, spectrum, threshold_db))]
+    # prominences of the maxima high enough only (each measured on the whole spectrum, as find_peaks
+    # would: a long spectrum holds thousands of noise ripples, each a walk to its bases)
     needed = np.maximum(prominence_db, _noise_prominence_db(height_db[idx]))
-    threshold = peak_threshold_db(f, spectrum, threshold_db)
-    keep = (f >= lo) & (f <= hi) & (height_db[idx] >= threshold) & (props["prominences"] >= needed)
+    keep = peak_prominences(level_db, idx)[0] >= needed
     return idx[keep], height_db[idx[keep]]
 
 
