@@ -138,8 +138,8 @@ def test_candidate_peaks_measures_prominence_on_the_high_maxima_only_with_the_sa
 
     rng = np.random.default_rng(seed)
     fs, t = 2000.0, np.arange(40000) / 2000.0
-    y = sum(a * np.exp(-r * t) * np.cos(2 * np.pi * f * t + p) for a, r, f, p in
-            zip(rng.uniform(0.01, 1, 6), rng.uniform(0.1, 5, 6), rng.uniform(5, 900, 6), rng.uniform(0, 6, 6)))
+    draws = zip(rng.uniform(0.01, 1, 6), rng.uniform(0.1, 5, 6), rng.uniform(5, 900, 6), rng.uniform(0, 6, 6))
+    y = sum(a * np.exp(-r * t) * np.cos(2 * np.pi * f * t + p) for a, r, f, p in draws)
     s = ringdown_spectrum(y + 1e-4 * rng.standard_normal(t.size), fs)
     lo, hi = search_range(s)
     idx, height = candidate_peaks(s, lo, hi, 13.0, 3.0)
