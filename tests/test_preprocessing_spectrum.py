@@ -152,3 +152,25 @@ def test_candidate_peaks_measures_prominence_on_the_high_maxima_only_with_the_sa
     assert idx.size >= 3
     np.testing.assert_array_equal(idx, every[keep])
     np.testing.assert_array_equal(height, h[keep])
+
+
+@pytest.mark.parametrize("pad_factor", [1, 4])
+def test_the_noise_floors_wide_windows_share_one_sort_with_the_same_floor(pad_factor, monkeypatch):
+    """Wide windows take their order from one sort of their phase's bins: the same floor as sorting every
+    window's own bins (ties included: a quantised stretch), with and without excluded bins."""
+    import importlib
+
+    module = importlib.import_module("sindy_impulse.preprocessing.noise_floor")
+    rng = np.random.default_rng(pad_factor)
+    n = 40001
+    psd = rng.exponential(1.0, n) * (1 + 1e4 * np.exp(-((np.arange(n) - 9000.0) / 800.0) ** 2))
+    psd[: n // 4] = np.round(psd[: n // 4], 1)
+    exclude = rng.random(n) < 0.2
+    def floors():
+        return [noise_floor(psd, pad_factor=pad_factor), noise_floor(psd, pad_factor=pad_factor, exclude=exclude)]
+
+    shared = floors()
+    monkeypatch.setattr(module, "_SHARED_SORT", 2.0)  # every window sorts its own bins
+    own = floors()
+    for a, b in zip(shared, own):
+        np.testing.assert_array_equal(a, b)

@@ -48,8 +48,9 @@ def _window_ratio(k, half: float):
 
 
 def _windows(keep: np.ndarray, grid: np.ndarray, step: int, half: float) -> list:
-    """Kept bins of the window around each grid bin (:func:`_window_ratio`), widened up to two octaves
-    each side until it holds half its minimum count.
+    """The window around each grid bin (:func:`_window_ratio`), widened up to two octaves each side until
+    it holds half its minimum count: ``(kept bins of its phase, phase, first, stop)``, its bins being
+    ``kept[first:stop]``.
 
     Every window is a slice of the kept bins of its phase of the independent-bin grid (bins ``r, r +
     step, ...``), found for all grid bins at once by binary search.
@@ -71,22 +72,41 @@ def _windows(keep: np.ndarray, grid: np.ndarray, step: int, half: float) -> list
         found[:, todo[done]] = phase[done], first[done], stop[done]
         todo = todo[~done]
         ratio[todo] *= _HALF_OCTAVE_RATIO
-    return [phases[r][i:j] for r, i, j in found.T]
+    return [(phases[r], r, i, j) for r, i, j in found.T]
+
+
+#: A window holding more than this share of its phase's kept bins takes its order from the phase's one
+#: sort (a mask of the window's positions) instead of sorting its own bins.
+_SHARED_SORT = 0.1
 
 
 def _running_level(log_p: np.ndarray, grid: np.ndarray, pad_factor: int, keep: np.ndarray, q: float):
     """``q``-quantile of ``log_p`` over the kept bins of the window around each grid bin (1/f weights;
-    detrended where 0 Hz cuts the window); NaN where fewer than half the minimum count are kept."""
+    detrended where 0 Hz cuts the window); NaN where fewer than half the minimum count are kept.
+
+    The wide windows (an octave of a long spectrum) take the order of their bins' values from one sort of
+    their phase's kept bins (:data:`_SHARED_SORT`): the same order, so the same quantile, as sorting each
+    window's own bins."""
     level = np.full(grid.size, np.nan)
     half = _FLOOR_MIN_BINS * pad_factor / 2
     near_dc = grid / _window_ratio(grid.astype(float), half) < _DC_BINS * pad_factor
-    for i, (k, bins) in enumerate(zip(grid.tolist(), _windows(keep, grid, pad_factor, half))):
+    sorted_phase = {}
+    windows = _windows(keep, grid, pad_factor, half)
+    for i, (k, (kept, r, first, stop)) in enumerate(zip(grid.tolist(), windows)):
+        bins = kept[first:stop]
         if bins.size < _FLOOR_MIN_BINS // 2:
             continue
         if near_dc[i]:
             level[i] = _detrended_quantile(log_p[bins], bins, k, q)
-        else:
+        elif bins.size <= _SHARED_SORT * kept.size:
             level[i] = _weighted_quantile(log_p[bins], 1.0 / bins, q)
+        else:
+            if r not in sorted_phase:
+                sorted_phase[r] = log_p[kept].argsort()
+            order = sorted_phase[r]
+            order = order[(order >= first) & (order < stop)]
+            cum = (1.0 / kept[order]).cumsum()
+            level[i] = float(log_p[kept[order[min(cum.searchsorted(q * cum[-1]), order.size - 1)]]])
     return level
 
 
