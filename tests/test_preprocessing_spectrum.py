@@ -166,8 +166,9 @@ def test_the_noise_floors_wide_windows_share_one_sort_with_the_same_floor(pad_fa
     psd = rng.exponential(1.0, n) * (1 + 1e4 * np.exp(-((np.arange(n) - 9000.0) / 800.0) ** 2))
     psd[: n // 4] = np.round(psd[: n // 4], 1)
     exclude = rng.random(n) < 0.2
+
     def floors():
-        return [noise_floor(psd, pad_factor=pad_factor), noise_floor(psd, pad_factor=pad_factor, exclude=exclude)]
+        return [noise_floor(psd, pad_factor=pad_factor, exclude=mask) for mask in (None, exclude)]
 
     shared = floors()
     monkeypatch.setattr(module, "_SHARED_SORT", 2.0)  # every window sorts its own bins
