@@ -153,6 +153,11 @@ def test_a_lone_mode_record_is_that_mode_of_the_same_structure_with_the_same_noi
     np.testing.assert_allclose(made["no element"][0], rec.y)
     np.testing.assert_allclose(made["alone"][0], families.lone_mode_record(config, 0))
     assert not np.allclose(made["alone, element as strong"][0], made["alone"][0])
+    for bad in (2, -1, 0.5):
+        with pytest.raises(ValueError, match="mode must be an index of the record's 2 mode"):
+            families.element_variants(config, bad)
+        with pytest.raises(ValueError, match="mode must be an index"):
+            families.lone_mode_record(config, bad)
 
 
 def test_the_coupling_study_runs_on_family_g():

@@ -229,12 +229,8 @@ def family_f(rng: np.random.Generator) -> dict:
 
 def element_displacement(config: dict) -> float:
     """Upper bound of the displacement at the nonlinear element's place (mass 0) after the hit: the sum of
-    the modal amplitudes there."""
-    linear = {k: v for k, v in config.items() if k not in ("snr_db", "clip")}
-    rec = impact_record(**linear, sensor_dof=0)
-    amp = np.abs(np.asarray(rec.modes.amplitude, float))
-    return float(sum(displacement_amplitude(a, f, config["sensor"])
-                     for a, f in zip(amp, rec.modes.frequency_hz)))
+    the modal amplitudes there (:func:`element_shares`)."""
+    return float(sum(element_shares(config)))
 
 
 #: The nonlinear element's coefficients in ``impact_record``'s configuration.
@@ -255,6 +251,7 @@ def lone_mode_record(config: dict, i: int, element_scale: dict | None = None) ->
     from sindy_impulse.datasets._impact_args import check_impact_args
     from sindy_impulse.datasets.impact import _design_chain, _simulate
 
+    _check_mode(config, i)
     rec = impact_record(**config)
     factors = element_scale or {}
     scaled = dict(config, **{k: config[k] * factors.get(k, 1.0) for k in ELEMENT if config.get(k)})
@@ -266,6 +263,13 @@ def lone_mode_record(config: dict, i: int, element_scale: dict | None = None) ->
     shapes[a.tap_dof, others] = 0.0  # no modal gain from the hit: those modes stay at rest
     lone = _simulate(a, replace(chain, mode_shapes=shapes), unit, rec.t)[:, 0]
     return lone + (np.asarray(rec.y, float) - np.asarray(rec.y_clean, float))
+
+
+def _check_mode(config: dict, i) -> None:
+    """``i`` must index a mode of ``config``."""
+    n = len(np.atleast_1d(config["frequencies_hz"]))
+    if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < n:
+        raise ValueError(f"mode must be an index of the record's {n} mode(s), got {i!r}")
 
 
 def element_shares(config: dict) -> np.ndarray:
@@ -291,7 +295,10 @@ def element_variants(config: dict, i: int) -> dict:
       moved at the hit as much as in the record, through its own amplitude;
     - ``"no element"``: the record without the element.
     """
+    _check_mode(config, i)
     a2 = element_shares(config) ** 2
+    if not a2[i] > 0:
+        raise ValueError(f"mode {i} does not move the element's place (mass 0): no share to scale by")
     factor = 1.0 + 2.0 * (a2.sum() - a2[i]) / a2[i]
     scale = {k: factor for k in ELEMENT}
     linear = impact_record(**{k: v for k, v in config.items() if k not in ELEMENT})

@@ -118,10 +118,8 @@ def with_one_element(rec, sigmas: float) -> tuple[list, list]:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         found = [(m.frequency_hz, m.damping_ratio) for m in identify_modes(rec.y, fs=rec.fs).modes]
-        options = SurveyOptions(n_modes=None, bands=None, sensor=None, template=default_estimator(),
-                                channel=None, onset="auto", offset="auto", samples_per_period=16.0,
-                                max_periods=200.0, n_jobs=None)
-        state = SurveyState(0, np.asarray(rec.y, float)[:, None], None, rec.fs, None, options)
+        state = SurveyState(0, np.asarray(rec.y, float)[:, None], None, rec.fs, None,
+                            SurveyOptions(template=default_estimator()))
         Pipeline(SURVEY[:4])(state)  # read, poles, candidates, classify
     cands = state.candidates
     read = [k for k, c in enumerate(cands) if c.kind in (Kind.NONLINEAR, Kind.LINEAR) and c.decay_rate > 0]

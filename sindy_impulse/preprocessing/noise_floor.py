@@ -26,8 +26,13 @@ _HALF_OCTAVE_RATIO = math.sqrt(2.0)
 
 def _weighted_quantile(values: np.ndarray, weights: np.ndarray, q: float) -> float:
     order = values.argsort()
-    cum = weights[order].cumsum()
-    return float(values[order[min(cum.searchsorted(q * cum[-1]), values.size - 1)]])
+    return _sorted_quantile(values[order], weights[order], q)
+
+
+def _sorted_quantile(values: np.ndarray, weights: np.ndarray, q: float) -> float:
+    """The weighted ``q``-quantile of ``values`` sorted in ascending order, with their ``weights``."""
+    cum = weights.cumsum()
+    return float(values[min(cum.searchsorted(q * cum[-1]), values.size - 1)])
 
 
 def _detrended_quantile(log_p: np.ndarray, bins: np.ndarray, k: int, q: float) -> float:
@@ -104,9 +109,8 @@ def _running_level(log_p: np.ndarray, grid: np.ndarray, pad_factor: int, keep: n
             if r not in sorted_phase:
                 sorted_phase[r] = log_p[kept].argsort()
             order = sorted_phase[r]
-            order = order[(order >= first) & (order < stop)]
-            cum = (1.0 / kept[order]).cumsum()
-            level[i] = float(log_p[kept[order[min(cum.searchsorted(q * cum[-1]), order.size - 1)]]])
+            inside = kept[order[(order >= first) & (order < stop)]]  # the window's bins, by value
+            level[i] = _sorted_quantile(log_p[inside], 1.0 / inside, q)
     return level
 
 
