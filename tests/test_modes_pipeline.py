@@ -28,9 +28,10 @@ def three_modes():
 
 
 def test_the_survey_is_a_declared_list_of_stages():
-    assert [s.name for s in SURVEY] == ["read", "poles", "candidates", "classify", "identify", "reconcile"]
+    assert [s.name for s in SURVEY] == ["read", "poles", "candidates", "classify", "identify", "reconcile",
+                                    "coupling"]
     text = repr(SURVEY)
-    assert text.startswith("Pipeline of 6 stages") and all(s.summary in text for s in SURVEY)
+    assert text.startswith("Pipeline of 7 stages") and all(s.summary in text for s in SURVEY)
     with pytest.raises(ValueError, match="unique"):
         Pipeline([Stage("a", print), Stage("a", print)])
 

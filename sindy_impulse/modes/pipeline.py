@@ -7,13 +7,14 @@ and the decisions it took (:class:`StageTrace`), which :attr:`ModalSurvey.trace
 
 >>> from sindy_impulse.modes.survey import SURVEY
 >>> print(SURVEY)  # doctest: +NORMALIZE_WHITESPACE
-Pipeline of 6 stages:
+Pipeline of 7 stages:
   1. read        the record prepared: the hit, clipped samples, the offset
   2. poles       the stabilisation diagram of the free decay: stable poles, computed once
   3. candidates  the modes of the free decay: poles and spectral peaks refined by the decay fit
   4. classify    what each candidate needs, from cheap evidence (kind and reasons)
   5. identify    one equation per mode: from its poles where linear, the paper's fit where not
   6. reconcile   one answer per mode, named rejections, notes
+  7. coupling    the modes' values read together where one nonlinear element couples them
 """
 
 from __future__ import annotations

@@ -65,13 +65,15 @@ class Mode:
     uncertainty_note : str
         Why the standard deviations are NaN, or where the reported values come from when not from the
         model ("" when there is nothing to say).
-    source : {"poles", "equation", "envelope"}
+    source : {"poles", "equation", "envelope", "coupling"}
         Where the frequency and damping ratio come from: the decay fit of the record's poles (a linear
         mode, whose equation they define; or a nonlinear mode the paper's fit could not reproduce), the
         identified equation's linear part, or the decay envelope at zero amplitude: the averaged equations
         fitted to the mode's free decay where the paper's fit missed the amplitude dependence it shows
         (they are then its equation), or, for the damping ratio of a nonlinear mode whose equation lacks
-        its amplitude-dependent damping, the envelope's decay rate.
+        its amplitude-dependent damping, the envelope's decay rate; or the reading of every mode of the
+        record together under one nonlinear element's coupling (:mod:`sindy_impulse.modes.coupling`),
+        where it moves the mode's own values beyond its standard deviations.
     frequency_spread_hz, damping_ratio_spread : float
         Interquartile range of the hits' values (0 for one hit), kept apart from the standard deviations
         above.

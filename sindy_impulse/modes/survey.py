@@ -14,7 +14,10 @@ stages over one :class:`~.pipeline.SurveyState` (``print(SURVEY)`` shows it):
 5. ``identify`` (:func:`~.identify.identify_candidates`): a linear mode's equation from its poles, a
    nonlinear mode's by the paper's sweep and refinement on its band (candidates in parallel with
    ``n_jobs``);
-6. ``reconcile`` (:func:`~.reconcile.reconcile`): one answer per mode, the other candidates named.
+6. ``reconcile`` (:func:`~.reconcile.reconcile`): one answer per mode, the other candidates named;
+7. ``coupling`` (:func:`~.coupling.read_coupling`): where a nonlinear element couples the modes, their
+   values read together under its first-order structure, taken where they move beyond the reading's
+   standard deviations and the reading leaves nothing but noise in every mode's band.
 
 ``survey.trace`` holds, per record and stage, the time it took and what it decided. Repeated hits of one
 structure are matched by frequency and combined by the paper's consensus (section 3.3.2).
@@ -35,6 +38,7 @@ from ._hits import merge_hits
 from .band_fit import default_estimator
 from .candidates import fit_candidates, read_record, stable_poles
 from .classify import classify_candidates
+from .coupling import read_coupling
 from .identify import identify_candidates
 from .kinds import Reason
 from .pipeline import Pipeline, Stage, SurveyOptions, SurveyState, SurveyTrace
@@ -53,6 +57,7 @@ SURVEY = Pipeline([
     Stage("classify", classify_candidates),
     Stage("identify", identify_candidates),
     Stage("reconcile", reconcile),
+    Stage("coupling", read_coupling),
 ])
 
 

@@ -1,0 +1,266 @@
+"""The modes of a record read together where one nonlinear element couples them (the survey's ``coupling``
+stage).
+
+One cubic spring or amplitude-dependent damper at one place of a structure moves every mode through every
+mode's amplitude. Averaged over a period, it moves mode ``k``'s squared frequency by ``C_km a_m^2`` and its
+decay rate by ``D_km a_m^2`` (``a_m``: mode ``m``'s measured amplitude, wherever the sensor is), with
+
+    ``C_km = (2 - delta_km) G_k E_m``,   ``D_km = (2 - delta_km) H_k E_m``:
+
+the element's share of mode ``k`` (``G_k`` for its stiffness, ``H_k`` for its damping) times its share of
+mode ``m`` (``E_m``, one for both), the other modes' amplitudes weighing twice their own. A mode's own
+reading (its band, its equation) sees only its own amplitude: where a strongly damped mode rings beside
+lightly damped ones, their amplitudes hardly change while it dies, and move its frequency or decay rate by
+a constant offset that its own decay cannot tell from its linear values. Read together under this
+structure, ``3 n`` parameters beyond the linear ones, the offset follows from what the record shows over
+long stretches: each mode's own chirp, its neighbours', and their transients as the short-lived mode dies.
+
+:func:`one_element_reading` fits that model to a free decay; :func:`read_coupling` is the stage: in a
+record with a nonlinear candidate among 2 to :data:`~.classify.MAX_TOGETHER` decaying ones, it reads them
+together and, where the reading describes the decay (its residual at most
+:data:`~._envelope.ENVELOPE_MISFIT` times the noise) and leaves nothing but noise in any mode's band
+(:func:`band_consistency`, at :data:`NOISE_LEVEL` for the bands together), it reports a mode's
+small-amplitude frequency and damping ratio from it where they differ from the mode's own beyond
+:data:`COUPLING_SIGMAS` of the reading's standard deviations (``source`` ``"coupling"``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+from scipy import stats
+
+from ._envelope import ENVELOPE_MISFIT, _joint_stride, _linear_integral, _scaled_normal
+from .classify import MAX_TOGETHER, _audible
+from .kinds import Kind
+from .signals import deflated
+
+__all__ = ["COUPLING_SIGMAS", "CouplingReading", "NOISE_LEVEL", "band_consistency", "one_element_reading",
+           "read_coupling"]
+
+#: A mode's frequency or damping ratio is taken from the coupling reading where the reading moves it by
+#: more than this many of its standard deviations from the mode's own value.
+COUPLING_SIGMAS = 3.0
+#: The reading is believed where the residual in every mode's band is noise: the chance that noise leaves
+#: as much power in at least one of the bands is at least this (each band tested at this level over the
+#: number of bands).
+NOISE_LEVEL = 0.01
+#: Gauss-Newton steps of :func:`one_element_reading` at most (a step that does not lower the residual is
+#: halved, up to 4 times each); it stops where a step lowers the squared residual by less than a tenth of
+#: one sample's share of it.
+ITERATIONS = 40
+#: The band of a mode in :func:`band_consistency`: this many half-power half-widths either side of its
+#: frequency, at least this many bins.
+BAND_WIDTHS, BAND_BINS = 3.0, 3
+
+
+@dataclass(frozen=True)
+class CouplingReading:
+    """What :func:`one_element_reading` reads: per component its small-amplitude ``frequency_hz`` and
+    ``damping_ratio`` (arrays) with their standard deviations, the shares ``stiffness`` (``G``),
+    ``damping`` (``H``) and ``element`` (``E``), the ``residual`` at the sampling rate ``fs`` it was read
+    at, and its RMS."""
+
+    frequency_hz: np.ndarray
+    damping_ratio: np.ndarray
+    frequency_std_hz: np.ndarray
+    damping_ratio_std: np.ndarray
+    stiffness: np.ndarray
+    damping: np.ndarray
+    element: np.ndarray
+    residual: np.ndarray
+    fs: float
+
+    @property
+    def rms(self) -> float:
+        """The residual's RMS."""
+        return float(np.sqrt(np.mean(self.residual**2)))
+
+
+def _model(x: np.ndarray, t: np.ndarray, integrals: np.ndarray, n: int) -> np.ndarray:
+    """Each component's complex signal: ``c_k exp(-sigma_k t + i omega_k t + sum_m (2 - delta_km)
+    (i G_k - H_k) E_m I_m(t))``."""
+    amplitudes = x[0:4 * n:4] + 1j * x[1:4 * n:4]
+    pull, drive = 1j * x[4 * n:5 * n] - x[5 * n:6 * n], x[6 * n:]
+    coupling = ((2.0 - np.eye(n)) * pull[:, None] * drive) @ integrals
+    exponents = np.outer(-x[2:4 * n:4] + 1j * x[3:4 * n:4], t) + coupling
+    with np.errstate(over="ignore", invalid="ignore"):  # (a step too long: not finite, halved)
+        return amplitudes[:, None] * np.exp(exponents)
+
+
+def _jacobian(x: np.ndarray, ce: np.ndarray, t: np.ndarray, integrals: np.ndarray, n: int) -> np.ndarray:
+    """The derivatives of the summed real signal by ``x``: per component ``(Re c, Im c, sigma, omega)``,
+    then ``G``, ``H`` and ``E``."""
+    amplitudes = x[0:4 * n:4] + 1j * x[1:4 * n:4]
+    z = ce / np.where(amplitudes == 0, 1, amplitudes)[:, None]
+    weight = 2.0 - np.eye(n)
+    pull, drive = 1j * x[4 * n:5 * n] - x[5 * n:6 * n], x[6 * n:]
+    moved = (weight * drive) @ integrals  # d exponent_k / d pull_k
+    columns = []
+    for k in range(n):
+        columns += [z[k].real, -z[k].imag, -t * ce[k].real, -t * ce[k].imag]
+    columns += [(1j * moved[k] * ce[k]).real for k in range(n)]
+    columns += [(-moved[k] * ce[k]).real for k in range(n)]
+    by_element = (weight * pull[:, None]).T  # [m, k]: d exponent_k / d E_m over I_m
+    columns += [(by_element[m] @ ce * integrals[m]).real for m in range(n)]
+    return np.column_stack(columns)
+
+
+def one_element_reading(y: np.ndarray, fs: float, components: list) -> CouplingReading:
+    """The small-amplitude values of the modes of a free decay ``y`` coupled through one nonlinear element.
+
+    Fits ``y(t) = sum_k Re[c_k exp(-sigma_k t + i omega_k t + sum_m (2 - delta_km) (i G_k - H_k) E_m
+    I_m(t))]`` (``I_m``: the integral of mode ``m``'s linear decay's squared amplitude) by Gauss-Newton from
+    the components' linear decays (``G = H = 0``, ``E = 1``), on every ``m``-th sample where folding keeps
+    the components apart (:func:`~._envelope._joint_stride`). ``components``: ``(complex amplitude, decay
+    rate, damped frequency_hz)`` of each one's linear decay. The standard deviations are the fit's
+    (residual's variance times the pseudo-inverse of the normal matrix: ``G E`` keeps one scale free).
+
+    Examples
+    --------
+    Two modes, a cubic element moving the second's frequency by the first's amplitude twice as much as by
+    its own:
+
+    >>> fs, t = 2000.0, np.arange(8000) / 2000.0
+    >>> i1, i2 = (1 - np.exp(-2 * 1.0 * t)) / 2.0, 0.25 * (1 - np.exp(-2 * 6.0 * t)) / 12.0
+    >>> w1, w2 = 2 * np.pi * 40, 2 * np.pi * 90
+    >>> g, e = np.array([0.02, 0.03]), np.array([1.0, 1.0])  # d omega_k = g_k (e_k I_k + 2 e_m I_m)
+    >>> y = np.real(np.exp(-1.0 * t + 1j * w1 * t + 1j * w1 * g[0] * (i1 + 2 * i2))
+    ...             + 0.5 * np.exp(-6.0 * t + 1j * w2 * t + 1j * w2 * g[1] * (2 * i1 + i2)))
+    >>> y = y + 0.001 * np.random.default_rng(0).standard_normal(t.size)
+    >>> reading = one_element_reading(y, fs, [(1.0, 1.0, 40.3), (0.5, 6.0, 91.0)])
+    >>> np.round(reading.frequency_hz, 1)
+    array([40., 90.])
+    """
+    y = np.asarray(y, float)
+    if y.ndim != 1 or len(components) < 1:
+        raise ValueError(f"one_element_reading needs a 1-D free decay and at least one component; got y of "
+                         f"shape {y.shape} and {len(components)} component(s)")
+    stride = _joint_stride(fs, components, y.size)
+    y, fs = y[::stride], fs / stride
+    t = np.arange(y.size) / fs
+    n = len(components)
+    integrals = np.array([_linear_integral(abs(complex(c)) ** 2, rate, t) for c, rate, _ in components])
+    x = np.concatenate([np.concatenate([[complex(c).real, complex(c).imag, rate, 2 * np.pi * f]
+                                        for c, rate, f in components]), np.zeros(2 * n), np.ones(n)])
+    cost, best, step = np.inf, None, None
+    for _ in range(4 * ITERATIONS):
+        ce = _model(x, t, integrals, n)
+        with np.errstate(over="ignore", invalid="ignore"):
+            residual = y - ce.real.sum(axis=0)
+            new = float(residual @ residual)
+        if not np.isfinite(new) or new > cost:
+            if step is None:
+                break
+            step = step / 2
+            x = best[0] + step
+            continue
+        settled = cost - new < 0.1 * new / y.size
+        cost, best = new, (x, residual, ce)
+        if settled:
+            break
+        normal, scale, scaled = _scaled_normal(_jacobian(x, ce, t, integrals, n), scaled=True)
+        step = np.linalg.lstsq(normal, scaled.T @ residual, rcond=1e-10)[0] / scale  # (G E: one scale free)
+        x = x + step
+    if best is None:
+        raise ValueError("one_element_reading: the components' linear decays give no finite signal")
+    x, residual, ce = best
+    normal, scale = _scaled_normal(_jacobian(x, ce, t, integrals, n))
+    cov = np.linalg.pinv(normal) / np.outer(scale, scale) * (cost / max(y.size - x.size, 1))
+    sd = np.sqrt(np.abs(np.diag(cov)))
+    sigma, omega = x[2:4 * n:4], x[3:4 * n:4]
+    wn = np.hypot(omega, sigma)
+    return CouplingReading(wn / (2 * np.pi), sigma / wn, sd[3:4 * n:4] / (2 * np.pi), sd[2:4 * n:4] / wn,
+                           x[4 * n:5 * n], x[5 * n:6 * n], x[6 * n:], residual, float(fs))
+
+
+def band_consistency(residual: np.ndarray, fs: float, components: list) -> np.ndarray:
+    """Per component, the chance that white noise leaves as much power in its band of ``residual`` (sampled
+    at ``fs``): the band :data:`BAND_WIDTHS` half-power half-widths either side of its frequency folded into
+    the residual's range, at least :data:`BAND_BINS` bins; the noise's power per bin the median bin's over
+    ``ln 2`` (a periodogram's bins of white noise are exponential; the bands are a small part of them). The
+    band's summed power is then a Gamma variable of as many degrees as bins.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> t = np.arange(4000) / 1000.0
+    >>> noise = rng.standard_normal(4000)
+    >>> left = noise + 0.5 * np.cos(2 * np.pi * 120 * t)  # a component the reading did not describe
+    >>> [bool(p > 0.01) for p in band_consistency(noise, 1000.0, [(1, 2.0, 120.0)])]
+    [True]
+    >>> [bool(p > 0.01) for p in band_consistency(left, 1000.0, [(1, 2.0, 120.0)])]
+    [False]
+    """
+    residual = np.asarray(residual, float)
+    power = np.abs(np.fft.rfft(residual)) ** 2
+    power = power / (np.median(power) / np.log(2))
+    frequencies = np.fft.rfftfreq(residual.size, 1 / fs)
+    out = []
+    for _, rate, f in components:
+        folded = abs((f + fs / 2) % fs - fs / 2)
+        half = max(BAND_WIDTHS * rate / (2 * np.pi), BAND_BINS * fs / residual.size)
+        band = np.abs(frequencies - folded) <= half
+        out.append(float(stats.gamma.sf(power[band].sum(), band.sum())))
+    return np.array(out)
+
+
+def read_coupling(state) -> None:
+    """The modes' values read together where one nonlinear element couples them.
+
+    In a record with a nonlinear candidate among 2 to :data:`~.classify.MAX_TOGETHER` decaying ones (linear
+    or nonlinear), their joint free decay (every other component removed, up to where the longest-lived
+    falls into the noise) is read by :func:`one_element_reading`. A mode takes the reading's
+    small-amplitude frequency and damping ratio, with their standard deviations (``source``
+    ``"coupling"``), where either differs from its own by more than :data:`COUPLING_SIGMAS` of the
+    reading's standard deviations, provided the reading describes the decay: its residual's RMS at most
+    :data:`~._envelope.ENVELOPE_MISFIT` times the candidates' noise, and no mode's band holding more than
+    noise (:func:`band_consistency` at :data:`NOISE_LEVEL` for the bands together). Otherwise the modes'
+    own values stand; the trace says which.
+    """
+    cands = state.candidates
+    read = [k for k, c in enumerate(cands) if c.kind in (Kind.NONLINEAR, Kind.LINEAR) and c.decay_rate > 0]
+    if not any(cands[k].kind is Kind.NONLINEAR for k in read) or not 2 <= len(read) <= MAX_TOGETHER:
+        state.decide("no nonlinear mode among 2-6 decaying candidates: nothing to read together")
+        return
+    n = state.pre.y.size - state.start
+    stop = max(min(_audible(cands[k], state.pre.fs) or n, n) for k in read)
+    y = deflated(state, read[0], keep=read[1:])[state.start:][:stop]
+    components = [(complex(cands[k].amplitude[0]), cands[k].decay_rate, cands[k].damped_frequency_hz)
+                  for k in read]
+    try:
+        reading = one_element_reading(y, state.pre.fs, components)
+    except (ValueError, np.linalg.LinAlgError) as err:
+        state.decide(f"the coupling reading failed ({err}): the modes' own values stand")
+        return
+    misfit = reading.rms / min(cands[k].noise_std for k in read)
+    if not misfit <= ENVELOPE_MISFIT:
+        state.decide(f"the coupling reading does not describe the decay (residual {misfit:.3g} times the "
+                     "noise): the modes' own values stand")
+        return
+    chance = band_consistency(reading.residual, reading.fs, components)
+    if not chance.min() >= NOISE_LEVEL / len(read):
+        where = cands[read[int(np.argmin(chance))]].frequency_hz
+        state.decide(f"the coupling reading leaves more than noise in the band at {where:.5g} Hz (chance "
+                     f"{chance.min():.2g}): the modes' own values stand")
+        return
+    taken = []
+    for i, k in enumerate(read):
+        if k not in state.origin:
+            continue
+        j = state.origin.index(k)
+        mode = state.modes[j]
+        f, z = float(reading.frequency_hz[i]), float(reading.damping_ratio[i])
+        f_std, z_std = float(reading.frequency_std_hz[i]), float(reading.damping_ratio_std[i])
+        if not (abs(f - mode.frequency_hz) > COUPLING_SIGMAS * f_std
+                or abs(z - mode.damping_ratio) > COUPLING_SIGMAS * z_std):
+            continue
+        note = (f"its frequency and damping ratio are read with the other modes' coupling through one "
+                f"nonlinear element ({mode.source}'s values: {mode.frequency_hz:.6g} Hz, "
+                f"{mode.damping_ratio:.4g})")
+        state.modes[j] = replace(mode, frequency_hz=f, damping_ratio=z, frequency_std_hz=f_std,
+                                 damping_ratio_std=z_std, source="coupling", uncertainty_note=note)
+        taken.append(f"{f:.5g} Hz")
+    state.decide(f"{len(read)} modes read together (residual {misfit:.2g} times the noise); values taken "
+                 f"from the reading: {', '.join(taken) if taken else 'none'}")
