@@ -180,11 +180,11 @@ def test_the_failures_list_numbers_records_as_the_progress_lines_do():
     assert wrong == listed
 
 
-def test_the_one_element_prototype_reads_family_g_and_counts_both_answers():
-    """``one_element``: family g's records scored with the survey's values and with the one-element
-    reading's where they moved beyond the given standard deviations."""
-    done = _runner("--no-save", "one_element", "--seed", "131", "--n", "3", "--sigmas", "3")
+def test_the_coupling_stage_benchmark_scores_each_record_before_and_after_the_stage():
+    """``coupling_stage``: a family's records scored with the survey's values before its last stage and
+    after it."""
+    done = _runner("--no-save", "coupling_stage", "--seed", "131", "--n", "3")
     assert done.returncode == 0, done.stderr
-    assert "family g, seed 131: 3 records; right with the survey's values" in done.stdout
-    refused = _runner("--no-save", "one_element", "--sigmas", "x")
-    assert refused.returncode != 0 and "invalid float value" in refused.stderr
+    assert "family g, seed 131: 3 records," in done.stdout and "right before it" in done.stdout
+    refused = _runner("--no-save", "coupling_stage", "--family", "z")
+    assert refused.returncode != 0 and "invalid choice" in refused.stderr

@@ -221,8 +221,11 @@ def read_coupling(state) -> None:
     """
     cands = state.candidates
     read = [k for k, c in enumerate(cands) if c.kind in (Kind.NONLINEAR, Kind.LINEAR) and c.decay_rate > 0]
-    if not any(cands[k].kind is Kind.NONLINEAR for k in read) or not 2 <= len(read) <= MAX_TOGETHER:
-        state.decide("no nonlinear mode among 2-6 decaying candidates: nothing to read together")
+    if not any(cands[k].kind is Kind.NONLINEAR for k in read):
+        state.decide("no nonlinear candidate: nothing to read together")
+        return
+    if not 2 <= len(read) <= MAX_TOGETHER:
+        state.decide(f"{len(read)} decaying candidate(s), not 2-{MAX_TOGETHER}: the modes' own values stand")
         return
     n = state.pre.y.size - state.start
     stop = max(min(_audible(cands[k], state.pre.fs) or n, n) for k in read)
