@@ -42,6 +42,12 @@ def test_the_reading_refuses_what_is_not_one_free_decay():
         one_element_reading(np.zeros((10, 2)), 100.0, [(1.0, 1.0, 10.0)])
     with pytest.raises(ValueError, match="at least one component"):
         one_element_reading(np.zeros(100), 100.0, [])
+    with pytest.raises(ValueError, match="NaN or infinite"):
+        one_element_reading(np.full(100, np.nan), 100.0, [(1.0, 1.0, 10.0)])
+    with pytest.raises(ValueError, match="fs must be a positive"):
+        band_consistency(np.zeros(100), -1.0, [(1.0, 1.0, 10.0)])
+    with pytest.raises(ValueError, match="1-D residual"):
+        band_consistency(np.zeros(3), 100.0, [(1.0, 1.0, 10.0)])
 
 
 def test_the_band_test_holds_its_level_on_noise_and_finds_what_is_left():
@@ -95,3 +101,19 @@ def test_a_strongly_damped_mode_beside_a_nonlinear_element_takes_the_joint_readi
         assert mode.damping_ratio == pytest.approx(config["damping_ratios"][i], rel=0.1)
         assert np.isfinite(mode.frequency_std_hz) and mode.damping_ratio_std > 0
         assert "coupling through one nonlinear element" in mode.uncertainty_note
+
+
+def test_a_failing_reading_leaves_the_modes_own_values(monkeypatch):
+    import sindy_impulse.modes.coupling as coupling
+
+    def broken(*args, **kws):
+        raise FloatingPointError("overflow")
+
+    monkeypatch.setattr(coupling, "one_element_reading", broken)
+    config = dict(frequencies_hz=[43.848, 86.575], damping_ratios=[0.002458, 0.004892], amplitudes=[0.2, 0.9],
+                  fs=2048.0, duration=1.506, sensor="velocity", pre_trigger=0.049, offset=2.69, snr_db=36.1,
+                  random_state=1426074761, cubic_stiffness=5.5538e9, damping_amplitude=7.4898e6)
+    survey = _survey(impact_record(**config))
+    decisions = _coupling_trace(survey).decisions
+    assert decisions[0].startswith("the coupling reading failed (FloatingPointError: overflow)"), decisions
+    assert len(survey.modes) == 2 and all(m.source != "coupling" for m in survey)

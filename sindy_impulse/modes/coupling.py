@@ -137,6 +137,7 @@ def one_element_reading(y: np.ndarray, fs: float, components: list) -> CouplingR
     if y.ndim != 1 or len(components) < 1:
         raise ValueError(f"one_element_reading needs a 1-D free decay and at least one component; got y of "
                          f"shape {y.shape} and {len(components)} component(s)")
+    _check_rate_and_values("one_element_reading", y, fs)
     stride = _joint_stride(fs, components, y.size)
     y, fs = y[::stride], fs / stride
     t = np.arange(y.size) / fs
@@ -194,6 +195,10 @@ def band_consistency(residual: np.ndarray, fs: float, components: list) -> np.nd
     [False]
     """
     residual = np.asarray(residual, float)
+    if residual.ndim != 1 or residual.size < 2 * BAND_BINS:
+        raise ValueError(f"band_consistency needs a 1-D residual of at least {2 * BAND_BINS} samples; got "
+                         f"shape {residual.shape}")
+    _check_rate_and_values("band_consistency", residual, fs)
     power = np.abs(np.fft.rfft(residual)) ** 2
     power = power / (np.median(power) / np.log(2))
     frequencies = np.fft.rfftfreq(residual.size, 1 / fs)
@@ -204,6 +209,13 @@ def band_consistency(residual: np.ndarray, fs: float, components: list) -> np.nd
         band = np.abs(frequencies - folded) <= half
         out.append(float(stats.gamma.sf(power[band].sum(), band.sum())))
     return np.array(out)
+
+
+def _check_rate_and_values(name: str, y: np.ndarray, fs: float) -> None:
+    if not np.all(np.isfinite(y)):
+        raise ValueError(f"{name}: the signal holds NaN or infinite values")
+    if not (isinstance(fs, (int, float, np.floating, np.integer)) and np.isfinite(fs) and fs > 0):
+        raise ValueError(f"{name}: fs must be a positive sampling rate (Hz), got {fs!r}")
 
 
 def read_coupling(state) -> None:
@@ -227,15 +239,16 @@ def read_coupling(state) -> None:
     if not 2 <= len(read) <= MAX_TOGETHER:
         state.decide(f"{len(read)} decaying candidate(s), not 2-{MAX_TOGETHER}: the modes' own values stand")
         return
-    n = state.pre.y.size - state.start
-    stop = max(min(_audible(cands[k], state.pre.fs) or n, n) for k in read)
-    y = deflated(state, read[0], keep=read[1:])[state.start:][:stop]
     components = [(complex(cands[k].amplitude[0]), cands[k].decay_rate, cands[k].damped_frequency_hz)
                   for k in read]
-    try:
+    try:  # a refinement: where it fails, the modes' own readings are the survey's answer
+        n = state.pre.y.size - state.start
+        stop = max(min(_audible(cands[k], state.pre.fs) or n, n) for k in read)
+        y = deflated(state, read[0], keep=read[1:])[state.start:][:stop]
         reading = one_element_reading(y, state.pre.fs, components)
-    except (ValueError, np.linalg.LinAlgError) as err:
-        state.decide(f"the coupling reading failed ({err}): the modes' own values stand")
+    except Exception as err:  # noqa: BLE001 - the modes' own values stand; the trace says why
+        state.decide(f"the coupling reading failed ({type(err).__name__}: {err}): the modes' own values "
+                     "stand")
         return
     misfit = reading.rms / min(cands[k].noise_std for k in read)
     if not misfit <= ENVELOPE_MISFIT:
