@@ -29,7 +29,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy import stats
+from scipy.special import gammaincc
 
 from ._envelope import ENVELOPE_MISFIT, _joint_stride, _linear_integral, _scaled_normal
 from .classify import MAX_TOGETHER, _audible
@@ -207,7 +207,7 @@ def band_consistency(residual: np.ndarray, fs: float, components: list) -> np.nd
         folded = abs((f + fs / 2) % fs - fs / 2)
         half = max(BAND_WIDTHS * rate / (2 * np.pi), BAND_BINS * fs / residual.size)
         band = np.abs(frequencies - folded) <= half
-        out.append(float(stats.gamma.sf(power[band].sum(), band.sum())))
+        out.append(float(gammaincc(band.sum(), power[band].sum())))  # Gamma(bins, 1) beyond the sum
     return np.array(out)
 
 
