@@ -273,8 +273,9 @@ def read_coupling(state) -> None:
                 or abs(z - mode.damping_ratio) > COUPLING_SIGMAS * z_std):
             continue
         note = (f"its frequency and damping ratio are read with the other modes' coupling through one "
-                f"nonlinear element ({mode.source}'s values: {mode.frequency_hz:.6g} Hz, "
-                f"{mode.damping_ratio:.4g})")
+                f"nonlinear element (its own reading, from its {mode.source}: {mode.frequency_hz:.6g} Hz, "
+                f"{mode.damping_ratio:.4g}; its equation is that reading's)")
+        note = f"{mode.uncertainty_note}; {note}" if mode.uncertainty_note else note
         state.modes[j] = replace(mode, frequency_hz=f, damping_ratio=z, frequency_std_hz=f_std,
                                  damping_ratio_std=z_std, source="coupling", uncertainty_note=note)
         taken.append(f"{f:.5g} Hz")
