@@ -114,7 +114,7 @@ class SurveyState:
         and that are not candidates (``candidates``: :func:`~.candidates._confirmed_by_poles`): not modes
         of the table, but in the record, so removed from every mode's own signal.
     modes, rejected, notes : list
-        The result (``identify``, ``reconcile``).
+        The result (``identify``, ``reconcile``; ``coupling`` may replace a mode's values).
     origin : list of int
         The candidate each mode comes from.
     trace : list of StageTrace
