@@ -31,6 +31,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.special import gammaincc
 
+from .._utils.validation import check_signal
+from ..preprocessing._record import check_fs
 from ._envelope import ENVELOPE_MISFIT, _joint_stride, _linear_integral, _scaled_normal
 from .classify import MAX_TOGETHER, _audible
 from .kinds import Kind
@@ -133,11 +135,9 @@ def one_element_reading(y: np.ndarray, fs: float, components: list) -> CouplingR
     >>> np.round(reading.frequency_hz, 1)
     array([40., 90.])
     """
-    y = np.asarray(y, float)
-    if y.ndim != 1 or len(components) < 1:
-        raise ValueError(f"one_element_reading needs a 1-D free decay and at least one component; got y of "
-                         f"shape {y.shape} and {len(components)} component(s)")
-    _check_rate_and_values("one_element_reading", y, fs)
+    y, fs = check_signal(y, "y", ndim=(1,), as_2d=False), check_fs(fs)
+    if len(components) < 1:
+        raise ValueError("one_element_reading needs at least one component, got none")
     stride = _joint_stride(fs, components, y.size)
     y, fs = y[::stride], fs / stride
     t = np.arange(y.size) / fs
@@ -194,11 +194,8 @@ def band_consistency(residual: np.ndarray, fs: float, components: list) -> np.nd
     >>> [bool(p > 0.01) for p in band_consistency(left, 1000.0, [(1, 2.0, 120.0)])]
     [False]
     """
-    residual = np.asarray(residual, float)
-    if residual.ndim != 1 or residual.size < 2 * BAND_BINS:
-        raise ValueError(f"band_consistency needs a 1-D residual of at least {2 * BAND_BINS} samples; got "
-                         f"shape {residual.shape}")
-    _check_rate_and_values("band_consistency", residual, fs)
+    residual = check_signal(residual, "residual", ndim=(1,), min_samples=2 * BAND_BINS, as_2d=False)
+    fs = check_fs(fs)
     power = np.abs(np.fft.rfft(residual)) ** 2
     power = power / (np.median(power) / np.log(2))
     frequencies = np.fft.rfftfreq(residual.size, 1 / fs)
@@ -209,13 +206,6 @@ def band_consistency(residual: np.ndarray, fs: float, components: list) -> np.nd
         band = np.abs(frequencies - folded) <= half
         out.append(float(gammaincc(band.sum(), power[band].sum())))  # Gamma(bins, 1) beyond the sum
     return np.array(out)
-
-
-def _check_rate_and_values(name: str, y: np.ndarray, fs: float) -> None:
-    if not np.all(np.isfinite(y)):
-        raise ValueError(f"{name}: the signal holds NaN or infinite values")
-    if not (isinstance(fs, (int, float, np.floating, np.integer)) and np.isfinite(fs) and fs > 0):
-        raise ValueError(f"{name}: fs must be a positive sampling rate (Hz), got {fs!r}")
 
 
 def read_coupling(state) -> None:
