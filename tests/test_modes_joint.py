@@ -189,6 +189,24 @@ def test_a_joint_fit_of_one_component_holds_the_others():
     assert cost < first and best[2].shape == (start.size, start.size)
 
 
+def test_a_free_components_signal_alone_recomputed_equals_all_recomputed():
+    """With ``held`` signals, only the free component's row is computed: the same numbers, bit for bit, as
+    every row computed (a fit of one component then decides exactly as a fit computing them all), and
+    ``held`` itself is not changed."""
+    y, components, _ = _two_modes(0)
+    decay = _envelope._JointDecay(y, FS, components, [(1.0, 1.0, 0), (0.09, 4.0, 1)])
+    terms = [(1, 0), (0, 0)]
+    x = np.concatenate([decay.start, [3.0, 0.2, -1.0, 0.1]])
+    held = decay.signals(x, terms)
+    kept = held.copy()
+    moved = x.copy()
+    moved[decay.parameters_of(1, terms)] *= 1.001
+    fast = decay.signals(moved, terms, held, 1)
+    assert np.array_equal(fast, decay.signals(moved, terms))
+    assert np.array_equal(fast[0], held[0]) and not np.array_equal(fast[1], held[1])
+    assert np.array_equal(held, kept)
+
+
 def test_a_joint_fit_that_overflows_says_nothing_and_fails_cleanly():
     """A start whose exponent overflows (a growing component) gives ``(inf, None)`` without a NumPy
     RuntimeWarning reaching the user."""

@@ -569,14 +569,23 @@ class _JointDecay:
         self.start = np.concatenate([[complex(a).real, complex(a).imag, rate, 2 * np.pi * f]
                                      for a, rate, f in components])
 
-    def signals(self, x, terms) -> np.ndarray:
-        """Each component's complex signal ``c_k exp(...)``."""
-        exponents = np.outer(-x[2:4 * self.n:4] + 1j * x[3:4 * self.n:4], self.t)
+    def signals(self, x, terms, held: np.ndarray | None = None, free: int | None = None) -> np.ndarray:
+        """Each component's complex signal ``c_k exp(...)``; with ``held`` (these signals at parameters that
+        differ from ``x`` in component ``free``'s and its terms' alone) only that component's is computed,
+        the others taken from ``held`` (the same numbers: each row depends on its own parameters only)."""
+        rows = range(self.n) if held is None else [free]
+        exponents = np.outer(-x[2:4 * self.n:4][rows] + 1j * x[3:4 * self.n:4][rows], self.t)
         for i, (k, j) in enumerate(terms):
-            slope = x[4 * self.n + 2 * i]
-            exponents[k] += (-x[4 * self.n + 2 * i + 1] + 1j * slope) * self.integrals[j]
+            if k in rows:
+                slope = x[4 * self.n + 2 * i]
+                exponents[rows.index(k)] += (-x[4 * self.n + 2 * i + 1] + 1j * slope) * self.integrals[j]
         with np.errstate(over="ignore", invalid="ignore"):
-            return (x[0:4 * self.n:4] + 1j * x[1:4 * self.n:4])[:, None] * np.exp(exponents)
+            ce = (x[0:4 * self.n:4][rows] + 1j * x[1:4 * self.n:4][rows])[:, None] * np.exp(exponents)
+        if held is None:
+            return ce
+        out = held.copy()
+        out[free] = ce[0]
+        return out
 
     def fit(self, x, terms, iterations: int = _JOINT_ITERATIONS, free: int | None = None) -> tuple:
         """Gauss-Newton from ``x``: ``iterations`` steps at most (the halvings of a step that does not lower
@@ -585,9 +594,11 @@ class _JointDecay:
         ``(squared residual, (x, residual, normal matrix, its scales, scaled Jacobian, signals))``, the
         normal matrix and Jacobian of every parameter; or ``(inf, None)``."""
         index = None if free is None else self.parameters_of(free, terms)
-        cost, best, step, steps = np.inf, None, None, 0
+        cost, best, step, steps, held = np.inf, None, None, 0, None
         for _ in range(iterations * _HALVINGS):
-            ce = self.signals(x, terms)
+            ce = self.signals(x, terms, held, free)
+            if index is not None:  # (the held components' signals stay: only the free one's is computed)
+                held = ce
             with np.errstate(over="ignore", invalid="ignore"):  # (a step too long: not finite, halved)
                 residual = self.y - ce.real.sum(axis=0)
                 new_cost = float(residual @ residual)
