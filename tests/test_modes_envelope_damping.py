@@ -131,6 +131,35 @@ def test_a_decay_too_short_or_not_decaying_is_not_read():
     assert _envelope.decay_dependence(np.tile(y, 4), 1000.0, 1.0 + 0j, 0.0, 50.0, 1e-3) is None
 
 
+def test_a_neighbour_that_does_not_decay_moves_nothing_and_breaks_nothing():
+    """A neighbour whose decay rate is zero (a tone, or a component a short record cannot see decay) would
+    move the mode by a constant, which its linear frequency already is: it takes no term, and the reading
+    is the one without it (it failed with an UnboundLocalError: a 0/0 integral made the start not
+    finite)."""
+    fs, t = 2000.0, np.arange(8000) / 2000.0
+    y = np.exp(-2 * t) * np.cos(2 * np.pi * 50 * t) + 1e-3 * np.random.default_rng(0).standard_normal(t.size)
+    alone = _envelope.decay_dependence(y, fs, 1.0 + 0j, 2.0, 50.0, 1e-3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        beside = _envelope.decay_dependence(y, fs, 1.0 + 0j, 2.0, 50.0, 1e-3, neighbours=[(0.5, 0.0)])
+    assert beside == alone
+    z = np.exp((-2 + 2j * np.pi * 50) * t)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        band = _envelope.amplitude_dependence(z, fs, 10.0, 1e-6, neighbours=[(0.5, 0.0)])
+    assert band == _envelope.amplitude_dependence(z, fs, 10.0, 1e-6)
+    assert _envelope._linear_integral(0.5, 0.0, t[:3]).tolist() == [0.0, 0.00025, 0.0005]
+
+
+def test_a_decay_whose_start_gives_no_finite_residual_is_not_read():
+    """Where the first residual is not finite (here a sample that is not), no step is taken: None, not an
+    exception from inside the fit."""
+    t = np.arange(4000) / 1000.0
+    y = np.exp(-2 * t) * np.cos(2 * np.pi * 50 * t)
+    y[100] = np.nan
+    assert _envelope.decay_dependence(y, 1000.0, 1.0 + 0j, 2.0, 50.0, 1e-3) is None
+
+
 @pytest.mark.slow
 def test_survey_of_a_damper_record_whose_sweep_drops_the_damper():
     """``python -m benchmarks modes --family g`` record 58 (seed 0): a 108.5 Hz mode whose damping ratio is 68

@@ -144,7 +144,8 @@ def amplitude_dependence(z: np.ndarray, fs: float, bandwidth_hz: float, noise_rm
     analytic signal ``z`` (transients trimmed) of band ``bandwidth_hz`` wide, used down to ``min_snr_db``
     over the band's noise ``noise_rms``; ``neighbours``: ``(squared amplitude, decay rate)`` of the linear
     decays of other modes whose squared amplitudes move this one's frequency and decay rate too (see the
-    module). None when fewer than 8 independent samples, or (given the mode's
+    module; one that does not decay takes no term). None when fewer than 8 independent samples, or (given
+    the mode's
     ``frequency_hz``) fewer than :data:`MIN_PERIODS` of its periods remain: too short a decay to tell an
     amplitude dependence from a start that is not yet free.
 
@@ -161,6 +162,7 @@ def amplitude_dependence(z: np.ndarray, fs: float, bandwidth_hz: float, noise_rm
     >>> amplitude_dependence(a * np.exp(1j * 2 * np.pi * 50 * t), fs, 10.0, 1e-6).nonlinear
     False
     """
+    neighbours = [(b2, rate) for b2, rate in neighbours if rate > 0]
     amplitude = np.abs(z)
     keep = np.flatnonzero(amplitude >= 10 ** (min_snr_db / 20) * noise_rms)
     if keep.size == 0:
@@ -318,14 +320,16 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
     (no band-pass: a filter's transient hides the start of the decay, where the amplitude is largest),
     other modes removed, starting at its linear decay's complex ``amplitude``, ``decay_rate`` (1/s) and
     damped ``frequency_hz``; ``neighbours``: ``(squared amplitude at the start, decay rate)`` of the linear
-    decays of other modes whose squared amplitudes move this one's frequency and decay rate too.
+    decays of other modes whose squared amplitudes move this one's frequency and decay rate too (one that
+    does not decay, ``decay rate <= 0``, would move it by a constant: its linear values, no term of its own).
 
     The averaged equations of the module, to first order in ``omega_2`` and ``sigma_2``: ``y(t) = Re[c
     exp(-sigma_0 t - sigma_2 I(t) + i (omega_0 t + omega_2 I(t)))]`` with ``I(t) = |a|^2 (1 - exp(-2
     sigma t)) / (2 sigma)`` the integral of the linear decay's squared amplitude, fitted by Gauss-Newton
     from the linear decay; the standard errors from the Jacobian and the residual's variance (white
     noise). Returns an :class:`AmplitudeDependence` (``misfit`` the residual's RMS over ``noise_std``),
-    or None when fewer than :data:`MIN_PERIODS` periods remain or the iteration does not converge.
+    or None when fewer than :data:`MIN_PERIODS` periods remain, the linear decay's start gives no finite
+    signal or the iteration does not converge.
 
     Examples
     --------
@@ -344,6 +348,7 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
     short = y.size / fs * frequency_hz < MIN_PERIODS
     if short or not (decay_rate > 0 and frequency_hz > 0 and abs(amplitude) > 0):
         return None
+    neighbours = [(b2, rate) for b2, rate in neighbours if rate > 0]
     # every m-th sample, at least _PER_PERIOD per period, at most about _SAMPLES of them: a parametric fit
     # in time needs no band limit (its start is within a fraction of the alias spacing), and the standard
     # errors say what the samples left out cost
@@ -356,7 +361,7 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
                          + [_linear_integral(b2, rate, t) for b2, rate in neighbours])
     x = np.concatenate([[amplitude.real, amplitude.imag, decay_rate, 2 * np.pi * frequency_hz],
                         np.zeros(2 * len(integrals))])
-    cost = np.inf
+    cost, best = np.inf, None
     for iteration in range(_ITERATIONS):
         slopes = x[4::2] * 1j - x[5::2]  # i omega_2 - sigma_2: of its own amplitude, then the neighbours'
         e = np.exp((-x[2] + 1j * x[3]) * t + slopes @ integrals)
@@ -376,6 +381,8 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
             x = x + np.linalg.solve(normal, scaled.T @ residual) / scale
         except np.linalg.LinAlgError:
             return None
+    if best is None:  # (the start itself gave no finite signal)
+        return None
     x, residual, normal, scale = best
     if not (x[2] > 0 and x[3] > 0):
         return None
@@ -423,7 +430,18 @@ def _change(slopes: np.ndarray, cov: np.ndarray, spans: np.ndarray, value: float
 
 def _linear_integral(a2: float, rate: float, t: np.ndarray) -> np.ndarray:
     """``I(t)``, the integral from 0 to ``t`` of a linear decay's squared amplitude ``a2 exp(-2 rate t)``: the
-    first-order amplitude term of the averaged equations (:func:`decay_dependence`)."""
+    first-order amplitude term of the averaged equations (:func:`decay_dependence`); ``a2 t`` for a decay rate
+    of zero (the limit).
+
+    Examples
+    --------
+    >>> _linear_integral(2.0, 0.0, np.array([0.0, 1.5])).tolist()
+    [0.0, 3.0]
+    >>> bool(np.allclose(_linear_integral(2.0, 1e-9, np.array([1.5])), 3.0))
+    True
+    """
+    if rate == 0:
+        return a2 * np.asarray(t, float)
     return a2 * -np.expm1(-2 * rate * t) / (2 * rate)
 
 
