@@ -151,6 +151,20 @@ def test_a_neighbour_that_does_not_decay_moves_nothing_and_breaks_nothing():
     assert _envelope._linear_integral(0.5, 0.0, t[:3]).tolist() == [0.0, 0.00025, 0.0005]
 
 
+def test_a_step_that_overflows_is_not_taken_and_says_nothing():
+    """A Gauss-Newton step too long for the exponent (a weak decay in noise read from a poor start) gives a
+    residual that is not finite: the step is not taken, and no NumPy RuntimeWarning reaches the user."""
+    fs, t = 1000.0, np.arange(3000) / 1000.0
+    for seed in (5, 8, 96, 194):  # starts whose first steps overflowed
+        rng = np.random.default_rng(seed)
+        y = (0.1 * rng.standard_normal(t.size)
+             + rng.uniform(0, 1) * np.exp(-rng.uniform(0.1, 20) * t) * np.cos(2 * np.pi * 50 * t))
+        start = (complex(rng.uniform(0.5, 3), 0), rng.uniform(0.5, 30), 50.0 * rng.uniform(0.97, 1.03))
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            _envelope.decay_dependence(y, fs, *start, 0.1)
+
+
 def test_a_decay_whose_start_gives_no_finite_residual_is_not_read():
     """Where the first residual is not finite (here a sample that is not), no step is taken: None, not an
     exception from inside the fit."""

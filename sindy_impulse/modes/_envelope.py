@@ -364,10 +364,11 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
     cost, best = np.inf, None
     for iteration in range(_ITERATIONS):
         slopes = x[4::2] * 1j - x[5::2]  # i omega_2 - sigma_2: of its own amplitude, then the neighbours'
-        e = np.exp((-x[2] + 1j * x[3]) * t + slopes @ integrals)
-        ce = (x[0] + 1j * x[1]) * e
-        residual = y - ce.real
-        new_cost = float(residual @ residual)
+        with np.errstate(over="ignore", invalid="ignore"):  # (a step too long: not finite, not taken)
+            e = np.exp((-x[2] + 1j * x[3]) * t + slopes @ integrals)
+            ce = (x[0] + 1j * x[1]) * e
+            residual = y - ce.real
+            new_cost = float(residual @ residual)
         if not np.isfinite(new_cost) or new_cost > cost * (1 - _TOLERANCE):
             break  # (the last step no longer lowered the misfit: keep its start's values)
         # the Jacobian of an accepted point only (a rejected step's is never read)
