@@ -20,15 +20,12 @@ from __future__ import annotations
 
 import argparse
 import os
-import time
-import warnings
 
 import numpy as np
 
 from benchmarks.real_records.clipped_real import compare
 from benchmarks.real_records.sources import ENV
-from benchmarks.real_records.survey_speed import baseline, records
-from sindy_impulse import identify_modes
+from benchmarks.real_records.survey_speed import records, time_record
 
 
 def cut(record: dict, share: float) -> dict:
@@ -37,27 +34,6 @@ def cut(record: dict, share: float) -> dict:
     force = record.get("force")
     force = None if force is None else np.asarray(force)[:n]
     return {**record, "y": np.asarray(record["y"])[:n], "force": force}
-
-
-def _survey(record):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        return identify_modes(record["y"], fs=record["fs"], force=record.get("force"))
-
-
-def timed(record: dict, repeats: int) -> tuple:
-    """The survey of ``record`` and the median times (s) of the survey and of the baseline, warm."""
-    survey = _survey(record)
-    baseline(record["y"], record["fs"])
-    survey_s, base_s = [], []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        survey = _survey(record)
-        survey_s.append(time.perf_counter() - start)
-        start = time.perf_counter()
-        baseline(record["y"], record["fs"])
-        base_s.append(time.perf_counter() - start)
-    return survey, float(np.median(survey_s)), float(np.median(base_s))
 
 
 def main(argv=None) -> dict:
@@ -77,10 +53,11 @@ def main(argv=None) -> dict:
     print(f"load average before: {os.getloadavg()[0]:.2f}; median of {args.repeats}")
     rows = []
     for record in records(args.mirror):
-        reference = _survey(record)
+        reference = time_record(record, 1)["survey"]  # (the whole record, its modes only)
         for share in shares:
             short = cut(record, share)
-            survey, survey_s, base_s = timed(short, args.repeats)
+            timed = time_record(short, args.repeats)
+            survey, survey_s, base_s = timed["survey"], timed["survey_s"], timed["baseline_s"]
             row = {"name": record["name"], "share": share, "samples": int(np.shape(short["y"])[0]),
                    "modes": len(reference.modes), "cut_modes": len(survey.modes), "survey_s": survey_s,
                    "baseline_s": base_s, "ratio": survey_s / base_s, **compare(reference, survey)}
