@@ -131,6 +131,25 @@ def test_magnitudes_beyond_double_precision_are_refused(scale):
         ImpulseSINDy().fit(RING.x * scale, t=RING.t)
 
 
+@pytest.mark.parametrize("scale", [1e-149, 1e45])
+def test_magnitudes_inside_the_range_fit_right_without_numpys_warnings(scale):
+    """At the edges of MAGNITUDE_RANGE the paper's oscillator is identified and its verdict computed, and no
+    NumPy overflow or invalid-value warning reaches the user (the term tests squared the products of the
+    cubic terms and overflowed from 1e39)."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        model = ImpulseSINDy().fit(RING.x * scale, t=RING.t)
+        verdict = model.diagnostics_.verdict
+    assert not [w for w in caught if w.category is RuntimeWarning]
+    assert verdict in VERDICTS and model.coefficients()[1][1] == pytest.approx(-64, rel=0.01)
+
+
+def test_states_whose_cubes_squares_overflow_are_refused():
+    """Beyond 1e50 the squares of the library's cubes overflow: refused, with the way out."""
+    with pytest.raises(ValueError, match="rescale x"):
+        ImpulseSINDy().fit(RING.x * 1e60, t=RING.t)
+
+
 def test_plain_mode_accepts_states_too_small_and_says_to_rescale():
     model, caught = _fit(RING.x * 1e-200, sweep=False, refine=False)
     assert "scale" in model.diagnostics_.reasons

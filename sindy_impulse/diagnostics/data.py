@@ -20,11 +20,13 @@ from ..simulation.scoring import compare_stride
 
 __all__ = ["DataChecks", "screen_states", "check_magnitude", "quality_problems", "MAGNITUDE_RANGE"]
 
-#: Largest absolute state value outside which a fit is refused: (smallest, largest). Beyond 1e100 the
-#: cubes of the states overflow double precision (5.6e102); below 1e-150 their squares underflow, the
-#: differentiation's regularisation then sees no signal (measured: the paper's oscillator is identified
-#: from 1e-150 to 1e100 times its amplitude, and not at 1e-200 or 1e102).
-MAGNITUDE_RANGE = (1e-150, 1e100)
+#: Largest absolute state value outside which a fit is refused: (smallest, largest). Beyond 1e50 the
+#: squares of the states' cubes (the library's column norms, its Gram matrix) overflow double precision
+#: (5.6e51), and NumPy's overflow warnings reached the user from 1e51 (1e39 before the term tests used
+#: unit columns); below 1e-150 their squares underflow, the differentiation's regularisation then sees no
+#: signal (measured: the paper's oscillator is identified from 1e-150 to 1e50 times its amplitude without
+#: a NumPy warning, and not at 1e-200).
+MAGNITUDE_RANGE = (1e-150, 1e50)
 #: Trajectories whose quality is checked (repeated impacts share the sensor).
 MAX_CHECKED = 8
 #: Fewest samples for the spectral quality checks (the noise floor needs 128).
@@ -110,8 +112,8 @@ def check_magnitude(trajectories, name: str = "x", refuse_small: bool = True) ->
     low, high = MAGNITUDE_RANGE
     if largest > high:
         raise ValueError(
-            f"{name} reaches {largest:.3g}: the library's powers of the states overflow double precision "
-            f"beyond {high:.0e}; rescale {name} (change its units) and fit again"
+            f"{name} reaches {largest:.3g}: the library's powers of the states and their squares overflow "
+            f"double precision beyond {high:.0e}; rescale {name} (change its units) and fit again"
         )
     if 0 < largest < low:
         message = (

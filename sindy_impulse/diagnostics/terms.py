@@ -260,8 +260,9 @@ class _Sensitivity:
                 u = u[:, sv > sv[0] * np.finfo(float).eps * max(u.shape)] if sv[0] > 0 else u[:, :0]
                 resid = resid - u @ (u.T @ resid)
                 block = block - u @ (u.T @ block)
-            norms = np.einsum("ij,ij->j", block, block)
-            gains = np.divide((resid @ block) ** 2, norms, out=np.zeros_like(norms), where=norms > 0)
+            norms = np.sqrt(np.einsum("ij,ij->j", block, block))
+            unit = np.divide(block, norms, out=np.zeros_like(block), where=norms > 0)
+            gains = (resid @ unit) ** 2  # (unit columns: no product of the library's powers squared again)
             ranked = sorted(zip(gains.tolist(), others.tolist()), reverse=True)
             out += [(i, k) for _, k in ranked[:MAX_CANDIDATES]]
         return out

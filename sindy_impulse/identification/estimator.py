@@ -259,11 +259,12 @@ class ImpulseSINDy(ComponentsMixin, FittedModelMixin, ps.SINDy):
         self._resolve_components()
         self.output_error_fit_ = None
         plain = not (self.sweep or self.refine)  # plain PySINDy: one model, no simulation
+        # states that overflow the library: refused before anything squares them (the differentiation does)
+        check_magnitude(data.x, refuse_small=not plain)
         filtered, derivs = filter_states(self.differentiation_method_, data, x_dot, plain)
         if x_dot is None and not plain:  # the filter's first sample is its least accurate
             filtered = estimate_initial_states(data.x, filtered, derivs, data.t, data.u)
         rest = rest_level(data.x, data.t, allow_removal=not plain)  # a ring-down's rest level (0: none)
-        check_magnitude(data.x, refuse_small=not plain)  # states that overflow the library: refused now
         problem = prepare(
             self.feature_library_,
             data,
