@@ -205,3 +205,26 @@ def test_a_broad_components_split_seed_beyond_the_band_is_not_tried():
                         duration=0.015, sensor="displacement", pre_trigger=0.05577699318586862,
                         offset=0.4886871928546971, snr_db=47.17768704765533, random_state=1720063078)
     assert not any("failed" in r.reason for r in _survey(rec).rejected)
+
+
+@pytest.mark.parametrize("duration", [0.2, 0.21])
+def test_a_clipped_record_whose_unclipped_tail_is_too_short_for_a_spectrum_is_surveyed(duration):
+    """A ring-down clipped until 50-60 samples before the record's end (more than a quarter of it, fewer
+    than a spectrum needs): the repair starts from the clipped ring-down's own peaks instead of refusing the
+    record with a ValueError about 50 samples the user never passed."""
+    rec = impact_record([50.0], [0.026], fs=1000.0, duration=duration, pre_trigger=0.01, clip=0.3, snr_db=50,
+                        random_state=0, sensor="displacement")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        survey = identify_modes(rec.y, fs=rec.fs)
+    assert [round(m.frequency_hz) for m in survey.modes] == [50]
+
+
+def test_a_free_decay_too_short_is_refused_in_its_own_words():
+    """A record long enough whose free decay after the hit is not: the refusal names the free decay and the
+    hit, not the record (which has more samples than the limit)."""
+    y = np.r_[np.zeros(40), np.exp(-np.arange(50) / 30) * np.sin(np.arange(50))]
+    y = y + 1e-4 * np.random.default_rng(0).standard_normal(y.size)
+    said = r"the free decay has \d+ samples after the hit \(sample \d+ of 90\)"
+    with pytest.raises(ValueError, match=said):
+        identify_modes(y, fs=1000.0)

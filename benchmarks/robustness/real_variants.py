@@ -15,13 +15,13 @@ its limit. Per variant the outcome is **ok** (modes, or a warning that says why 
 **numpy** (a NumPy ``RuntimeWarning`` reached the user: overflow, invalid value, division by zero). Every
 outcome but ok is listed.
 
-Measured (2026-11-30, main at this benchmark's first fixes): 240 variants of the 10 records: 238 ok, 1
-caught (pyFRF's second hit, its first 3 % clipped: 768 samples; every candidate model of one band diverged
-when simulated), 1 refused (the flutter rig's second record, 3 % from 0.2 % clipped: "y has 54 samples;
-at least 64 are needed"), 0 exceptions, 0 NumPy warnings. Its first run found two failures, both fixed: a
+Measured (2026-11-30, main at this benchmark's fixes): 240 variants of the 10 records: 239 ok, 1 caught
+(pyFRF's second hit, its first 3 % clipped: 768 samples; every candidate model of one band diverged when
+simulated), 0 refused, 0 exceptions, 0 NumPy warnings. Its first runs found three failures, all fixed: a
 non-decaying neighbour in the averaged equations (pyFRF's first hit cut to a quarter: an
-``UnboundLocalError``, no mode) and NumPy overflow warnings from a step of the same fit (the Brake-Reuss
-beam cut to 15 %).
+``UnboundLocalError``, no mode), NumPy overflow warnings from a step of the same fit (the Brake-Reuss beam
+cut to 15 %), and a clipped record whose unclipped tail was too short for a spectrum (the flutter rig's
+second record, 3 % from 0.2 %: refused with "y has 54 samples", a length the user never passed).
 """
 
 from __future__ import annotations

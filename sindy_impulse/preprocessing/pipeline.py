@@ -10,7 +10,7 @@ import numpy as np
 
 from .._utils.params import Interval, Options, check_param
 from ..exceptions import DataWarning
-from ._record import as_record
+from ._record import MIN_SAMPLES, as_record
 from .band import band_noise_rms, extract_band
 from .declipping import declip_attempt
 from .offset import OffsetEstimate, estimate_offset, remove_offset
@@ -120,15 +120,17 @@ def _unclipped(y: np.ndarray, fs: float, impact: Impact) -> tuple[np.ndarray, Im
     clipped runs when the free decay's model does not hold there yet; refused, and no later start tried,
     where the model's residual is far above the noise of the tail's last samples), or else the free
     ring-down started after the last clipped sample. When less than :data:`_MIN_UNCLIPPED` of the
-    ring-down is past the last clipped sample, the repair starts from the clipped ring-down's own peaks,
-    those the unclipped samples do not need dropped (the clipping's harmonics), and without a repair the
-    record stays as it is (the quality check says it is clipped). (record, impact, the repair or None)."""
+    ring-down is past the last clipped sample (or fewer samples than a spectrum needs), the repair starts
+    from the clipped ring-down's own peaks, those the unclipped samples do not need dropped (the clipping's
+    harmonics), and without a repair the record stays as it is (the quality check says it is clipped); a
+    ring-down too short for a spectrum stays as it is. (record, impact, the repair or None)."""
     mask = saturated_mask(y)
     found = np.flatnonzero(mask[impact.ringdown_index :])
-    if not found.size:
+    ring = y.size - impact.ringdown_index
+    if not found.size or ring < MIN_SAMPLES:
         return y, impact, None
     end = impact.ringdown_index + int(found[-1]) + 1
-    short = y.size - end < _MIN_UNCLIPPED * (y.size - impact.ringdown_index)
+    short = y.size - end < max(_MIN_UNCLIPPED * ring, MIN_SAMPLES)
     tail = y[impact.ringdown_index if short else end :]
     peaks = spectral_peaks(tail - np.mean(tail), fs, refine=False)
     noise = None if short else float(np.std(tail[-max(tail.size // _NOISE_SHARE, 16) :]))
