@@ -225,6 +225,6 @@ def test_a_free_decay_too_short_is_refused_in_its_own_words():
     hit, not the record (which has more samples than the limit)."""
     y = np.r_[np.zeros(40), np.exp(-np.arange(50) / 30) * np.sin(np.arange(50))]
     y = y + 1e-4 * np.random.default_rng(0).standard_normal(y.size)
-    said = r"the free decay has \d+ samples after the hit \(sample \d+ of 90\)"
+    said = r"the free decay after the hit \(sample \d+ of 90\) has \d+ samples; at least 64"
     with pytest.raises(ValueError, match=said):
         identify_modes(y, fs=1000.0)

@@ -29,7 +29,7 @@ import numpy as np
 
 from .._utils.params import Interval, check_param
 from ..poles.decay_fit import MAX_DAMPING, MISFIT_REACH, MISFIT_SHARE, fit_decay, missing_peaks
-from ..preprocessing._record import MIN_SAMPLES
+from ..preprocessing._record import check_signal_1d
 from ..preprocessing.partition import at_harmonic_place, peak_bands, resolved
 from ..preprocessing.peaks import SpectralPeaks, spectral_peaks
 from ..preprocessing.pipeline import prepare_record
@@ -158,11 +158,9 @@ def read_record(state) -> None:
     state.channel = _reference_channel(state.record, opts.channel)
     pre, raw = prepare_record(state.record[:, state.channel], state.t, fs=state.fs, force=state.force,
                               onset=opts.onset, offset=opts.offset)
-    ring = pre.y[pre.impact.ringdown_index:]
-    if ring.size < MIN_SAMPLES:  # (said of the free decay: the record itself may be long enough)
-        raise ValueError(f"the free decay has {ring.size} samples after the hit (sample "
-                         f"{pre.impact.ringdown_index} of {pre.y.size}); at least {MIN_SAMPLES} are needed: "
-                         "record longer after the hit")
+    # (refused in the free decay's words: the record itself may be long enough)
+    hit = pre.impact.ringdown_index
+    ring = check_signal_1d(pre.y[hit:], f"the free decay after the hit (sample {hit} of {pre.y.size})")
     peaks = spectral_peaks(ring, pre.fs, bands=opts.bands, refine=False)
     quality = check_quality(raw, pre.fs, onset_index=pre.impact.onset_index, peaks=peaks)
     state.pre, state.raw = replace(pre, peaks=peaks, quality=quality), raw
