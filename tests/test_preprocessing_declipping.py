@@ -7,6 +7,8 @@ import numpy as np
 import pytest
 
 from sindy_impulse import identify_modes, impact_record
+from sindy_impulse.modes._clipped import harmonic_order
+from sindy_impulse.modes.kinds import Reason
 from sindy_impulse.preprocessing import clipping_end, clipping_mask, preprocess, saturated_mask
 from sindy_impulse.preprocessing.declipping import declip, declip_attempt
 
@@ -214,6 +216,52 @@ def test_the_survey_rejects_the_clipping_products_with_evidence():
         n = r.evidence["frequency_hz"] / survey.modes[0].frequency_hz
         assert abs(n / round(n) - 1) < 5e-3 and round(n) % 2 == 1 and r.evidence["combination_offset"] < 5e-3
     assert any("repaired from the unclipped samples" in note for note in survey.notes)
+    assert all(r.code is Reason.CLIPPING_PRODUCT for r in products)  # programs decide on the code
+
+
+def _clipped_to_the_end(freqs, damping, **kw):
+    """A ring-down clipped on most of its samples up to its last: no repair fits, nothing follows the
+    clipping (the impact's clipping is "kept")."""
+    rec = impact_record(freqs, damping, fs=1000, duration=0.2, pre_trigger=0.01, clip=0.3, snr_db=50,
+                        random_state=0, sensor="displacement", **kw)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        survey = identify_modes(rec.y, fs=rec.fs)
+    return rec, survey, [str(w.message) for w in caught]
+
+
+def test_a_record_that_stays_clipped_names_its_clipping_harmonics_not_modes():
+    """Clipped on 141 of its 196 free-decay samples up to the last one: the clipping's odd harmonics (3, 5,
+    7 and 9 times 50 Hz, the ninth close to the Nyquist frequency) were reported as four modes with damping
+    ratios. They are rejected as the clipping's products, and the note says the record could not be
+    repaired and what that does to the damping ratio."""
+    rec, survey, said = _clipped_to_the_end(50.0, 0.01)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert preprocess(rec.y, fs=rec.fs).impact.clipping == "kept"
+    assert [round(m.frequency_hz) for m in survey.modes] == [50]
+    products = [r for r in survey.rejected if r.code is Reason.CLIPPING_PRODUCT]
+    assert sorted(r.evidence["order"] for r in products) == [3, 5, 7, 9]
+    assert all("stays clipped" in r.reason and r.evidence["clipping_product"] for r in products)
+    assert any("could not be repaired" in w and "damping ratios" in w for w in said)
+
+
+def test_a_mode_off_the_harmonics_of_a_record_that_stays_clipped_is_kept():
+    """The same clipped record with a second mode at 137 Hz, on no harmonic of 50 Hz: still a mode."""
+    _, survey, _ = _clipped_to_the_end([50.0, 137.0], [0.01, 0.01], amplitudes=[1.0, 0.5])
+    found = [m.frequency_hz for m in survey.modes]
+    assert any(abs(f / 137.0 - 1) < 3e-3 for f in found) and any(abs(f / 50.0 - 1) < 3e-3 for f in found)
+    assert not any(r.code is Reason.CLIPPING_PRODUCT and abs(r.evidence["frequency_hz"] / 137 - 1) < 0.01
+                   for r in survey.rejected)
+
+
+def test_harmonic_order_folds_about_nyquist_and_bounds_the_amplitude():
+    assert harmonic_order(149.99, 0.5, 50.0, 0.001, fs=1000.0) == (3, pytest.approx(0.01, abs=1e-9))
+    assert harmonic_order(250.0, 0.5, 50.0, 0.0, fs=1000.0)[0] == 5  # the lowest of 5, 15, 25, ... (folded)
+    assert harmonic_order(600.0, 0.5, 700.0, 0.0, fs=2000.0) == (2, 0.0)  # 1,400 Hz folds to 600 Hz
+    assert harmonic_order(150.0, 0.5, 50.0, 0.0, fs=1000.0, share=0.6) is None  # beyond 1.5 / 3
+    assert harmonic_order(152.0, 0.5, 50.0, 0.0, fs=1000.0) is None  # 2 Hz off the third
+    assert harmonic_order(152.0, 0.5, 50.0, 0.4, fs=1000.0)[0] == 3  # ... within three of its std (3 x 0.4)
 
 
 def test_two_modes_clipped_on_half_the_samples_to_the_end_are_repaired():

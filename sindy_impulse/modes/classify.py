@@ -13,6 +13,11 @@ The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence;
 - **harmonic** (:attr:`Kind.HARMONIC`): a component near 2 or 3 times a lower one that is phase-locked to it
   and whose amplitude goes as a whole power of the lower one's (:func:`~._harmonics.harmonic_evidence`): a
   product of the lower mode's nonlinearity, which is then nonlinear too.
+- **clipping** (:attr:`Kind.CLIPPING`): in a record whose clipped samples could be neither repaired nor
+  left behind (the impact's ``clipping`` is ``"kept"``), a component on a harmonic of a stronger one (within
+  its half-power half-width or three standard deviations, folded about the Nyquist frequency, and no
+  stronger than clipping makes that harmonic: :func:`~._clipped.harmonic_order`): the sensor's clipping
+  makes harmonics of what it clips, not modes.
 - **nonlinear** (:attr:`Kind.NONLINEAR`): a component whose frequency or decay rate changes with its
   amplitude by more than a modal table reads, read where the averaged equations of a weakly nonlinear
   oscillator describe its decay (:func:`~._envelope.decay_dependence` on its own free decay; where
@@ -53,6 +58,7 @@ from scipy.fft import next_fast_len
 
 from ..preprocessing.filters import transient_samples
 from ..preprocessing.partition import _TOP, peak_bands, resolved
+from ._clipped import harmonic_order
 from ._envelope import (
     CHANGE_SIGMAS,
     ENVELOPE_MISFIT,
@@ -96,6 +102,7 @@ def classify_candidates(state) -> None:
         c.kind, c.parent, c.evidence = Kind.LINEAR, None, {}
     _tones(state)
     _pieces(cands)
+    _clipping_products(state)
     _amplitude_dependent(state)
     _unconfirmed(state)
     _harmonics(state)  # of whole modes: a chirp's pieces are one parent
@@ -147,6 +154,33 @@ def _tones(state) -> None:
             c.kind = Kind.TONE
             c.evidence.update(decay_rate=(c.decay_rate, c.decay_rate_std), pre_trigger_amplitude=before,
                               amplitude=at_start)
+
+
+def _clipping_products(state) -> None:
+    """In a record that stays clipped, linear candidates on a harmonic of a stronger candidate that is no
+    such product itself (see the module): :attr:`Kind.CLIPPING`, its parent and the harmonic as evidence."""
+    if state.pre.impact.clipping != "kept":
+        return
+    cands = state.candidates
+    loudest = sorted(range(len(cands)), key=lambda k: -cands[k].height_db)
+    for n, j in enumerate(loudest):
+        c = cands[j]
+        if c.kind is not Kind.LINEAR:
+            continue
+        reach = max(c.decay_rate / (2 * np.pi), 3 * c.frequency_std_hz)  # its half-power half-width
+        for i in loudest[:n]:
+            p = cands[i]
+            if p.kind not in (Kind.LINEAR, Kind.TONE):
+                continue
+            share = float(np.abs(c.amplitude[0]) / max(np.abs(p.amplitude[0]), 1e-300))
+            found = harmonic_order(c.damped_frequency_hz, reach, p.damped_frequency_hz, p.frequency_std_hz,
+                                   state.pre.fs, share)
+            if found is not None:
+                c.kind, c.parent = Kind.CLIPPING, i
+                c.evidence.update(clipping_product=True, frequency_hz=c.frequency_hz, order=found[0],
+                                  combination=f"{found[0]} x {p.damped_frequency_hz:.5g} Hz",
+                                  combination_offset=found[1] / c.damped_frequency_hz)
+                break
 
 
 #: A component's band for the harmonic test reaches this many half-power half-widths beyond its frequencies.

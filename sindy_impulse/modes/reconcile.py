@@ -75,6 +75,12 @@ def _named(state) -> None:
                    "tone: not a mode's free decay (noise the decay fit absorbed after the modes died out, a "
                    "slow wander); not reported as a mode")
             state.rejected.append(Rejected(c.band_hz, why, state.index, dict(c.evidence), Reason.UNSUPPORTED))
+        elif c.kind is Kind.CLIPPING:
+            e = c.evidence
+            why = (f"a peak at {c.damped_frequency_hz:.5g} Hz ({c.height_db:.0f} dB) on {e['combination']} "
+                   f"({e['combination_offset']:.2%} off) in a record that stays clipped: a product of the "
+                   "clipping, not a mode")
+            state.rejected.append(Rejected(c.band_hz, why, state.index, dict(e), Reason.CLIPPING_PRODUCT))
         elif c.kind is Kind.HARMONIC:
             e = c.evidence["harmonic"]
             parent = next((m for k, m in zip(state.origin, state.modes) if k == c.parent), cands[c.parent])

@@ -198,8 +198,10 @@ class Impact:
         Clipped samples after the contact (the sensor saturated; :func:`~sindy_impulse.preprocessing.
         preprocess`).
     clipping : str
-        What was done with them: ``"repaired"`` (replaced by the modes fitted to the unclipped samples)
-        or ``"skipped"`` (the free ring-down starts after the last one); empty when none.
+        What was done with them: ``"repaired"`` (replaced by the modes fitted to the unclipped samples),
+        ``"skipped"`` (the free ring-down starts after the last one) or ``"kept"`` (neither could be done:
+        too few unclipped samples follow them and no repair fits; the free decay stays clipped); empty when
+        none.
     """
 
     onset_index: int

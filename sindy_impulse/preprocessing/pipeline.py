@@ -122,7 +122,7 @@ def _unclipped(y: np.ndarray, fs: float, impact: Impact) -> tuple[np.ndarray, Im
     ring-down started after the last clipped sample. When less than :data:`_MIN_UNCLIPPED` of the
     ring-down is past the last clipped sample (or fewer samples than a spectrum needs), the repair starts
     from the clipped ring-down's own peaks, those the unclipped samples do not need dropped (the clipping's
-    harmonics), and without a repair the record stays as it is (the quality check says it is clipped); a
+    harmonics), and without a repair the record stays as it is (its impact says so: ``clipping="kept"``); a
     ring-down too short for a spectrum stays as it is. (record, impact, the repair or None)."""
     mask = saturated_mask(y)
     found = np.flatnonzero(mask[impact.ringdown_index :])
@@ -145,8 +145,8 @@ def _unclipped(y: np.ndarray, fs: float, impact: Impact) -> tuple[np.ndarray, Im
         if repaired is not None:
             return repaired.y, replace(impact, ringdown_index=start, ringdown_time=t0 + start / fs,
                                        saturated=repaired.repaired, clipping="repaired"), repaired
-    if short:
-        return y, impact, None
+    if short:  # nothing to start after: the record stays clipped, and says so
+        return y, replace(impact, saturated=int(found.size), clipping="kept"), None
     return y, replace(impact, ringdown_index=end, ringdown_time=t0 + end / impact.fs,
                       saturated=int(found.size), clipping="skipped"), None
 
