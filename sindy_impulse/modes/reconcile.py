@@ -11,6 +11,11 @@
   damping ratio (``source`` "envelope"): the envelope's at zero amplitude where the decay rate changes and
   the equation lacks that change (:func:`~._envelope._missing_damping`), the free decay's constant rate where
   the decay rate does not change and the equation's damping terms change it (:func:`_steady_rate`).
+- A mode the harmonic test left undecided whose numbers fit a harmonic of a lower mode (its frequency ratio
+  within :data:`~._harmonics.SIGMAS` standard errors of ``n``, its amplitude going at least as the lower
+  mode's to the power :data:`~._harmonics.MIN_EXPONENT`) stays a mode, and a note says it may be that
+  harmonic and what would tell (:func:`_maybe_harmonics`): a linear mode at ``n`` times another with the
+  same damping ratio reads the same on the few periods the test had.
 - Pieces merged into a nonlinear mode are said so in a note.
 - A mode a band's fit found outside its candidate's half-power band, nearer another candidate that has its
   own mode, is that neighbour's decay, not a second mode (:func:`_found_elsewhere`): rejected as a poor fit.
@@ -27,7 +32,7 @@ import numpy as np
 
 from ..preprocessing.partition import resolved
 from ._envelope import DECAY_CHANGE, DOUBT_SIGMAS, ENVELOPE_MISFIT, _missing_damping, _model_rate_change
-from ._harmonics import SIGMAS, _on_backbone, _reason, _unseen_harmonics
+from ._harmonics import MIN_EXPONENT, SIGMAS, _on_backbone, _reason, _unseen_harmonics
 from ._nonlinear import has_nonlinear_terms
 from .candidates import persistent_modes
 from .kinds import Kind, Reason
@@ -43,6 +48,7 @@ def reconcile(state) -> None:
     _found_elsewhere(state)
     _found_twice(state)
     _decided_by_backbones(state)
+    _maybe_harmonics(state)
     _envelope_damping(state)
     pre = state.pre
     ring = pre.y[pre.impact.ringdown_index:]
@@ -201,6 +207,22 @@ def _decided_by_backbones(state) -> None:
                 drop.add(i)
                 break
     _drop(state, drop)
+
+
+def _maybe_harmonics(state) -> None:
+    """A note on each mode whose undecided harmonic test fits a harmonic of a lower mode (see the module)."""
+    for k, mode in zip(state.origin, state.modes):
+        for e in state.candidates[k].evidence.get("harmonic_tests", []):
+            ratio, sigma, n = e["frequency_ratio"], e["ratio_sigma"], e["order"]
+            if not (e.get("undecided") and np.isfinite(sigma) and abs(ratio - n) <= SIGMAS * sigma
+                    and e["exponent"] >= MIN_EXPONENT):
+                continue
+            state.note(f"the mode at {mode.frequency_hz:.5g} Hz may be harmonic {n} of the mode at "
+                       f"{e['parent_frequency_hz']:.5g} Hz: {ratio:.4f} +- {sigma:.1g} times it, its "
+                       f"amplitude going as that mode's to the power {e['exponent']:.2f}, over too few "
+                       f"periods ({e['periods']:.0f}) to prove the phase locking; a hit at another amplitude "
+                       "tells (a harmonic's share of its mode changes with the amplitude, a mode's does not)")
+            break
 
 
 def _steady_frequency(cand, e: dict) -> bool:
