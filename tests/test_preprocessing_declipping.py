@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from sindy_impulse import identify_modes, impact_record
-from sindy_impulse.modes._clipped import harmonic_order
+from sindy_impulse.modes._clipped import clipping_product
 from sindy_impulse.modes.kinds import Reason
 from sindy_impulse.preprocessing import clipping_end, clipping_mask, preprocess, saturated_mask
 from sindy_impulse.preprocessing.declipping import declip, declip_attempt
@@ -241,7 +241,7 @@ def test_a_record_that_stays_clipped_names_its_clipping_harmonics_not_modes():
         assert preprocess(rec.y, fs=rec.fs).impact.clipping == "kept"
     assert [round(m.frequency_hz) for m in survey.modes] == [50]
     products = [r for r in survey.rejected if r.code is Reason.CLIPPING_PRODUCT]
-    assert sorted(r.evidence["order"] for r in products) == [3, 5, 7, 9]
+    assert sorted(r.evidence["combination"] for r in products) == [f"{k} x 49.998 Hz" for k in (3, 5, 7, 9)]
     assert all("stays clipped" in r.reason and r.evidence["clipping_product"] for r in products)
     assert any("could not be repaired" in w and "damping ratios" in w for w in said)
 
@@ -255,13 +255,26 @@ def test_a_mode_off_the_harmonics_of_a_record_that_stays_clipped_is_kept():
                    for r in survey.rejected)
 
 
-def test_harmonic_order_folds_about_nyquist_and_bounds_the_amplitude():
-    assert harmonic_order(149.99, 0.5, 50.0, 0.001, fs=1000.0) == (3, pytest.approx(0.01, abs=1e-9))
-    assert harmonic_order(250.0, 0.5, 50.0, 0.0, fs=1000.0)[0] == 5  # the lowest of 5, 15, 25, ... (folded)
-    assert harmonic_order(600.0, 0.5, 700.0, 0.0, fs=2000.0) == (2, 0.0)  # 1,400 Hz folds to 600 Hz
-    assert harmonic_order(150.0, 0.5, 50.0, 0.0, fs=1000.0, share=0.6) is None  # beyond 1.5 / 3
-    assert harmonic_order(152.0, 0.5, 50.0, 0.0, fs=1000.0) is None  # 2 Hz off the third
-    assert harmonic_order(152.0, 0.5, 50.0, 0.4, fs=1000.0)[0] == 3  # ... within three of its std (3 x 0.4)
+def test_clipping_product_folds_about_nyquist_and_bounds_the_amplitude():
+    one = [(50.0, 0.0, 1.0)]
+    assert clipping_product(149.99, 0.5, 0.1, [(50.0, 0.001, 1.0)], fs=1000.0) == (
+        "3 x 50 Hz", pytest.approx(0.01, abs=1e-9))
+    assert clipping_product(250.0, 0.5, 0.1, one, fs=1000.0)[0] == "5 x 50 Hz"  # the lowest of 5, 15, ...
+    assert clipping_product(600.0, 0.5, 0.1, [(700.0, 0.0, 1.0)], fs=2000.0) == ("2 x 700 Hz", 0.0)
+    assert clipping_product(150.0, 0.5, 0.6, one, fs=1000.0) is None  # beyond 1.5 / 3 of its parent
+    assert clipping_product(152.0, 0.5, 0.1, one, fs=1000.0) is None  # 2 Hz off the third
+    assert clipping_product(152.0, 0.5, 0.1, [(50.0, 0.4, 1.0)], fs=1000.0)[0] == "3 x 50 Hz"  # 3 x 3 x 0.4
+
+
+def test_clipping_product_of_two_components_names_the_lowest_order_and_bounds_by_the_weaker():
+    two = [(255.0, 0.01, 1.0), (44.0, 0.01, 0.2)]
+    assert clipping_product(343.0, 1.0, 0.02, two, fs=1000.0)[0] == "1 x 255 Hz + 2 x 44 Hz"
+    assert clipping_product(343.0, 1.0, 0.11, two, fs=1000.0) is None  # over 1.5 / 3 of the weaker (0.2)
+    # 350 Hz lies 1 Hz from 9 x 44 + 255 Hz folded (order 10): past the pair orders that name a product
+    assert clipping_product(350.0, 1.0, 0.02, two, fs=1000.0) is None
+    # ... and 8 Hz from 2 x 255 + 3 x 44 Hz folded, within 3 standard deviations when the two are that loose
+    assert clipping_product(350.0, 1.0, 0.02, [(255.0, 0.5, 1.0), (44.0, 0.5, 0.2)], fs=1000.0)[0] == (
+        "2 x 255 Hz + 3 x 44 Hz")
 
 
 def test_two_modes_clipped_on_half_the_samples_to_the_end_are_repaired():
@@ -274,3 +287,22 @@ def test_two_modes_clipped_on_half_the_samples_to_the_end_are_repaired():
     assert pre.declipped.dropped_hz.size > 5  # the clipping's products, dropped
     np.testing.assert_allclose(pre.peaks.frequency_hz, rec.modes.damped_frequency_hz, rtol=1e-3)
     np.testing.assert_allclose(pre.peaks.damping_ratio, rec.modes.damping_ratio, rtol=0.1)
+
+
+def test_a_record_that_stays_clipped_names_intermodulation_products_and_keeps_its_modes():
+    """Two modes (41 and 285 Hz) clipped at 28 % of the peak up to the record's end: the clipping's
+    harmonics of the strong one and its intermodulation products with the other (e.g. 3 x 285 - 2 x 41 Hz,
+    folded about the Nyquist frequency) are rejected rows, and both modes stay."""
+    rec = impact_record([40.78401674206438, 284.71247662472615],
+                        [0.0018209299698003518, 0.0039650300927774745], [1.0, 0.4728363739307891], fs=1000,
+                        duration=0.23804731641328025, pre_trigger=0.01, clip=0.2777394460833474,
+                        snr_db=41.78911331865627, random_state=9, sensor="displacement")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        survey = identify_modes(rec.y, fs=rec.fs)
+    found = [m.frequency_hz for m in survey.modes]
+    for f in rec.modes.frequency_hz:
+        assert any(abs(g / f - 1) < 3e-3 for g in found)
+    products = [r.evidence for r in survey.rejected if r.code is Reason.CLIPPING_PRODUCT]
+    assert any(" - " in e["combination"] or " + " in e["combination"] for e in products)
+    assert not any(abs(e["frequency_hz"] / f - 1) < 3e-3 for e in products for f in rec.modes.frequency_hz)

@@ -14,10 +14,10 @@ The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence;
   and whose amplitude goes as a whole power of the lower one's (:func:`~._harmonics.harmonic_evidence`): a
   product of the lower mode's nonlinearity, which is then nonlinear too.
 - **clipping** (:attr:`Kind.CLIPPING`): in a record whose clipped samples could be neither repaired nor
-  left behind (the impact's ``clipping`` is ``"kept"``), a component on a harmonic of a stronger one (within
-  its half-power half-width or three standard deviations, folded about the Nyquist frequency, and no
-  stronger than clipping makes that harmonic: :func:`~._clipped.harmonic_order`): the sensor's clipping
-  makes harmonics of what it clips, not modes.
+  left behind (the impact's ``clipping`` is ``"kept"``), a component on a harmonic of a stronger one or on a
+  combination of two (within its half-power half-width or three standard deviations, folded about the
+  Nyquist frequency, and no stronger than clipping makes that product: :func:`~._clipped.clipping_product`):
+  the sensor's clipping makes harmonics and intermodulation products of what it clips, not modes.
 - **nonlinear** (:attr:`Kind.NONLINEAR`): a component whose frequency or decay rate changes with its
   amplitude by more than a modal table reads, read where the averaged equations of a weakly nonlinear
   oscillator describe its decay (:func:`~._envelope.decay_dependence` on its own free decay; where
@@ -51,6 +51,7 @@ The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence;
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import replace
 
 import numpy as np
@@ -58,7 +59,7 @@ from scipy.fft import next_fast_len
 
 from ..preprocessing.filters import transient_samples
 from ..preprocessing.partition import _TOP, peak_bands, resolved
-from ._clipped import harmonic_order
+from ._clipped import clipping_product
 from ._envelope import (
     CHANGE_SIGMAS,
     ENVELOPE_MISFIT,
@@ -157,8 +158,9 @@ def _tones(state) -> None:
 
 
 def _clipping_products(state) -> None:
-    """In a record that stays clipped, linear candidates on a harmonic of a stronger candidate that is no
-    such product itself (see the module): :attr:`Kind.CLIPPING`, its parent and the harmonic as evidence."""
+    """In a record that stays clipped, linear candidates on a product of clipping one stronger candidate, or
+    two, that are no such products themselves (see the module): :attr:`Kind.CLIPPING`, the stronger one as
+    parent, the combination as evidence."""
     if state.pre.impact.clipping != "kept":
         return
     cands = state.candidates
@@ -168,17 +170,15 @@ def _clipping_products(state) -> None:
         if c.kind is not Kind.LINEAR:
             continue
         reach = max(c.decay_rate / (2 * np.pi), 3 * c.frequency_std_hz)  # its half-power half-width
-        for i in loudest[:n]:
-            p = cands[i]
-            if p.kind not in (Kind.LINEAR, Kind.TONE):
-                continue
-            share = float(np.abs(c.amplitude[0]) / max(np.abs(p.amplitude[0]), 1e-300))
-            found = harmonic_order(c.damped_frequency_hz, reach, p.damped_frequency_hz, p.frequency_std_hz,
-                                   state.pre.fs, share)
+        stronger = [i for i in loudest[:n] if cands[i].kind in (Kind.LINEAR, Kind.TONE)]
+        for group in [*([i] for i in stronger), *itertools.combinations(stronger, 2)]:
+            parents = [(cands[i].damped_frequency_hz, cands[i].frequency_std_hz,
+                        float(np.abs(cands[i].amplitude[0]))) for i in group]
+            found = clipping_product(c.damped_frequency_hz, reach, float(np.abs(c.amplitude[0])), parents,
+                                     state.pre.fs)
             if found is not None:
-                c.kind, c.parent = Kind.CLIPPING, i
-                c.evidence.update(clipping_product=True, frequency_hz=c.frequency_hz, order=found[0],
-                                  combination=f"{found[0]} x {p.damped_frequency_hz:.5g} Hz",
+                c.kind, c.parent = Kind.CLIPPING, group[0]
+                c.evidence.update(clipping_product=True, frequency_hz=c.frequency_hz, combination=found[0],
                                   combination_offset=found[1] / c.damped_frequency_hz)
                 break
 

@@ -39,7 +39,7 @@ _KIND_WORDS = {
     Kind.NONLINEAR: "a mode the linear decay does not explain: the paper's sweep and refinement fit it",
     Kind.MERGED: "a piece of a nonlinear mode fitted with it",
     Kind.HARMONIC: "a harmonic of a lower, nonlinear mode, not a mode",
-    Kind.CLIPPING: "a harmonic of a stronger mode made by the sensor's clipping, not a mode",
+    Kind.CLIPPING: "a product of the clipping of stronger modes (harmonic, intermodulation), not a mode",
     Kind.TONE: "a tone that does not decay (hum, a rotating machine), not a mode",
     Kind.UNSUPPORTED: "does not decay, and neither a stable pole nor a sinusoid describes it: not a mode",
 }
