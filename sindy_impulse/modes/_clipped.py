@@ -3,7 +3,7 @@ samples (:func:`~sindy_impulse.preprocessing.preprocess` repairs them from the u
 the free decay after them, or, when neither can be done, keeps them), and one :class:`~.result.Rejected`
 row per spectral peak of the clipped record that its unclipped samples do not hold (a product of the
 clipping, dropped by the repair), with the combination of the record's modes it sits at as evidence. Where
-the clipped samples are kept, the clipping's products are still in the free decay: :func:`harmonic_order`
+the clipped samples are kept, the clipping's products are still in the free decay: :func:`clipping_product`
 tells a component on a harmonic of a stronger one, or on a combination of two (the survey names it,
 :mod:`.classify`).
 """
@@ -126,7 +126,7 @@ def clipping_product(frequency_hz: float, tolerance_hz: float, amplitude: float,
     """
     f = np.array([p[0] for p in parents], float)
     std = np.array([p[1] for p in parents], float)
-    weakest = np.array([p[2] for p in parents], float)
+    amplitudes = np.array([p[2] for p in parents], float)
     if f.size == 1:
         counts = np.arange(2, _ORDER[1] + 1)[:, None]
     else:
@@ -135,7 +135,7 @@ def clipping_product(frequency_hz: float, tolerance_hz: float, amplitude: float,
     order = np.abs(counts).sum(axis=1)
     folded = np.abs((counts @ f + fs / 2) % fs - fs / 2)
     off = np.abs(folded - frequency_hz)
-    bound = _PRODUCT_MARGIN / order * np.min(np.where(counts != 0, weakest, np.inf), axis=1)
+    bound = _PRODUCT_MARGIN / order * np.min(np.where(counts != 0, amplitudes, np.inf), axis=1)
     fits = (off <= tolerance_hz + 3 * np.abs(counts) @ std) & (amplitude <= bound)
     if not fits.any():
         return None
