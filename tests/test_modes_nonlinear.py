@@ -562,6 +562,8 @@ def test_a_strong_chirp_that_neither_cheap_reading_describes_gets_the_papers_fit
     assert mode.source in ("equation", "envelope") and mode.frequency_hz == pytest.approx(f, rel=3e-3)
     assert mode.damping_ratio == pytest.approx(zeta, rel=0.1)
     assert any("harmonic 3" in r.reason for r in found.rejected)
+    if mode.source == "equation":  # its nonlinear terms, tested together, are no noise
+        assert mode.nonlinear_chance < 1e-3
 
 
 def test_what_makes_a_candidate_an_undescribed_chirp():

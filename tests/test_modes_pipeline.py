@@ -185,7 +185,7 @@ def test_an_undescribed_chirp_whose_equation_is_linear_keeps_its_poles(three_mod
     monkeypatch.setattr(identify, "with_uncertainty", lambda out, index: out)
 
     def case(nonlinear_terms: bool, undescribed=True):
-        monkeypatch.setattr(identify, "_nonlinear_equation", lambda out: nonlinear_terms)
+        monkeypatch.setattr(identify, "_nonlinear_equation", lambda out, significant=False: nonlinear_terms)
         e = SimpleNamespace(nonlinear=False)
         cand = SimpleNamespace(explained=False, kind=Kind.NONLINEAR, parent=None, frequency_hz=100.0,
                                evidence={"amplitude_dependence": e, "undescribed": undescribed})

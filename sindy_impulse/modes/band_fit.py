@@ -266,7 +266,8 @@ def _uncertainty(model, states, t, band_hz, frequency: float, **kws) -> dict:
     :class:`Mode` fields."""
     u = mode_uncertainty(model, states, t, band_hz, frequency, **kws)
     return dict(frequency_std_hz=u.frequency_std_hz, damping_ratio_std=u.damping_ratio_std,
-                coefficients_std=u.coefficients_std, uncertainty_note=u.reason)
+                coefficients_std=u.coefficients_std, uncertainty_note=u.reason,
+                nonlinear_chance=u.nonlinear_chance)
 
 
 def _mode(band, model, states, t, index, lags=None, uncertainty: bool = True, **values) -> Mode:

@@ -391,6 +391,19 @@ def _free_decay_dependence(state, k: int, correction: np.ndarray | None = None, 
                             _squared_amplitudes(state, neighbours))
 
 
+def moves_with_amplitude(cand) -> bool:
+    """Whether a candidate's frequency moves with its amplitude beyond doubt, however little: its linear
+    decay does not explain it (not :attr:`~.candidates.Candidate.explained`), its averaged equations do
+    (misfit at most :data:`~._envelope.ENVELOPE_MISFIT`), and its frequency's change stands
+    :data:`~._envelope.CHANGE_SIGMAS` standard errors from zero. A change under a modal table's reading
+    (:data:`~._envelope.FREQUENCY_CHANGE`) leaves the mode linear; but a nonlinear element that moves it
+    that little moves a mode it shares more with, through this mode's amplitude, by a multiple of it (the
+    survey's ``coupling`` stage reads the modes together)."""
+    e = cand.evidence.get("amplitude_dependence")
+    return bool(e is not None and not cand.explained and e.misfit <= ENVELOPE_MISFIT
+                and abs(e.frequency_change) > CHANGE_SIGMAS * e.frequency_change_std)
+
+
 def _undescribed(cand, e) -> bool:
     """Whether a candidate is a strong oscillator's chirp that neither cheap reading describes: its linear
     decay leaves a misfit (not :attr:`~.candidates.Candidate.explained`), the averaged equations of its decay

@@ -16,8 +16,9 @@ structure, ``3 n`` parameters beyond the linear ones, the offset follows from wh
 long stretches: each mode's own chirp, its neighbours', and their transients as the short-lived mode dies.
 
 :func:`one_element_reading` fits that model to a free decay; :func:`read_coupling` is the stage: in a
-record with a nonlinear candidate among 2 to :data:`~.classify.MAX_TOGETHER` decaying ones, it reads them
-together and, where the reading describes the decay (its residual at most
+record with a nonlinear candidate, or one that moves with its amplitude however little
+(:func:`~.classify.moves_with_amplitude`), among 2 to :data:`~.classify.MAX_TOGETHER` decaying ones, it
+reads them together and, where the reading describes the decay (its residual at most
 :data:`~._envelope.ENVELOPE_MISFIT` times the noise) and leaves nothing but noise in any mode's band
 (:func:`band_consistency`, at :data:`NOISE_LEVEL` for the bands together), it reports a mode's
 small-amplitude frequency and damping ratio from it where they differ from the mode's own beyond
@@ -34,7 +35,7 @@ from scipy.special import gammaincc
 from .._utils.validation import check_signal
 from ..preprocessing._record import check_fs
 from ._envelope import ENVELOPE_MISFIT, _joint_stride, _linear_integral, _scaled_normal
-from .classify import MAX_TOGETHER, _audible
+from .classify import MAX_TOGETHER, _audible, moves_with_amplitude
 from .kinds import Kind
 from .signals import deflated
 
@@ -211,9 +212,11 @@ def band_consistency(residual: np.ndarray, fs: float, components: list) -> np.nd
 def read_coupling(state) -> None:
     """The modes' values read together where one nonlinear element couples them.
 
-    In a record with a nonlinear candidate among 2 to :data:`~.classify.MAX_TOGETHER` decaying ones (linear
-    or nonlinear), their joint free decay (every other component removed, up to where the longest-lived
-    falls into the noise) is read by :func:`one_element_reading`. A mode takes the reading's
+    In a record with a nonlinear candidate, or one whose frequency moves with its amplitude beyond doubt but
+    under a modal table's reading (:func:`~.classify.moves_with_amplitude`: the element that moves it a
+    little may move a mode it shares more with a lot), among 2 to :data:`~.classify.MAX_TOGETHER` decaying
+    ones (linear or nonlinear), their joint free decay (every other component removed, up to where the
+    longest-lived falls into the noise) is read by :func:`one_element_reading`. A mode takes the reading's
     small-amplitude frequency and damping ratio, with their standard deviations (``source``
     ``"coupling"``), where either differs from its own by more than :data:`COUPLING_SIGMAS` of the
     reading's standard deviations, provided the reading describes the decay: its residual's RMS at most
@@ -223,8 +226,8 @@ def read_coupling(state) -> None:
     """
     cands = state.candidates
     read = [k for k, c in enumerate(cands) if c.kind in (Kind.NONLINEAR, Kind.LINEAR) and c.decay_rate > 0]
-    if not any(cands[k].kind is Kind.NONLINEAR for k in read):
-        state.decide("no nonlinear candidate: nothing to read together")
+    if not any(cands[k].kind is Kind.NONLINEAR or moves_with_amplitude(cands[k]) for k in read):
+        state.decide("no candidate moves with its amplitude: nothing to read together")
         return
     if not 2 <= len(read) <= MAX_TOGETHER:
         state.decide(f"{len(read)} decaying candidate(s), not 2-{MAX_TOGETHER}: the modes' own values stand")

@@ -24,6 +24,7 @@ and the result equals the serial run's.
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
@@ -47,6 +48,10 @@ from .result import Mode, Rejected
 from .signals import _members, _noise_spectrum, band_signal, deflated, free_decay, mode_bands
 
 __all__ = ["identify_candidates"]
+
+#: An equation's nonlinear terms stand out of the noise where noise alone gives them as large with a chance
+#: under this (:attr:`~.result.Mode.nonlinear_chance`): one term's at :data:`~._envelope.DOUBT_SIGMAS`.
+NONLINEAR_LEVEL = math.erfc(DOUBT_SIGMAS / math.sqrt(2))
 
 
 def identify_candidates(state) -> None:
@@ -142,6 +147,8 @@ def _kept(state, k: int, out) -> list:
         done = with_uncertainty(out, state.index)
         if done is not out:  # the standard deviations failed: the fit failed
             return _kept(state, k, _linear_instead(state, k, f"the paper's fit gave no mode ({done.reason})"))
+        if _sent_on_doubt(state, k, out) and not _nonlinear_equation(out, significant=True):
+            return [(k, linear_mode(state, k) or out)]  # its nonlinear terms stand out of nothing
         return [(k, _agreeing_poles(state, k, out) or out)]
     return [(k, kept)]
 
@@ -208,10 +215,15 @@ def _jointly_read(state, k: int):
     return envelope_mode(state, k, e) if state.candidates[k].evidence.get("joint") else None
 
 
-def _nonlinear_equation(out) -> bool:
+def _nonlinear_equation(out, significant: bool = False) -> bool:
+    """Whether ``out`` is an equation with nonlinear terms; with ``significant``, terms that noise alone
+    gives as large with a chance under :data:`NONLINEAR_LEVEL` (:attr:`~.result.Mode.nonlinear_chance`,
+    all of them together; where it was not computed, any term counts)."""
     from ._nonlinear import has_nonlinear_terms
 
-    return isinstance(out, Mode) and out.source == "equation" and has_nonlinear_terms(out.model)
+    if not (isinstance(out, Mode) and out.source == "equation" and has_nonlinear_terms(out.model)):
+        return False
+    return not (significant and out.nonlinear_chance >= NONLINEAR_LEVEL)
 
 
 def _apart(state, k: int) -> list:

@@ -62,6 +62,12 @@ class Mode:
     coefficients_std : ndarray or None
         Standard deviation of each of ``model.coefficients()`` from the fit (NaN for terms the model does
         not have).
+    nonlinear_chance : float
+        The chance that noise alone gives the equation's nonlinear coefficients as far from zero as they
+        are, all of them together (a Wald test with their covariance from the fit,
+        :func:`sindy_impulse.modes.uncertainty.nonlinear_chance`): small where the equation's nonlinearity
+        is real, 1 for an equation without nonlinear terms, NaN where it was not computed (a mode whose
+        equation is not fitted to its data, e.g. from its poles).
     uncertainty_note : str
         Why the standard deviations are NaN, or where the reported values come from when not from the
         model ("" when there is nothing to say).
@@ -104,6 +110,7 @@ class Mode:
     coefficients_std: np.ndarray | None = field(default=None, repr=False)
     uncertainty_note: str = ""
     source: str = "equation"
+    nonlinear_chance: float = math.nan
 
     @property
     def damped_frequency_hz(self) -> float:

@@ -56,9 +56,11 @@ from ..exceptions import DataWarning
 from ..poles.modal import rest_point
 from ..preprocessing.filters import filter_gain
 from ..simulation.scoring import WeightedL1, get_error_measure
+from ._nonlinear import nonlinear_columns
 from ._states import _STENCIL
 
-__all__ = ["ModeUncertainty", "mode_uncertainty", "simulation_jacobian", "MAX_JACOBIAN_SIZE"]
+__all__ = ["ModeUncertainty", "mode_uncertainty", "nonlinear_chance", "simulation_jacobian",
+           "MAX_JACOBIAN_SIZE"]
 
 #: Most entries (samples x states x unknowns) of the simulation's sensitivity matrix; it and its weighted
 #: copies are held at once, so memory grows with the record's length times the model's size. A group of
@@ -87,6 +89,10 @@ class ModeUncertainty:
         spectral density (per sample of the band signal).
     reason : str
         Why the standard deviations are NaN ("" when they are not).
+    nonlinear_chance : float
+        The chance that noise alone gives nonlinear coefficients as far from zero as the model's: a Wald
+        test of all of them together, with their covariance (:func:`nonlinear_chance`); 1 for a model
+        without nonlinear terms, NaN where the covariance is not computed.
     """
 
     frequency_std_hz: float = math.nan
@@ -94,6 +100,7 @@ class ModeUncertainty:
     coefficients_std: np.ndarray | None = field(default=None, repr=False)
     noise_std: float = math.nan
     reason: str = ""
+    nonlinear_chance: float = math.nan
 
 
 def simulation_jacobian(
@@ -425,4 +432,38 @@ def _propagated(model, states, cov, frequency_hz, noise_std) -> ModeUncertainty:
     full[:, compiled.active] = active_std
     if not (np.isfinite(f_std) and np.isfinite(z_std)):
         return ModeUncertainty(noise_std=noise_std, reason="the mode's eigenvalue has no derivative")
-    return ModeUncertainty(float(f_std), float(z_std), full, noise_std)
+    columns = nonlinear_columns(model, coef.shape[0])
+    chance = math.nan
+    if columns is not None:
+        nonlinear = np.broadcast_to(columns[compiled.active], coef.shape)[coef != 0]
+        chance = nonlinear_chance(coef[coef != 0][nonlinear], cov[np.ix_(nonlinear, nonlinear)])
+    return ModeUncertainty(float(f_std), float(z_std), full, noise_std, nonlinear_chance=chance)
+
+
+def nonlinear_chance(coefficients: np.ndarray, cov: np.ndarray) -> float:
+    """The chance that noise alone gives ``coefficients`` as far from zero as they are, jointly: the Wald
+    statistic ``b^T cov^+ b`` against the chi-square law of as many degrees as ``cov``'s rank (the
+    pseudo-inverse: collinear terms count once). Terms that are nearly collinear (a cubic spring's ``y^3``
+    and ``y dy^2`` over an oscillation) can each stand within their standard deviations and together far
+    beyond them; this tests them together. 1 for no coefficient.
+
+    Examples
+    --------
+    >>> cov = np.array([[1.0, 0.99], [0.99, 1.0]])  # two nearly collinear terms
+    >>> round(nonlinear_chance(np.array([1.5, -1.5]), cov), 6)  # each 1.5 standard deviations out
+    0.0
+    >>> round(nonlinear_chance(np.array([1.5, 1.5]), cov), 2)  # along their shared direction: noise
+    0.32
+    """
+    from scipy.stats import chi2
+
+    b = np.asarray(coefficients, float)
+    if b.size == 0:
+        return 1.0
+    cov = np.asarray(cov, float).reshape(b.size, b.size)
+    if not np.all(np.isfinite(cov)):
+        return math.nan
+    rank = np.linalg.matrix_rank(cov)
+    if rank == 0:
+        return 0.0 if np.any(b != 0) else 1.0
+    return float(chi2.sf(float(b @ np.linalg.pinv(cov) @ b), rank))
