@@ -188,3 +188,20 @@ def test_the_coupling_stage_benchmark_scores_each_record_before_and_after_the_st
     assert "family g, seed 131: 3 records," in done.stdout and "right before it" in done.stdout
     refused = _runner("--no-save", "coupling_stage", "--family", "z")
     assert refused.returncode != 0 and "invalid choice" in refused.stderr
+
+
+def test_the_efficiency_study_tables_both_baselines_with_an_interval():
+    """``efficiency``: median errors of the survey and of both baselines on the modes both found, their ratio
+    with a bootstrap interval, and each over the Cramer-Rao bound."""
+    done = _runner("--no-save", "efficiency", "--family", "a", "--n", "3", "--seed", "0")
+    assert done.returncode == 0, done.stderr
+    rows = [line for line in done.stdout.splitlines() if line.startswith(("| esprit |", "| stabilised |"))]
+    assert len(rows) == 2
+    for row in rows:
+        cells = [c.strip() for c in row.strip("|").split("|")]
+        assert int(cells[1]) >= 3  # at least one mode a record
+        ratio, interval = cells[3].split(" ", 1)
+        low, high = (float(v) for v in interval.strip("()").split("-"))
+        assert low <= float(ratio) <= high
+    refused = _runner("--no-save", "efficiency", "--family", "g")
+    assert refused.returncode != 0 and "invalid choice" in refused.stderr
