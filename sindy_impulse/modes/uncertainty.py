@@ -51,6 +51,7 @@ import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.special import chdtrc
 
 from ..exceptions import DataWarning
 from ..poles.modal import rest_point
@@ -455,8 +456,6 @@ def nonlinear_chance(coefficients: np.ndarray, cov: np.ndarray) -> float:
     >>> round(nonlinear_chance(np.array([1.5, 1.5]), cov), 2)  # along their shared direction: noise
     0.32
     """
-    from scipy.stats import chi2
-
     b = np.asarray(coefficients, float)
     if b.size == 0:
         return 1.0
@@ -466,4 +465,5 @@ def nonlinear_chance(coefficients: np.ndarray, cov: np.ndarray) -> float:
     rank = np.linalg.matrix_rank(cov)
     if rank == 0:
         return 0.0 if np.any(b != 0) else 1.0
-    return float(chi2.sf(float(b @ np.linalg.pinv(cov) @ b), rank))
+    return float(chdtrc(rank, float(b @ np.linalg.pinv(cov) @ b)))  # chi-square's survival (not scipy.stats:
+    # its import costs a cold start a quarter of a second)
