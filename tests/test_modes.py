@@ -217,6 +217,8 @@ def test_cli_modes(tmp_path, capsys):
     report = json.loads(out_json.read_text())
     assert report["modes"][0]["frequency_hz"] == pytest.approx(150.0, rel=3e-3)
     assert set(report["modes"][0]["equations"]) == {"y'", "dy'"}
+    # a linear mode from its poles: its equation is not fitted to the data, no chance to report
+    assert report["modes"][0]["source"] == "poles" and report["modes"][0]["nonlinear_chance"] is None
 
 
 def test_close_pair_with_a_heavily_damped_mode_is_surveyed_without_error():

@@ -227,10 +227,11 @@ def mode_account(mode, *, nonlinearity: bool = True, damping_unit: str = DEFAULT
     """Everything said about one mode, JSON-ready (non-finite numbers as None).
 
     The modal-table row (:meth:`Mode.row`, damping in ``damping_unit`` under names that say it), the
-    reference channel and the amplitude and shape per channel (:func:`channel_table`), the equations and
-    their coefficients' standard deviations, the diagnostics' verdict with its problems (short lines and
-    whole sentences), and with ``nonlinearity`` the test's verdict, its numbers in words and the
-    :func:`decision` sentence.
+    reference channel and the amplitude and shape per channel (:func:`channel_table`), the equations,
+    their coefficients' standard deviations and the chance that noise alone makes their nonlinear terms
+    (:attr:`Mode.nonlinear_chance`, None where not computed), the diagnostics' verdict with its problems
+    (short lines and whole sentences), and with ``nonlinearity`` the test's verdict, its numbers in words
+    and the :func:`decision` sentence.
     """
     check_damping_unit(damping_unit)
     row = mode.row(nonlinearity, damping_unit)
@@ -241,6 +242,7 @@ def mode_account(mode, *, nonlinearity: bool = True, damping_unit: str = DEFAULT
     out["channels"] = channels if mode.shape is not None else []
     out["equations"] = _equations(mode)
     out["coefficients_std"] = _coefficients_std(mode)
+    out["nonlinear_chance"] = _finite(getattr(mode, "nonlinear_chance", math.nan))
     out.update(_diagnostics(mode))
     if nonlinearity:
         out["nonlinearity"] = nonlinearity_words(mode.nonlinearity)[1]
