@@ -170,3 +170,13 @@ def test_nonlinear_terms_are_tested_together_with_their_covariance():
     collinear = np.array([[1.0, 1.0], [1.0, 1.0]])  # one direction: one degree of freedom
     assert nonlinear_chance(np.array([1.0, 1.0]), collinear) == pytest.approx(0.3173, abs=1e-3)
     assert np.isnan(nonlinear_chance(np.array([1.0]), np.array([[np.nan]])))
+
+
+def test_a_model_whose_terms_cannot_be_told_apart_has_no_chance_and_no_failure():
+    import types
+
+    from sindy_impulse.modes.uncertainty import _nonlinear_chance_of
+
+    model = types.SimpleNamespace(coefficients=lambda: np.ones((2, 3)))  # no library to read
+    compiled = types.SimpleNamespace(active=np.array([True, True, True]))
+    assert np.isnan(_nonlinear_chance_of(model, compiled, np.ones((2, 3)), np.eye(6)))

@@ -433,12 +433,20 @@ def _propagated(model, states, cov, frequency_hz, noise_std) -> ModeUncertainty:
     full[:, compiled.active] = active_std
     if not (np.isfinite(f_std) and np.isfinite(z_std)):
         return ModeUncertainty(noise_std=noise_std, reason="the mode's eigenvalue has no derivative")
+    return ModeUncertainty(float(f_std), float(z_std), full, noise_std,
+                           nonlinear_chance=_nonlinear_chance_of(model, compiled, coef, cov))
+
+
+def _nonlinear_chance_of(model, compiled, coef: np.ndarray, cov: np.ndarray) -> float:
+    """:func:`nonlinear_chance` of the model's active nonlinear coefficients (``coef``: the compiled
+    model's, ``cov``: their covariance in the order of ``coef != 0``); NaN where the library's terms cannot
+    be told apart (an estimate that has no such test is not refused for it)."""
     columns = nonlinear_columns(model, coef.shape[0])
-    chance = math.nan
-    if columns is not None:
-        nonlinear = np.broadcast_to(columns[compiled.active], coef.shape)[coef != 0]
-        chance = nonlinear_chance(coef[coef != 0][nonlinear], cov[np.ix_(nonlinear, nonlinear)])
-    return ModeUncertainty(float(f_std), float(z_std), full, noise_std, nonlinear_chance=chance)
+    try:
+        nonlinear = np.broadcast_to(np.asarray(columns)[compiled.active], coef.shape)[coef != 0]
+        return nonlinear_chance(coef[coef != 0][nonlinear], cov[np.ix_(nonlinear, nonlinear)])
+    except (IndexError, TypeError, ValueError):
+        return math.nan
 
 
 def nonlinear_chance(coefficients: np.ndarray, cov: np.ndarray) -> float:
