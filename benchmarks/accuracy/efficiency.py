@@ -26,40 +26,19 @@ from __future__ import annotations
 
 import argparse
 import time
-import warnings
 
 import numpy as np
 
 from benchmarks.accuracy.bounds import bound
 from benchmarks.accuracy.families import band_snr_db, draw
-from benchmarks.accuracy.scoring import assign, baseline_answer, esprit_start, survey_answer
+from benchmarks.accuracy.scoring import baseline_answer, esprit_answer, judge, survey_answer
 from sindy_impulse import impact_record
-from sindy_impulse.analysis import esprit
 
 FAMILIES = ("a", "high", "b", "f")
 #: Bootstrap resamples of the records for the ratio's interval.
 RESAMPLES = 2000
 #: The median of |N(0, 1)|: an efficient unbiased estimator's median error over its bound.
 EFFICIENT = 0.674
-
-
-def _errors(f_true, z_true, found) -> np.ndarray:
-    """Per true mode, ``(df/f, dz/z)`` signed, NaN where nothing was assigned to it."""
-    pairs = assign(f_true, [f for f, _ in found])
-    out = np.full((len(f_true), 2), np.nan)
-    for i, j in pairs.items():
-        out[i] = found[j][0] / f_true[i] - 1, found[j][1] / z_true[i] - 1
-    return out
-
-
-def _esprit_answer(rec) -> list:
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            es = esprit(rec.y[esprit_start(rec.y, rec.fs):], fs=rec.fs, subtract_tail_mean=0.1)
-        return list(zip(es.frequencies_hz, es.damping_ratios))
-    except Exception:  # noqa: BLE001 - a failing baseline is a data point (no mode found)
-        return []
 
 
 def record_errors(case: dict) -> dict | None:
@@ -75,11 +54,12 @@ def record_errors(case: dict) -> dict | None:
     if "min_band_snr_db" in case:  # family b: modes under 20 dB of band SNR are not counted
         counted = band_snr_db(rec) >= case["min_band_snr_db"]
     sd_f, sd_z = bound(rec)
-    found = survey_answer(rec)[0]
-    out = {"f": f, "z": z, "sd_f": sd_f, "sd_z": sd_z,
-           "survey": _errors(f, z, found), "esprit": _errors(f, z, _esprit_answer(rec)),
-           "stabilised": _errors(f, z, baseline_answer(rec)[0])}
-    return {k: v[counted] for k, v in out.items()}
+    answers = {"survey": survey_answer(rec)[0], "esprit": esprit_answer(rec),
+               "stabilised": baseline_answer(rec)[0]}
+    # per counted mode, |df/f| and |dz/z| (inf where nothing was paired with it), as the families score
+    out = {who: np.array(judge(case, f, z, counted, found)["errors"], float).reshape(-1, 2)
+           for who, found in answers.items()}
+    return {"f": f[counted], "z": z[counted], "sd_f": sd_f[counted], "sd_z": sd_z[counted], **out}
 
 
 def _pooled(records: list, who: str, scale: bool) -> np.ndarray:

@@ -3,7 +3,8 @@
 Shared by the accuracy benchmarks (``modes``, ``detection``, ``short_records``) and ``real_records``:
 :func:`match` (per true mode, the closest found mode), :func:`assign` and :func:`judge` (one-to-one
 pairing within :data:`MATCH`, a record right when every counted mode is within its marks and nothing is
-left unpaired), :func:`esprit_start` (where the classical baseline starts) and :func:`run_family_case`
+left unpaired), :func:`esprit_start` (where the classical baseline starts), :func:`esprit_answer` and
+:func:`baseline_answer` (single-order and stabilised ESPRIT) and :func:`run_family_case`
 (one record of a family of :mod:`benchmarks.accuracy.families` through the survey and the baseline).
 """
 
@@ -17,6 +18,7 @@ from scipy.optimize import linear_sum_assignment
 
 from benchmarks.accuracy.families import band_snr_db, harmonic_snr_db
 from sindy_impulse import identify_modes, impact_record
+from sindy_impulse.analysis import esprit
 from sindy_impulse.poles import stabilisation
 from sindy_impulse.preprocessing import find_impact
 
@@ -109,6 +111,20 @@ def baseline_answer(rec) -> tuple:
     except Exception:  # noqa: BLE001 - a failing baseline is a data point
         found = []
     return found, time.perf_counter() - start
+
+
+def esprit_answer(rec, onset: int | None = None) -> list:
+    """Single-order ESPRIT (:func:`sindy_impulse.analysis.esprit`, the ``a`` / ``high`` table's baseline)
+    from ``onset`` (default :func:`esprit_start`): (frequency_hz, damping_ratio) pairs, none where it fails
+    (a failing baseline is a data point)."""
+    onset = esprit_start(rec.y, rec.fs) if onset is None else onset
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            es = esprit(rec.y[onset:], fs=rec.fs, subtract_tail_mean=0.1)
+        return list(zip(es.frequencies_hz, es.damping_ratios))
+    except Exception:  # noqa: BLE001 - a failing baseline is a data point
+        return []
 
 
 class RecordRefused(ValueError):
