@@ -170,6 +170,12 @@ def test_nonlinear_terms_are_tested_together_with_their_covariance():
     collinear = np.array([[1.0, 1.0], [1.0, 1.0]])  # one direction: one degree of freedom
     assert nonlinear_chance(np.array([1.0, 1.0]), collinear) == pytest.approx(0.3173, abs=1e-3)
     assert np.isnan(nonlinear_chance(np.array([1.0]), np.array([[np.nan]])))
+    with pytest.raises(ValueError, match=r"cov must be \(2, 2\)"):
+        nonlinear_chance(np.array([1.0, 2.0]), np.eye(3))
+    with pytest.raises(ValueError, match="one-dimensional"):
+        nonlinear_chance(np.ones((2, 2)), np.eye(4))
+    with pytest.raises(ValueError, match="finite"):
+        nonlinear_chance(np.array([np.inf]), np.eye(1))
 
 
 def test_a_model_whose_terms_cannot_be_told_apart_has_no_chance_and_no_failure():

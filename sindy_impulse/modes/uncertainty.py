@@ -465,9 +465,15 @@ def nonlinear_chance(coefficients: np.ndarray, cov: np.ndarray) -> float:
     0.32
     """
     b = np.asarray(coefficients, float)
+    if b.ndim != 1:
+        raise ValueError(f"coefficients must be one-dimensional, got shape {b.shape}")
     if b.size == 0:
         return 1.0
-    cov = np.asarray(cov, float).reshape(b.size, b.size)
+    cov = np.asarray(cov, float)
+    if cov.shape != (b.size, b.size):
+        raise ValueError(f"cov must be ({b.size}, {b.size}) for {b.size} coefficients, got shape {cov.shape}")
+    if not np.all(np.isfinite(b)):
+        raise ValueError("coefficients must be finite")
     if not np.all(np.isfinite(cov)):
         return math.nan
     rank = np.linalg.matrix_rank(cov)
