@@ -131,8 +131,10 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
         ``phi_2 - n phi_1`` over the stretch), ``exponent`` (``p``) and ``exponent_sigma``, ``periods``
         (of the candidate, measured), ``locked``, ``locked_within_errors`` and ``harmonic`` (bool),
         ``parent_sweep`` (the parent's relative frequency change over the stretch's pieces) and
-        ``locking_proven`` (locked within errors while that change would have moved a mode of its own
-        off ``n`` by more than twice :data:`SIGMAS` standard errors), ``resolved`` (the ratio's standard
+        ``locking_proven`` (locked while that change would have moved a mode of its own off ``n`` by more
+        than twice :data:`SIGMAS` standard errors plus the spread of the pieces' ratios, where they are not
+        all within their errors of ``n``: a harmonic's ratio stays put while its mode sweeps, a mode's
+        moves with the sweep), ``resolved`` (the ratio's standard
         error at most :data:`RESOLVED` times ``n``: else nothing is decided from the phases). Too short a
         stretch: the ratio and exponent are NaN and nothing is decided.
 
@@ -189,7 +191,9 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
     # parent moves, and its ratio would move by n times the parent's relative change
     f_pieces = [np.polyfit(t[k], np.unwrap(np.angle(z1[k])), 1)[0] / (2 * np.pi) for k in quarters]
     sweep = float((max(f_pieces) - min(f_pieces)) / f1)
-    proven = within_errors and order * sweep > 2 * SIGMAS * max(piece[1] for piece in pieces)
+    # ... and a harmonic's stays put: within its errors of n, or (locked) its pieces' spread far under that
+    spread = 0.0 if within_errors else max(p[0] for p in pieces) - min(p[0] for p in pieces)
+    proven = locked and order * sweep > 2 * SIGMAS * max(piece[1] for piece in pieces) + spread
     n_eff = max(t.size * bandwidth / fs, 2.0)
     # log a_2 against log a_1, each envelope's power less the noise's (the analytic noise adds 2 sigma^2 on
     # average), weighted as the phases are (by each sample's SNR): the samples near the floor, which the
@@ -264,13 +268,20 @@ _BACKBONE_MARGIN, _BACKBONE_REACH = 0.005, 0.25
 _MIN_DECAY_RATIO = 1.5
 
 
-def _on_backbone(parent, candidate, order: int) -> bool:
+def _on_backbone(parent, candidate, order: int, decay_ratio: float | None = None) -> bool:
     """Whether ``candidate`` lies at ``order`` times a frequency the nonlinear ``parent``'s backbone passes
     (used when the data cannot decide: a harmonic only a few dB over the noise, or seen only in the first
     tens of milliseconds, e.g. a 35 dB hammer test of a hardening mode). Never for a candidate that decays
     less than :data:`_MIN_DECAY_RATIO` times as fast as the parent (a harmonic's amplitude goes as a power
     p >= 2 of the parent's: its envelope decays p times as fast; an x^2 x' damper's third harmonics decay
-    4.2 and 5.7 times as fast as their parents' linear rates), nor for a parent identified without a band
+    4.2 and 5.7 times as fast as their parents' linear rates), by either of two readings: the modes'
+    decay rates, and ``decay_ratio`` where the caller measured it (the ratio of their linear decays'
+    rates, the harmonic test's ``decay_exponent``). Each can misread a harmonic: a mode's small-amplitude
+    damping ratio, extrapolated by its averaged equations, is not how fast its envelope decays (a quadratic
+    spring's second harmonic decaying 1.9 times as fast as its mode read 1.24), and the linear decay of a
+    piece of a chirping harmonic is not the harmonic's (a cubic spring's third harmonic fitted as two
+    pieces: one read 0.88 times, its mode 2.9 times); a mode of its own decays slowly by both. Nor for a
+    parent identified without a band
     signal (no band SNR: the direct or free-decay fit of a short record, :mod:`._short`), whose few periods
     do not make a backbone to extrapolate (in short records of strongly damped linear modes, parents'
     few-period models with cubic terms would name e.g. a 47.9 Hz mode decaying 0.6 times as fast as a 24.3
@@ -284,7 +295,9 @@ def _on_backbone(parent, candidate, order: int) -> bool:
     from ._nonlinear import has_nonlinear_terms
 
     decay = [m.damping_ratio * m.frequency_hz for m in (parent, candidate)]
-    if not has_nonlinear_terms(parent.model) or 0 < decay[1] < _MIN_DECAY_RATIO * decay[0]:
+    ratios = [decay[1] / decay[0] if decay[0] > 0 and decay[1] > 0 else np.nan, decay_ratio]
+    ratios = [r for r in ratios if r is not None and np.isfinite(r)]
+    if not has_nonlinear_terms(parent.model) or (ratios and max(ratios) < _MIN_DECAY_RATIO):
         return False  # (a failed peak without a damping ratio, 0, is not judged on its decay)
     if getattr(candidate, "amplitude", np.nan) > order**2 * parent.amplitude:
         return False  # stronger than a harmonic can be (a failed peak or a joint mode: no amplitude)
@@ -458,10 +471,13 @@ def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: in
 
 def _contradicted(e: dict) -> bool:
     """Whether a harmonic test's frequency ratio, over the whole stretch, rules its order out: farther from
-    ``n`` than the window a harmonic of a nonlinear mode is looked for in (:data:`NEAR`, relative) and
-    :data:`SIGMAS` standard errors beyond it. The locking may be unresolved (its standard error too large
-    to prove it) and still be excluded; a ratio without a standard error (too few periods outlast the
-    band's filter) rules nothing out.
+    ``n`` than a harmonic's can be and :data:`SIGMAS` standard errors beyond. A harmonic's phase is ``n``
+    times its mode's at every instant; its measured ratio strays from ``n`` only as far as the band-passed
+    phases fall behind a moving frequency: at most the parent's own relative frequency change over the
+    stretch (``parent_sweep``) beyond :data:`RATIO_TOL`, and never beyond the window a harmonic of a
+    nonlinear mode is looked for in (:data:`NEAR`, relative; also where the sweep was not measured). The
+    locking may be unresolved (its standard error too large to prove it) and still be excluded; a ratio
+    without a standard error (too few periods outlast the band's filter) rules nothing out.
 
     Examples
     --------
@@ -471,9 +487,19 @@ def _contradicted(e: dict) -> bool:
     False
     >>> _contradicted(dict(frequency_ratio=2.37, ratio_sigma=float("nan"), order=3))
     False
+
+    A ratio 1.8 % off 2 over a stretch where the parent's frequency moved by 0.3 %: no harmonic.
+
+    >>> _contradicted(dict(frequency_ratio=2.0363, ratio_sigma=0.0027, order=2, parent_sweep=0.003))
+    True
+    >>> _contradicted(dict(frequency_ratio=2.0363, ratio_sigma=0.0027, order=2, parent_sweep=0.03))
+    False
     """
     sigma, order = e["ratio_sigma"], e["order"]
-    return bool(np.isfinite(sigma) and abs(e["frequency_ratio"] / order - 1) > NEAR + SIGMAS * sigma / order)
+    sweep = e.get("parent_sweep", np.nan)
+    window = min(NEAR, RATIO_TOL + sweep) if np.isfinite(sweep) else NEAR
+    off = abs(e["frequency_ratio"] / order - 1)
+    return bool(np.isfinite(sigma) and off > window + SIGMAS * sigma / order)
 
 
 #: Relative half-width of the band a peak is analysed in as a harmonic (a peak's own band can be wide enough

@@ -199,7 +199,7 @@ def _decided_by_backbones(state) -> None:
             if parent is None or not has_nonlinear_terms(parent.model) or _steady_frequency(
                     state.candidates[k], e):
                 continue
-            if _on_backbone(parent, mode, e["order"]):
+            if _on_backbone(parent, mode, e["order"], e.get("decay_exponent")):
                 e = dict(e, harmonic=True, by_backbone=True, frequency_hz=mode.frequency_hz)
                 why = _reason(parent, e)
                 state.rejected.append(Rejected(mode.band_hz, why, state.index, e, Reason.HARMONIC))
