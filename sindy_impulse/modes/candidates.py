@@ -530,7 +530,9 @@ def _split_seeds(fit, k: int, poles, resolution: float, threshold_db: float, unr
     """Seeds ``(damped frequencies, decay rates, by_poles)`` to try for component ``k`` of the fit as several
     modes.
 
-    The stable poles inside its half-power band, where two or more stand apart. Else the strongest peak
+    The stable poles whose half-power bands overlap its own, where two or more stand apart (a pole of a
+    strongly damped mode beside a lightly damped one lies outside the one component's band, while its own
+    band reaches it). Else the strongest peak
     of what the fit leaves within :data:`PAIR_REACH` half-power half-widths of the component and within
     ``unresolved`` Hz (:data:`PAIR_RESOLUTIONS` frequency resolutions of the survey's diagram, which
     resolves pairs farther apart): the other mode of a pair whose half-power bands touch and which the
@@ -542,7 +544,7 @@ def _split_seeds(fit, k: int, poles, resolution: float, threshold_db: float, unr
     """
     f, sigma = poles
     fk, width = fit.damped_frequency_hz[k], fit.decay_rate[k] / (2 * np.pi)
-    inside = np.flatnonzero(np.abs(f - fk) <= max(width, resolution))
+    inside = np.flatnonzero(np.abs(f - fk) <= np.maximum(width + sigma / (2 * np.pi), resolution))
     if inside.size >= 2 and np.min(np.diff(np.sort(f[inside]))) > 2 * resolution:
         return [(f[inside], sigma[inside], True)]
     if _may_be_harmonic(fit, k):
