@@ -58,6 +58,20 @@ def test_a_stable_pole_whose_half_power_band_reaches_an_unexplained_component_sp
     assert [z for _, z in found] == pytest.approx(zeta, rel=0.1)
 
 
+def test_a_harmonic_whose_poles_spread_beside_it_is_not_split_by_them():
+    """A softening quadratic spring's second harmonic (31 dB record, 24 dB harmonic): the decay fit gives it
+    one component at 176.4 Hz that its linear decay does not explain, and its stable poles spread along its
+    sweep (175.9 and 177.2 Hz), their half-power bands reaching the component. At a harmonic's place of a
+    stronger unexplained component only poles inside the component's own band split it: split by these, it
+    came out as two modes at 176.3 and 177.5 Hz, neither of them named the harmonic."""
+    _, survey = _survey(frequencies_hz=[88.76924678527004], damping_ratios=[0.003153869123046431],
+                        amplitudes=[1.0], fs=2048.0, duration=14.54052734375, sensor="acceleration",
+                        pre_trigger=0.03391580988279649, offset=2.0349320237664212, snr_db=31.30392477776621,
+                        random_state=1273304740, quadratic_stiffness=-17272815872.071663)
+    assert [round(m.frequency_hz) for m in survey.modes] == [89]
+    assert any("harmonic 2" in r.reason for r in survey.rejected)
+
+
 @pytest.mark.parametrize("f, zeta, amplitudes, fs, duration", [
     ([66.64, 66.96], [0.0030, 0.0015], [0.44, 0.48], 1000.0, 12.0),  # one component on the longer-ringing
     ([107.76, 108.13], [0.0012, 0.0013], [0.48, 0.54], 2048.0, 18.0),  # ... between the two

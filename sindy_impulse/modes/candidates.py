@@ -532,7 +532,9 @@ def _split_seeds(fit, k: int, poles, resolution: float, threshold_db: float, unr
 
     The stable poles whose half-power bands overlap its own, where two or more stand apart (a pole of a
     strongly damped mode beside a lightly damped one lies outside the one component's band, while its own
-    band reaches it). Else the strongest peak
+    band reaches it); at a harmonic's place of a stronger component the linear decay does not explain
+    (:func:`_may_be_harmonic`), the poles inside its own band only (a chirping harmonic's poles spread
+    along its sweep, beside the one component fitted to it). Else the strongest peak
     of what the fit leaves within :data:`PAIR_REACH` half-power half-widths of the component and within
     ``unresolved`` Hz (:data:`PAIR_RESOLUTIONS` frequency resolutions of the survey's diagram, which
     resolves pairs farther apart): the other mode of a pair whose half-power bands touch and which the
@@ -544,7 +546,9 @@ def _split_seeds(fit, k: int, poles, resolution: float, threshold_db: float, unr
     """
     f, sigma = poles
     fk, width = fit.damped_frequency_hz[k], fit.decay_rate[k] / (2 * np.pi)
-    inside = np.flatnonzero(np.abs(f - fk) <= np.maximum(width + sigma / (2 * np.pi), resolution))
+    # at a harmonic's place only the poles inside its band: a chirping harmonic's poles spread beside it
+    reach = width if _may_be_harmonic(fit, k) else width + sigma / (2 * np.pi)
+    inside = np.flatnonzero(np.abs(f - fk) <= np.maximum(reach, resolution))
     if inside.size >= 2 and np.min(np.diff(np.sort(f[inside]))) > 2 * resolution:
         return [(f[inside], sigma[inside], True)]
     if _may_be_harmonic(fit, k):
