@@ -421,7 +421,8 @@ def test_averaged_equations_that_grow_at_small_amplitude_give_no_mode():
 
 
 def _g_survey(frequencies, damping, amplitudes, **config):
-    """The survey of a family (g) record (a nonlinear element at mass 0), its warnings silenced."""
+    """The survey of a generated record (``impact_record``'s arguments; family g's put a nonlinear element at
+    mass 0) as the families' benchmark runs it, without the hammer's force, its warnings silenced."""
     rec = impact_record(frequencies, damping, amplitudes, **config)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -726,13 +727,10 @@ def test_a_harmonic_is_judged_on_how_fast_its_envelope_decays():
     its mode's, as a harmonic's must; the small-amplitude damping ratio its averaged equations extrapolate
     (0.20 % +- 0.07 %) would say 1.24 times, too slowly for a harmonic, and it was reported as a mode at
     434.5 Hz."""
-    rec = impact_record([217.77718880118226], [0.0032693141563441743], [1.0], fs=10000.0, duration=0.4056,
-                        sensor="displacement", pre_trigger=0.07649834363286474, offset=0.4045293874671063,
-                        snr_db=40.834599018005996, random_state=2120296769,
-                        quadratic_stiffness=-118524.6833846129)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        survey = identify_modes(rec.y, fs=rec.fs)
+    survey = _g_survey([217.77718880118226], [0.0032693141563441743], [1.0], fs=10000.0, duration=0.4056,
+                       sensor="displacement", pre_trigger=0.07649834363286474, offset=0.4045293874671063,
+                       snr_db=40.834599018005996, random_state=2120296769,
+                       quadratic_stiffness=-118524.6833846129)
     assert [round(m.frequency_hz) for m in survey.modes] == [218]
     row = next(r for r in survey.rejected if "harmonic 2" in r.reason)
     assert row.evidence["by_backbone"] and row.evidence["decay_exponent"] > 1.5
@@ -744,13 +742,10 @@ def test_a_harmonic_locked_near_n_while_its_mode_sweeps_far_more_is_named():
     frequency sweeps 2.6 %, which would move a mode of its own by 0.08 in the ratio. Locked and steady: a
     harmonic, though not within its errors of 3 and with an exponent (5.4) no power of at most 3 gives by
     itself; it was reported as a mode at 189.1 Hz."""
-    rec = impact_record([65.43507264653988], [0.003505456265641863], [1.0], fs=2048.0,
-                        duration=8.60986328125, sensor="acceleration", pre_trigger=0.046842625838296494,
-                        offset=2.239950777747765, snr_db=37.778660232767606, random_state=113244588,
-                        cubic_stiffness=-963233681217602.2)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        survey = identify_modes(rec.y, fs=rec.fs)
+    survey = _g_survey([65.43507264653988], [0.003505456265641863], [1.0], fs=2048.0, duration=8.60986328125,
+                       sensor="acceleration", pre_trigger=0.046842625838296494, offset=2.239950777747765,
+                       snr_db=37.778660232767606, random_state=113244588,
+                       cubic_stiffness=-963233681217602.2)
     assert [round(m.frequency_hz) for m in survey.modes] == [65]
     row = next(r for r in survey.rejected if "harmonic 3" in r.reason)
     assert row.evidence["locking_proven"] and not row.evidence["locked_within_errors"]

@@ -192,7 +192,8 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
     f_pieces = [np.polyfit(t[k], np.unwrap(np.angle(z1[k])), 1)[0] / (2 * np.pi) for k in quarters]
     sweep = float((max(f_pieces) - min(f_pieces)) / f1)
     # ... and a harmonic's stays put: within its errors of n, or (locked) its pieces' spread far under that
-    spread = 0.0 if within_errors else max(p[0] for p in pieces) - min(p[0] for p in pieces)
+    ratios = [piece[0] for piece in pieces]
+    spread = 0.0 if within_errors else max(ratios) - min(ratios)
     proven = locked and order * sweep > 2 * SIGMAS * max(piece[1] for piece in pieces) + spread
     n_eff = max(t.size * bandwidth / fs, 2.0)
     # log a_2 against log a_1, each envelope's power less the noise's (the analytic noise adds 2 sigma^2 on

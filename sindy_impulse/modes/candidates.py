@@ -546,12 +546,13 @@ def _split_seeds(fit, k: int, poles, resolution: float, threshold_db: float, unr
     """
     f, sigma = poles
     fk, width = fit.damped_frequency_hz[k], fit.decay_rate[k] / (2 * np.pi)
+    harmonic = _may_be_harmonic(fit, k)
     # at a harmonic's place only the poles inside its band: a chirping harmonic's poles spread beside it
-    reach = width if _may_be_harmonic(fit, k) else width + sigma / (2 * np.pi)
+    reach = width if harmonic else width + sigma / (2 * np.pi)
     inside = np.flatnonzero(np.abs(f - fk) <= np.maximum(reach, resolution))
     if inside.size >= 2 and np.min(np.diff(np.sort(f[inside]))) > 2 * resolution:
         return [(f[inside], sigma[inside], True)]
-    if _may_be_harmonic(fit, k):
+    if harmonic:
         return []
     reach = max(min(PAIR_REACH * width, unresolved), 4 * resolution)
     rf, rs = missing_peaks(fit, threshold_db, fk - reach, fk + reach)
