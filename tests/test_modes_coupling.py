@@ -2,6 +2,7 @@
 reading, its band test, and the survey's ``coupling`` stage."""
 
 import warnings
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -159,3 +160,49 @@ def test_a_failing_reading_leaves_the_modes_own_values(monkeypatch):
     decisions = _coupling_trace(survey).decisions
     assert decisions[0].startswith("the coupling reading failed (FloatingPointError: overflow)"), decisions
     assert len(survey.modes) == 2 and all(m.source != "coupling" for m in survey)
+
+
+def test_a_mode_whose_own_reading_the_joint_reading_doubts_carries_the_difference_in_its_std():
+    """A hardening cubic spring couples four modes; the strongly damped 459.1 Hz one (0.96 %) rings beside
+    a lightly damped 518.4 Hz one whose amplitude moves it, and its own reading (its stable poles) puts it
+    at 461.0 Hz. The joint reading describes the decay and puts it at 459.15 Hz, but leaves more than
+    noise in another band (a combination tone of the two), so it is not taken. The record does not decide
+    between the two: the mode keeps its own values, with the difference in its standard deviation, so that
+    its ± holds the truth (before, 461.01 +- 0.06 Hz, 31 standard deviations off)."""
+    config = dict(frequencies_hz=[459.11463279706936, 518.427338675233, 2464.867473678721, 3159.596625661936],
+                  damping_ratios=[0.009605714799099153, 0.003319432331107731, 0.025215373885126905,
+                                  0.0059627847558094025],
+                  amplitudes=[0.34225611627188224, 0.30616756284783847, 0.18949624050458388,
+                              0.17814136229501232], fs=25600.0, duration=0.8265625, sensor="acceleration",
+                  pre_trigger=0.025023058486183292, offset=4.896248687080899, snr_db=51.97345050468782,
+                  random_state=1492823299, cubic_stiffness=1.726170163507745e22)
+    survey = _survey(impact_record(**config))
+    decisions = " ".join(_coupling_trace(survey).decisions)
+    assert "leaves more than noise" in decisions and "their ± widened by it" in decisions
+    mode = min(survey.modes, key=lambda m: abs(m.frequency_hz - 459.1))
+    assert mode.source != "coupling" and abs(mode.frequency_hz / 459.115 - 1) > 3e-3  # its own value stands
+    assert abs(mode.frequency_hz - 459.115) <= 2 * mode.frequency_std_hz
+    assert "the record does not decide between the two" in mode.uncertainty_note
+
+
+def test_a_reading_that_does_not_describe_the_decay_leaves_the_modes_std_alone(monkeypatch):
+    """A joint reading whose residual is far above the noise says nothing of the modes: their ± stand."""
+    import sindy_impulse.modes.coupling as coupling
+
+    real = coupling.one_element_reading
+
+    def off(*args, **kws):
+        reading = real(*args, **kws)
+        return replace(reading, frequency_hz=reading.frequency_hz * 1.01, residual=reading.residual * 100)
+
+    config = dict(frequencies_hz=[34.834, 49.754, 80.374, 111.765],
+                  damping_ratios=[0.00953, 0.00350, 0.01820, 0.00222],
+                  amplitudes=[0.756, 0.961, 0.213, 0.108], fs=1000.0, duration=17.595,
+                  sensor="acceleration", pre_trigger=0.036, offset=3.93, snr_db=44.36,
+                  random_state=1085967314, cubic_stiffness=-1.8037e14, damping_amplitude=4.8698e11)
+    rec = impact_record(**config)
+    monkeypatch.setattr(coupling, "one_element_reading", off)
+    survey = _survey(rec)
+    decisions = " ".join(_coupling_trace(survey).decisions)
+    assert "does not describe the decay" in decisions and "widened" not in decisions
+    assert all("does not decide" not in (m.uncertainty_note or "") for m in survey.modes)
