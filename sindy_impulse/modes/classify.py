@@ -230,12 +230,19 @@ def _heard(cand, noise: float, fs: float, bands) -> int | None:
     return next_fast_len(int(seconds * fs) + 2 * max(transient_samples(fs, b) for b in bands) + 16)
 
 
-def _own(state, k: int, band, keep=()) -> tuple:
+def _own(state, k: int, band, keep=(), cache: dict | None = None) -> tuple:
     """Candidate ``k``'s own signal from the decay's start (the other components but ``keep`` removed) and
-    its noise in ``band``."""
+    its noise in ``band``; ``cache`` (keyed by ``(k, keep)``) keeps the signals made for tests that share
+    them."""
     cand, fs = state.candidates[k], state.pre.fs
     noise = cand.noise_std * np.sqrt(2 * (band[1] - band[0]) / fs)
-    return deflated(state, k, keep)[state.start:], noise
+    key = (k, tuple(keep))
+    if cache is None or key not in cache:
+        signal = deflated(state, k, keep)[state.start:]
+        if cache is None:
+            return signal, noise
+        cache[key] = signal
+    return cache[key], noise
 
 
 def _siblings(state, i: int, order: int) -> list:
@@ -344,27 +351,30 @@ def _combination_of(state, i: int, j: int, k: int):
 
 
 def _combinations(state) -> None:
-    """Candidates phase-locked to a sum or difference of two stronger ones, at least one of which the record
-    shows to be nonlinear (:func:`_moves`: a linear structure makes no combination tones, and a mode of its
-    own can sit within the test's resolution of a sum of two others: a 1061.3 Hz mode at 1.1 % damping 0.06
-    % off ``2 x 1976.5 - 2891.0`` Hz, decaying 0.89 times as fast as that product, read locked), their
-    amplitude the product of theirs (see the module): :attr:`Kind.COMBINATION`, the stronger parent as
-    ``parent``."""
+    """Candidates phase-locked to a sum or difference of two stronger ones, at least one of which the
+    classification found nonlinear (a linear structure makes no combination tones, and a mode of its own
+    can sit within the test's resolution of a sum of two others: a 1061.3 Hz mode at 1.1 % damping 0.06 %
+    off ``2 x 1976.5 - 2891.0`` Hz of two linear modes, decaying 0.89 times as fast as that product, read
+    locked), their amplitude the product of theirs (see the module): :attr:`Kind.COMBINATION`, the stronger
+    parent as ``parent``."""
     cands = state.candidates
     live = [k for k, c in enumerate(cands) if c.kind in (Kind.LINEAR, Kind.NONLINEAR)]
-    if len(live) < 3:
+    if len(live) < 3 or not any(cands[k].kind is Kind.NONLINEAR for k in live):
         return
+    signals: dict = {}
     for k in sorted(live, key=lambda k: cands[k].height_db):
         cand = cands[k]
         parents = [p for p in live if p != k and cands[p].height_db > cand.height_db
                    and cands[p].kind is not Kind.COMBINATION]
         tests = [(i, j, powers) for i, j in itertools.combinations(parents, 2)
-                 if _moves(cands[i]) or _moves(cands[j]) for powers in _combination_of(state, i, j, k)]
+                 if Kind.NONLINEAR in (cands[i].kind, cands[j].kind)
+                 for powers in _combination_of(state, i, j, k)]
         for i, j, powers in tests:
             bands = _combination_bands(state, i, j, powers)
             if any(not 0 < lo < hi for lo, hi in bands):
                 continue
-            (y1, n1), (y2, n2), (y3, n3) = (_own(state, p, b) for p, b in zip((i, j, k), bands))
+            (y1, n1), (y2, n2), (y3, n3) = (_own(state, p, b, cache=signals)
+                                            for p, b in zip((i, j, k), bands))
             try:
                 e = combination_evidence((y1, y2, y3), state.pre.fs, bands, powers, (n1, n2, n3))
             except (ValueError, ArithmeticError, np.linalg.LinAlgError):
