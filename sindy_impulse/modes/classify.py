@@ -15,10 +15,9 @@ The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence;
   product of the lower mode's nonlinearity, which is then nonlinear too.
 - **combination** (:attr:`Kind.COMBINATION`): a component weaker than two modes, one of them nonlinear, near
   a sum or difference of their frequencies of order 2 or 3 (``f_i +- f_j``, ``2 f_i +- f_j``), that is
-  phase-locked to that sum (within its errors, or within the two modes' own frequency change over the test)
-  and whose amplitude goes as the product of theirs (:func:`~._harmonics.combination_evidence`): a
-  nonlinear element driven by two modes at once makes it (intermodulation); it is named, not reported as a
-  mode.
+  phase-locked to that sum within its errors and whose amplitude goes as the product of theirs
+  (:func:`~._harmonics.combination_evidence`): a nonlinear element driven by two modes at once makes it
+  (intermodulation); it is named, not reported as a mode.
 - **clipping** (:attr:`Kind.CLIPPING`): in a record whose clipped samples could be neither repaired nor
   left behind (the impact's ``clipping`` is ``"kept"``), a component on a harmonic of a stronger one or on a
   combination of two (within its half-power half-width or three standard deviations, folded about the
@@ -333,19 +332,15 @@ def _combination_bands(state, i: int, j: int, powers: tuple) -> list:
 
 def _combination_of(state, i: int, j: int, k: int):
     """The powers ``(m, n)`` of :data:`COMBINATIONS` whose ``m f_i + n f_j`` lies within candidate ``k``'s
-    reach (its half-power half-width or 3 standard deviations, whichever is wider, and :data:`RATIO_TOL`;
-    widened by the parents' pieces' spans, moved by the powers), nearest first."""
+    reach (its half-power half-width or 3 standard deviations, whichever is wider, and :data:`RATIO_TOL`),
+    nearest first."""
     cands = state.candidates
     c = cands[k]
     reach = max(c.decay_rate / (2 * np.pi), 3 * c.frequency_std_hz, RATIO_TOL * c.damped_frequency_hz)
-    spread = []
-    for p in (i, j):
-        f = [cands[m].damped_frequency_hz for m in _members(state, p)]
-        spread.append(max(f) - min(f))
     out = []
     for m, n in COMBINATIONS:
         off = abs(c.damped_frequency_hz - m * cands[i].damped_frequency_hz - n * cands[j].damped_frequency_hz)
-        if off <= reach + abs(m) * spread[0] + abs(n) * spread[1]:
+        if off <= reach:
             out.append((off, (m, n)))
     return [powers for _, powers in sorted(out)]
 
