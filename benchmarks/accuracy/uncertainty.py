@@ -187,7 +187,7 @@ def summarise(results: list, levels) -> dict:
     by_fit = _table("by how the mode was fitted (all levels)", by_kind)
     notes = sorted({r["note"] for r in rows if r["note"]})
     if notes:
-        print("\nwhy a std is missing:", "; ".join(notes))
+        print("\nthe modes' notes on their ± (why one is missing or widened):", "; ".join(notes))
     spent = np.array([res["spent"] for res in results])
     total = np.array([res["time"] for res in results])
     share = spent / np.maximum(total - spent, 1e-12)

@@ -27,11 +27,6 @@ harmonic when it lies at ``n`` times a frequency of the parent's fitted backbone
 for in, beyond its standard errors (:func:`_contradicted`: the data then say no, and no backbone
 overrules them); harmonics of a nonlinear mode too weak to be candidates are named where a
 spectral peak stands phase-locked at their place (:func:`_unseen_harmonics`).
-
-A **combination tone** is the same product of two modes at once: a nonlinear element driven by both makes
-components at ``m f_i + n f_j`` (``|m| + |n|`` its power), each phase-locked to that sum of phases, with an
-amplitude that goes as ``a_i^|m| a_j^|n|``. :func:`combination_evidence` is the harmonic test with two
-parents.
 """
 
 from __future__ import annotations
@@ -48,8 +43,8 @@ from ..preprocessing.filters import bandpass, transient_samples
 from ..preprocessing.partition import HARMONIC_NEAR, peak_bands
 from .result import Rejected
 
-__all__ = ["harmonic_evidence", "combination_evidence", "COMBINATION_EXPONENT", "SIGMAS", "RATIO_TOL",
-           "RESOLVED", "MIN_EXPONENT", "MIN_SNR_DB"]
+__all__ = ["harmonic_evidence", "SIGMAS", "RATIO_TOL", "RESOLVED", "MIN_EXPONENT",
+           "MIN_SNR_DB"]
 
 #: Harmonic orders tested.
 ORDERS = (2, 3)
@@ -200,141 +195,21 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
     ratios = [piece[0] for piece in pieces]
     spread = 0.0 if within_errors else max(ratios) - min(ratios)
     proven = locked and order * sweep > 2 * SIGMAS * max(piece[1] for piece in pieces) + spread
-    log1, log2 = _log_envelopes((a1, a2), noise_rms)
-    p, p_sigma = _power_law(log1, log2, w, max(t.size * bandwidth / fs, 2.0))
+    n_eff = max(t.size * bandwidth / fs, 2.0)
+    # log a_2 against log a_1, each envelope's power less the noise's (the analytic noise adds 2 sigma^2 on
+    # average), weighted as the phases are (by each sample's SNR): the samples near the floor, which the
+    # noise lifts and which would flatten the slope, count little without being cut away
+    sigma2 = 2.0 * np.asarray(noise_rms, float) ** 2
+    log1, log2 = (0.5 * np.log(np.maximum(a**2 - s2, 1e-2 * a**2)) for a, s2 in zip((a1, a2), sigma2))
+    _, p, pres = _line(log1, log2, w)
+    spread = np.average((log1 - np.average(log1, weights=w)) ** 2, weights=w)
+    p_sigma = float(np.sqrt(np.average(pres**2, weights=w) / max(spread, np.finfo(float).tiny) / n_eff))
     return dict(order=order, frequency_ratio=float(ratio), ratio_sigma=float(sigma),
                 phase_drift_rad=float(slope * (t[-1] - t[0])), exponent=float(p), exponent_sigma=p_sigma,
                 periods=float(t.size / fs * f2), locked=bool(locked),
                 locked_within_errors=bool(within_errors), parent_sweep=sweep, locking_proven=bool(proven),
                 resolved=bool(resolved),
                 harmonic=bool(locked and _whole_power(p, order)))
-
-
-#: Amplitude exponents of a combination tone against the product of its parents' powers
-#: (``a_c ~ (a_i^|m| a_j^|n|)^p``): p = 1 for a term of the element's power; noise flattens an envelope
-#: (third harmonics of cubic springs read 0.77-0.95 of their power), and a mode of its own decays at its own
-#: rate, which lands in this window only by chance.
-COMBINATION_EXPONENT = (0.6, 1.4)
-
-
-def combination_evidence(signals, fs: float, bands, powers, noise_rms) -> dict:
-    """Phase locking and amplitude exponent of a candidate combination tone ``m f_i + n f_j`` of two modes.
-
-    A nonlinear element driven by two modes at once makes components at their sums and differences (a cubic
-    spring ``k x^3``: ``2 f_i +- f_j``, ``f_i +- 2 f_j``; a quadratic one ``f_i +- f_j``): each phase-locked,
-    ``phi_c = m phi_i + n phi_j + const`` at every instant, with an amplitude that goes as ``a_i^|m|
-    a_j^|n|``. A mode of its own near such a sum keeps its own frequency: ``phi_c - m phi_i - n phi_j``
-    drifts at ``2 pi (f_c - m f_i - n f_j)``. The test is :func:`harmonic_evidence`'s with two parents:
-    each signal's analytic signal in its band, over the stretch after the filters' transients where every
-    envelope stands :data:`MIN_SNR_DB` over its band's noise; the drift's rate from a weighted line through
-    the phase difference (relative to ``f_c``; its standard error with one independent sample per ``1 /
-    bandwidth``), over the whole stretch and over each of its :data:`_SEGMENTS` pieces; the exponent ``p``
-    from a line through ``log a_c`` against ``|m| log a_i + |n| log a_j``. ``combination`` when the drift is
-    resolved (relative standard error at most :data:`RESOLVED`) and within its errors of zero everywhere
-    (a linear mode near a sum passes any tolerance a nonlinear mode's moving frequency would need), and
-    ``p`` within :data:`COMBINATION_EXPONENT`. No tolerance beyond the errors: a mode of its own can sit
-    within any tolerance a moving parent would need (on a hammer record cut to a quarter, a 7091.9 Hz mode
-    0.14 % +- 0.007 % off the sum of two others whose band-passed frequencies wandered 1.1 % read locked
-    with one).
-
-    Parameters
-    ----------
-    signals : (ndarray, ndarray, ndarray)
-        The two parents' and the candidate's own signals (each with the other components removed), on the
-        same samples.
-    fs : float
-        Sampling rate (Hz).
-    bands : three (float, float)
-        Each one's band (Hz).
-    powers : (int, int)
-        ``(m, n)``: the candidate is tested at ``m f_i + n f_j``.
-    noise_rms : three floats
-        Noise standard deviation in each band.
-
-    Returns
-    -------
-    dict
-        ``powers``, ``drift`` (the relative frequency offset ``(f_c - m f_i - n f_j) / f_c``) and its
-        standard error ``drift_sigma``, ``exponent`` and ``exponent_sigma``, ``periods``, ``resolved``,
-        ``locked`` and ``combination`` (bool). Too short a stretch: NaN and nothing decided.
-
-    Examples
-    --------
-    ``2 f_1 - f_2`` of two decaying tones, and a tone of its own 0.3 % beside it:
-
-    >>> fs, t = 2000.0, np.arange(8000) / 2000.0
-    >>> p1, p2 = 2 * np.pi * 50 * t, 2 * np.pi * 71 * t + 0.4
-    >>> a1, a2 = np.exp(-0.5 * t), np.exp(-0.3 * t)
-    >>> tone = 0.05 * a1**2 * a2 * np.cos(2 * p1 - p2 + 1)
-    >>> y1, y2 = a1 * np.cos(p1), a2 * np.cos(p2)
-    >>> bands = ((45, 55), (66, 76), (24, 34))
-    >>> e = combination_evidence((y1, y2, tone), fs, bands, (2, -1), (1e-5,) * 3)
-    >>> e["locked"], round(e["exponent"], 2), e["combination"]
-    (True, 1.0, True)
-    >>> mode = 0.05 * a1**2 * a2 * np.cos(2 * np.pi * 29.09 * t)
-    >>> combination_evidence((y1, y2, mode), fs, bands, (2, -1), (1e-5,) * 3)["combination"]
-    False
-    """
-    m, n = powers
-    z = [bandpass(y, fs, b, analytic=True) for y, b in zip(signals, bands)]
-    trim = max(transient_samples(fs, b, tol=_TRANSIENT_TOL) for b in bands)
-    a = [np.abs(v) for v in z]
-    floor = 10 ** (MIN_SNR_DB / 20) * np.sqrt(2) * np.asarray(noise_rms, float)
-    keep = np.zeros(a[0].size, bool)
-    keep[trim : a[0].size - trim] = True
-    for k in range(3):
-        keep &= a[k] >= floor[k]
-    keep = np.flatnonzero(keep)
-    t = keep / fs
-    f_c = 0.5 * (bands[2][0] + bands[2][1])
-    nan = dict(powers=(int(m), int(n)), drift=np.nan, drift_sigma=np.nan, exponent=np.nan,
-               exponent_sigma=np.nan, periods=float(t.size / fs * f_c), resolved=False, locked=False,
-               combination=False)
-    if t.size < 8 or t.size / fs * f_c < _MIN_PERIODS:
-        return nan
-    z, a = [v[keep] for v in z], [v[keep] for v in a]
-
-    def unit(k: int, power: int) -> np.ndarray:  # conj(u_k)^power, u_k = z_k / |z_k|
-        u = z[k] / a[k]
-        return np.conj(u) ** power if power >= 0 else u ** (-power)
-
-    psi = np.unwrap(np.angle(z[2] * unit(0, m) * unit(1, n)))
-    tiny = 1e-12 * np.array([v.max() for v in a])
-    noise = np.asarray(noise_rms, float) + tiny
-    w = 1.0 / ((noise[2] / a[2]) ** 2 + m**2 * (noise[0] / a[0]) ** 2 + n**2 * (noise[1] / a[1]) ** 2)
-    bandwidth = min(b[1] - b[0] for b in bands)
-    f_c = float(np.polyfit(t, np.unwrap(np.angle(z[2])), 1)[0] / (2 * np.pi))
-    drift, sigma, _ = _ratio(t, psi, w, bandwidth * t.size / fs, 0, f_c)
-    pieces = [(*_ratio(t[k], psi[k], w[k], bandwidth * k.size / fs, 0, f_c)[:2], bandwidth * k.size / fs)
-              for k in np.array_split(np.arange(t.size), _SEGMENTS)]
-    quarters = np.array_split(np.arange(t.size), _SEGMENTS)
-    pieces = [(*_ratio(t[q], psi[q], w[q], bandwidth * q.size / fs, 0, f_c)[:2], bandwidth * q.size / fs)
-              for q in quarters]
-    resolved = sigma <= RESOLVED
-    locked = resolved and all(_near_order(*piece, 0, tol=0.0) for piece in [(drift, sigma, np.inf), *pieces])
-    logs = _log_envelopes(a, noise)
-    product = abs(m) * logs[0] + abs(n) * logs[1]
-    p, p_sigma = _power_law(product, logs[2], w, max(t.size * bandwidth / fs, 2.0))
-    low, high = COMBINATION_EXPONENT
-    return dict(powers=(int(m), int(n)), drift=float(drift), drift_sigma=float(sigma), exponent=float(p),
-                exponent_sigma=p_sigma, periods=float(t.size / fs * f_c), resolved=bool(resolved),
-                locked=bool(locked), combination=bool(locked and low <= p <= high))
-
-
-def _log_envelopes(envelopes, noise_rms) -> list:
-    """Each envelope's log, its power less the noise's (the analytic noise adds 2 sigma^2 on average), for an
-    amplitude exponent: weighted as the phases are (by each sample's SNR), the samples near the floor, which
-    the noise lifts and which would flatten the slope, count little without being cut away."""
-    sigma2 = 2.0 * np.asarray(noise_rms, float) ** 2
-    return [0.5 * np.log(np.maximum(a**2 - s2, 1e-2 * a**2)) for a, s2 in zip(envelopes, sigma2)]
-
-
-def _power_law(x: np.ndarray, y: np.ndarray, w: np.ndarray, n_eff: float) -> tuple[float, float]:
-    """The exponent ``p`` of ``y = c + p x`` (log envelopes) by a weighted line, and its standard error
-    (``n_eff`` independent samples)."""
-    _, p, res = _line(x, y, w)
-    spread = np.average((x - np.average(x, weights=w)) ** 2, weights=w)
-    return p, float(np.sqrt(np.average(res**2, weights=w) / max(spread, np.finfo(float).tiny) / n_eff))
 
 
 def _near_order(ratio: float, sigma: float, n_eff: float, order: int, tol: float = RATIO_TOL) -> bool:

@@ -13,11 +13,6 @@ The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence;
 - **harmonic** (:attr:`Kind.HARMONIC`): a component near 2 or 3 times a lower one that is phase-locked to it
   and whose amplitude goes as a whole power of the lower one's (:func:`~._harmonics.harmonic_evidence`): a
   product of the lower mode's nonlinearity, which is then nonlinear too.
-- **combination** (:attr:`Kind.COMBINATION`): a component weaker than two modes, one of them nonlinear, near
-  a sum or difference of their frequencies of order 2 or 3 (``f_i +- f_j``, ``2 f_i +- f_j``), that is
-  phase-locked to that sum within its errors and whose amplitude goes as the product of theirs
-  (:func:`~._harmonics.combination_evidence`): a nonlinear element driven by two modes at once makes it
-  (intermodulation); it is named, not reported as a mode.
 - **clipping** (:attr:`Kind.CLIPPING`): in a record whose clipped samples could be neither repaired nor
   left behind (the impact's ``clipping`` is ``"kept"``), a component on a harmonic of a stronger one or on a
   combination of two (within its half-power half-width or three standard deviations, folded about the
@@ -72,7 +67,7 @@ from ._envelope import (
     decay_dependence,
     joint_dependence,
 )
-from ._harmonics import NEAR, ORDERS, RATIO_TOL, _evidence, combination_evidence
+from ._harmonics import NEAR, ORDERS, RATIO_TOL, _evidence
 from .candidates import MISFIT_REACH, MISFIT_SHARE
 from .kinds import Kind
 from .signals import _members, analytic, component, deflated
@@ -112,7 +107,6 @@ def classify_candidates(state) -> None:
     _amplitude_dependent(state)
     _unconfirmed(state)
     _harmonics(state)  # of whole modes: a chirp's pieces are one parent
-    _combinations(state)
     _read_jointly(state)
     _unsupported(cands)
     counts = {k: sum(c.kind is k for c in cands) for k in Kind}
@@ -193,15 +187,6 @@ def _clipping_products(state) -> None:
 _REACH = 6.0
 
 
-def _span(state, k: int) -> tuple[float, float]:
-    """The frequencies candidate ``k`` and the pieces merged into it span, :data:`_REACH` half-power
-    half-widths beyond them."""
-    cands = state.candidates
-    f = [cands[m].damped_frequency_hz for m in _members(state, k)]
-    reach = _REACH * cands[k].decay_rate / (2 * np.pi)
-    return min(f) - reach, max(f) + reach
-
-
 def _pair_bands(state, i: int, j: int, order: int) -> tuple:
     """Bands of parent ``i`` and candidate harmonic ``j`` of ``order`` for the harmonic test, one width for
     both: each spans its frequencies (its merged pieces: a nonlinear mode's frequency moves) and
@@ -210,7 +195,13 @@ def _pair_bands(state, i: int, j: int, order: int) -> tuple:
     longer than the harmonic's (which decays ``order`` times as fast). Neither reaches the other's side of
     their midpoint (the other components are removed from both signals: :func:`deflated`)."""
     cands, fs = state.candidates, state.pre.fs
-    (lo1, hi1), (lo2, hi2) = _span(state, i), _span(state, j)
+
+    def span(k: int) -> tuple[float, float]:
+        f = [cands[m].damped_frequency_hz for m in _members(state, k)]
+        reach = _REACH * cands[k].decay_rate / (2 * np.pi)
+        return min(f) - reach, max(f) + reach
+
+    (lo1, hi1), (lo2, hi2) = span(i), span(j)
     half = 0.5 * max(hi2 - lo2, order * (hi1 - lo1))
     f1, f2 = cands[i].damped_frequency_hz, cands[j].damped_frequency_hz
     middle = 0.5 * (f1 + f2)
@@ -229,19 +220,12 @@ def _heard(cand, noise: float, fs: float, bands) -> int | None:
     return next_fast_len(int(seconds * fs) + 2 * max(transient_samples(fs, b) for b in bands) + 16)
 
 
-def _own(state, k: int, band, keep=(), cache: dict | None = None) -> tuple:
+def _own(state, k: int, band, keep=()) -> tuple:
     """Candidate ``k``'s own signal from the decay's start (the other components but ``keep`` removed) and
-    its noise in ``band``; ``cache`` (keyed by ``(k, keep)``) keeps the signals made for tests that share
-    them."""
+    its noise in ``band``."""
     cand, fs = state.candidates[k], state.pre.fs
     noise = cand.noise_std * np.sqrt(2 * (band[1] - band[0]) / fs)
-    key = (k, tuple(keep))
-    if cache is None or key not in cache:
-        signal = deflated(state, k, keep)[state.start:]
-        if cache is None:
-            return signal, noise
-        cache[key] = signal
-    return cache[key], noise
+    return deflated(state, k, keep)[state.start:], noise
 
 
 def _siblings(state, i: int, order: int) -> list:
@@ -298,89 +282,6 @@ def _harmonics(state) -> None:
                 if parent.kind is Kind.LINEAR:
                     parent.kind = Kind.NONLINEAR
                 _sweep_pieces(state, i, j, order)
-                break
-
-
-#: The sums and differences ``m f_i + n f_j`` tested as combination tones: the orders a quadratic or cubic
-#: element makes (``|m| + |n|`` 2 or 3).
-COMBINATIONS = tuple((m, n) for m in (-2, -1, 1, 2) for n in (-2, -1, 1, 2) if 2 <= abs(m) + abs(n) <= 3)
-
-
-def _combination_bands(state, i: int, j: int, powers: tuple) -> list:
-    """Bands of parents ``i``, ``j`` and of their combination ``m f_i + n f_j`` for the combination test,
-    one width for all three (:func:`_pair_bands`'s reasons: the same time resolution for the three phases,
-    and no parent's filter transient longer than the combination's, which decays faster than both): the
-    combination's, centred on the sum and spanning the parents' spans (:func:`_span`: a nonlinear mode's
-    frequency moves) moved by the powers: a product of two modes is where they put it, whatever width the
-    candidate's own decay fit gave it (a broad fit of two combination tones side by side spans both). None
-    reaches past the midpoint to another of the three."""
-    cands, fs = state.candidates, state.pre.fs
-    (lo1, hi1), (lo2, hi2) = _span(state, i), _span(state, j)
-    (m, n), f1, f2 = powers, cands[i].damped_frequency_hz, cands[j].damped_frequency_hz
-    f = [f1, f2, m * f1 + n * f2]
-    half = 0.5 * (abs(m) * (hi1 - lo1) + abs(n) * (hi2 - lo2))
-    bands = []
-    for a in range(3):
-        lo, hi = max(f[a] - half, 0.05 * f[a]), min(f[a] + half, _TOP * fs)
-        for b in range(3):
-            if b != a:
-                middle = 0.5 * (f[a] + f[b])
-                lo, hi = (max(lo, middle), hi) if f[b] < f[a] else (lo, min(hi, middle))
-        bands.append((lo, hi))
-    return bands
-
-
-def _combination_of(state, i: int, j: int, k: int):
-    """The powers ``(m, n)`` of :data:`COMBINATIONS` whose ``m f_i + n f_j`` lies within candidate ``k``'s
-    reach (its half-power half-width or 3 standard deviations, whichever is wider, and :data:`RATIO_TOL`),
-    nearest first."""
-    cands = state.candidates
-    c = cands[k]
-    reach = max(c.decay_rate / (2 * np.pi), 3 * c.frequency_std_hz, RATIO_TOL * c.damped_frequency_hz)
-    out = []
-    for m, n in COMBINATIONS:
-        off = abs(c.damped_frequency_hz - m * cands[i].damped_frequency_hz - n * cands[j].damped_frequency_hz)
-        if off <= reach:
-            out.append((off, (m, n)))
-    return [powers for _, powers in sorted(out)]
-
-
-def _combinations(state) -> None:
-    """Candidates phase-locked to a sum or difference of two stronger ones, at least one of which the
-    classification found nonlinear (a linear structure makes no combination tones, and a mode of its own
-    can sit within the test's resolution of a sum of two others: a 1061.3 Hz mode at 1.1 % damping 0.06 %
-    off ``2 x 1976.5 - 2891.0`` Hz of two linear modes, decaying 0.89 times as fast as that product, read
-    locked), their amplitude the product of theirs (see the module): :attr:`Kind.COMBINATION`, the stronger
-    parent as ``parent``."""
-    cands = state.candidates
-    live = [k for k, c in enumerate(cands) if c.kind in (Kind.LINEAR, Kind.NONLINEAR)]
-    if len(live) < 3 or not any(cands[k].kind is Kind.NONLINEAR for k in live):
-        return
-    signals: dict = {}
-    for k in sorted(live, key=lambda k: cands[k].height_db):
-        cand = cands[k]
-        parents = [p for p in live if p != k and cands[p].height_db > cand.height_db
-                   and cands[p].kind is not Kind.COMBINATION]
-        tests = [(i, j, powers) for i, j in itertools.combinations(parents, 2)
-                 if Kind.NONLINEAR in (cands[i].kind, cands[j].kind)
-                 for powers in _combination_of(state, i, j, k)]
-        for i, j, powers in tests:
-            bands = _combination_bands(state, i, j, powers)
-            if any(not 0 < lo < hi for lo, hi in bands):
-                continue
-            (y1, n1), (y2, n2), (y3, n3) = (_own(state, p, b, cache=signals)
-                                            for p, b in zip((i, j, k), bands))
-            try:
-                e = combination_evidence((y1, y2, y3), state.pre.fs, bands, powers, (n1, n2, n3))
-            except (ValueError, ArithmeticError, np.linalg.LinAlgError):
-                continue
-            e.update(frequency_hz=cand.frequency_hz,
-                     parent_frequencies_hz=(cands[i].frequency_hz, cands[j].frequency_hz))
-            cand.evidence.setdefault("combination_tests", []).append(e)
-            if e["combination"]:
-                cand.kind = Kind.COMBINATION
-                cand.parent = max((i, j), key=lambda p: cands[p].height_db)
-                cand.evidence["combination"] = e
                 break
 
 

@@ -87,16 +87,6 @@ def _named(state) -> None:
                    f"({e['combination_offset']:.2%} off) in a record that stays clipped: a product of the "
                    "clipping, not a mode")
             state.rejected.append(Rejected(c.band_hz, why, state.index, dict(e), Reason.CLIPPING_PRODUCT))
-        elif c.kind is Kind.COMBINATION:
-            e = c.evidence["combination"]
-            (m, n), (f1, f2) = e["powers"], e["parent_frequencies_hz"]
-            why = (f"a combination tone at {c.frequency_hz:.5g} Hz ({c.height_db:.0f} dB) of the modes at "
-                   f"{f1:.5g} and {f2:.5g} Hz: phase-locked to {_sum_words(m, f1, n, f2)} (drift "
-                   f"{e['drift']:.1e} +- {e['drift_sigma']:.1e} of its frequency), its amplitude their "
-                   f"product to the power {e['exponent']:.2f}: a nonlinear element driven by both makes it; "
-                   "not a mode")
-            state.rejected.append(Rejected(c.band_hz, why, state.index, dict(e), Reason.COMBINATION))
-            state.note(why)
         elif c.kind is Kind.HARMONIC:
             e = c.evidence["harmonic"]
             parent = next((m for k, m in zip(state.origin, state.modes) if k == c.parent), cands[c.parent])
@@ -111,19 +101,6 @@ def _named(state) -> None:
             state.note(f"the components at {listed} Hz are pieces of one nonlinear mode (too close to "
                        f"be modes of their own, which their decays do not show: its frequency or damping "
                        f"changes with amplitude)")
-
-
-def _sum_words(m: int, f1: float, n: int, f2: float) -> str:
-    """``m f1 + n f2`` in words.
-
-    Examples
-    --------
-    >>> _sum_words(2, 36.1, 1, 147.9), _sum_words(-1, 1976.5, 2, 2891.0)
-    ('2 x 36.1 Hz + 147.9 Hz', '-1976.5 Hz + 2 x 2891 Hz')
-    """
-    def term(k: int, f: float) -> str:
-        return f"{abs(k)} x {f:.5g} Hz" if abs(k) > 1 else f"{f:.5g} Hz"
-    return f"{'-' if m < 0 else ''}{term(m, f1)} {'-' if n < 0 else '+'} {term(n, f2)}"
 
 
 def _found_elsewhere(state) -> None:
