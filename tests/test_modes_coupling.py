@@ -85,14 +85,17 @@ def test_a_linear_record_is_left_to_its_own_readings():
     assert all(m.source != "coupling" for m in survey)
 
 
+#: Four modes, a softening cubic spring and an amplitude-dependent damper at mass 0; the 80 Hz mode (1.8 %)
+#: rings beside lightly damped ones that move it through the element.
+FOUR_COUPLED = dict(frequencies_hz=[34.834, 49.754, 80.374, 111.765],
+                    damping_ratios=[0.00953, 0.00350, 0.01820, 0.00222],
+                    amplitudes=[0.756, 0.961, 0.213, 0.108], fs=1000.0, duration=17.595,
+                    sensor="acceleration", pre_trigger=0.036, offset=3.93, snr_db=44.36,
+                    random_state=1085967314, cubic_stiffness=-1.8037e14, damping_amplitude=4.8698e11)
+
+
 def test_a_strongly_damped_mode_beside_a_nonlinear_element_takes_the_joint_reading():
-    # four modes, a softening cubic spring and an amplitude-dependent damper at mass 0; the 80 Hz mode
-    # (1.8 %) rings beside lightly damped ones that move it through the element
-    config = dict(frequencies_hz=[34.834, 49.754, 80.374, 111.765],
-                  damping_ratios=[0.00953, 0.00350, 0.01820, 0.00222],
-                  amplitudes=[0.756, 0.961, 0.213, 0.108], fs=1000.0, duration=17.595,
-                  sensor="acceleration", pre_trigger=0.036, offset=3.93, snr_db=44.36,
-                  random_state=1085967314, cubic_stiffness=-1.8037e14, damping_amplitude=4.8698e11)
+    config = FOUR_COUPLED
     rec = impact_record(**config)
     survey = _survey(rec)
     decisions = " ".join(_coupling_trace(survey).decisions)
@@ -195,12 +198,7 @@ def test_a_reading_that_does_not_describe_the_decay_leaves_the_modes_std_alone(m
         reading = real(*args, **kws)
         return replace(reading, frequency_hz=reading.frequency_hz * 1.01, residual=reading.residual * 100)
 
-    config = dict(frequencies_hz=[34.834, 49.754, 80.374, 111.765],
-                  damping_ratios=[0.00953, 0.00350, 0.01820, 0.00222],
-                  amplitudes=[0.756, 0.961, 0.213, 0.108], fs=1000.0, duration=17.595,
-                  sensor="acceleration", pre_trigger=0.036, offset=3.93, snr_db=44.36,
-                  random_state=1085967314, cubic_stiffness=-1.8037e14, damping_amplitude=4.8698e11)
-    rec = impact_record(**config)
+    rec = impact_record(**FOUR_COUPLED)
     monkeypatch.setattr(coupling, "one_element_reading", off)
     survey = _survey(rec)
     decisions = " ".join(_coupling_trace(survey).decisions)

@@ -22,7 +22,9 @@ reads them together and, where the reading describes the decay (its residual at 
 :data:`~._envelope.ENVELOPE_MISFIT` times the noise) and leaves nothing but noise in any mode's band
 (:func:`band_consistency`, at :data:`NOISE_LEVEL` for the bands together), it reports a mode's
 small-amplitude frequency and damping ratio from it where they differ from the mode's own beyond
-:data:`COUPLING_SIGMAS` of the reading's standard deviations (``source`` ``"coupling"``).
+:data:`COUPLING_SIGMAS` of the reading's standard deviations (``source`` ``"coupling"``). Where the reading
+describes the decay but is not taken, each mode keeps its own values and its ± takes in the difference
+from the reading (:func:`_doubted`).
 """
 
 from __future__ import annotations
@@ -222,7 +224,8 @@ def read_coupling(state) -> None:
     reading's standard deviations, provided the reading describes the decay: its residual's RMS at most
     :data:`~._envelope.ENVELOPE_MISFIT` times the candidates' noise, and no mode's band holding more than
     noise (:func:`band_consistency` at :data:`NOISE_LEVEL` for the bands together). Otherwise the modes'
-    own values stand; the trace says which.
+    own values stand, their ± widened by the reading where it describes the decay (:func:`_doubted`); the
+    trace says which.
     """
     cands = state.candidates
     read = [k for k, c in enumerate(cands) if c.kind in (Kind.NONLINEAR, Kind.LINEAR) and c.decay_rate > 0]
@@ -251,7 +254,7 @@ def read_coupling(state) -> None:
     chance = band_consistency(reading.residual, reading.fs, components)
     if not chance.min() >= NOISE_LEVEL / len(read):
         where = cands[read[int(np.argmin(chance))]].frequency_hz
-        doubted = _doubted(state, read, reading, False)
+        doubted = _doubted(state, read, reading, clean_bands=False)
         state.decide(f"the coupling reading leaves more than noise in the band at {where:.5g} Hz (chance "
                      f"{chance.min():.2g}): the modes' own values stand{doubted}")
         return
@@ -273,7 +276,7 @@ def read_coupling(state) -> None:
         state.modes[j] = replace(mode, frequency_hz=f, damping_ratio=z, frequency_std_hz=f_std,
                                  damping_ratio_std=z_std, source="coupling", uncertainty_note=note)
         taken.append(f"{f:.5g} Hz")
-    doubted = _doubted(state, read, reading, True)
+    doubted = _doubted(state, read, reading, clean_bands=True)
     state.decide(f"{len(read)} modes read together (residual {misfit:.2g} times the noise); values taken "
                  f"from the reading: {', '.join(taken) if taken else 'none'}{doubted}")
 
@@ -282,7 +285,7 @@ def read_coupling(state) -> None:
 DOUBT_SHARE = 0.1
 
 
-def _doubted(state, read: list, reading: CouplingReading, described: bool) -> str:
+def _doubted(state, read: list, reading: CouplingReading, clean_bands: bool) -> str:
     """The ± of the modes of the candidates ``read`` (the reading's, in its order) whose own values stand
     beside the coupling ``reading``, widened by what that reading says of them. Called only where the
     reading describes the decay (its residual within :data:`~._envelope.ENVELOPE_MISFIT` times the noise;
@@ -292,22 +295,24 @@ def _doubted(state, read: list, reading: CouplingReading, described: bool) -> st
     component the reading does not model while its values for the other modes are right (three strongly
     damped modes of coupled records, 0.4-0.5 % off by their own readings, within 0.06 % by such readings).
     The difference between the two is added to the mode's standard deviations (in quadrature) and, where
-    the reading also passed the band test (``described``), the reading's own standard deviations are the
+    the reading also passed the band test (``clean_bands``), the reading's own standard deviations are the
     least they can be (its offset from the other modes' amplitudes is known no better). Not where the
     reading gives a mode no free decay (a damping ratio at or below zero). Returns the words for the trace
     ("" if nothing was widened)."""
     widened = []
     for i, k in enumerate(read):
-        if k not in state.origin or state.modes[state.origin.index(k)].source == "coupling":
+        if k not in state.origin:
             continue
         j = state.origin.index(k)
         mode = state.modes[j]
+        if mode.source == "coupling":  # (the reading's own values, with its ±)
+            continue
         f, z = float(reading.frequency_hz[i]), float(reading.damping_ratio[i])
         if not (np.isfinite(f) and np.isfinite(z) and z > 0):
             continue
         f_std = float(np.hypot(mode.frequency_std_hz, f - mode.frequency_hz))
         z_std = float(np.hypot(mode.damping_ratio_std, z - mode.damping_ratio))
-        if described:
+        if clean_bands:
             f_std = max(f_std, float(reading.frequency_std_hz[i]))
             z_std = max(z_std, float(reading.damping_ratio_std[i]))
         if not (f_std > (1 + DOUBT_SHARE) * mode.frequency_std_hz
@@ -317,7 +322,6 @@ def _doubted(state, read: list, reading: CouplingReading, described: bool) -> st
                 f"reading of the modes together gives {f:.6g} Hz, {z:.4g}): the record does not decide "
                 "between the two")
         note = f"{mode.uncertainty_note}; {note}" if mode.uncertainty_note else note
-        state.modes[j] = replace(mode, frequency_std_hz=max(f_std, mode.frequency_std_hz),
-                                 damping_ratio_std=max(z_std, mode.damping_ratio_std), uncertainty_note=note)
+        state.modes[j] = replace(mode, frequency_std_hz=f_std, damping_ratio_std=z_std, uncertainty_note=note)
         widened.append(f"{mode.frequency_hz:.5g} Hz")
     return f"; their ± widened by it: {', '.join(widened)}" if widened else ""
