@@ -259,13 +259,7 @@ def read_coupling(state) -> None:
                      f"{chance.min():.2g}): the modes' own values stand{doubted}")
         return
     taken = []
-    for i, k in enumerate(read):
-        if k not in state.origin:
-            continue
-        j = state.origin.index(k)
-        mode = state.modes[j]
-        f, z = float(reading.frequency_hz[i]), float(reading.damping_ratio[i])
-        f_std, z_std = float(reading.frequency_std_hz[i]), float(reading.damping_ratio_std[i])
+    for j, mode, (f, z, f_std, z_std) in _modes_read(state, read, reading):
         if not (abs(f - mode.frequency_hz) > COUPLING_SIGMAS * f_std
                 or abs(z - mode.damping_ratio) > COUPLING_SIGMAS * z_std):
             continue
@@ -279,6 +273,17 @@ def read_coupling(state) -> None:
     doubted = _doubted(state, read, reading, clean_bands=True)
     state.decide(f"{len(read)} modes read together (residual {misfit:.2g} times the noise); values taken "
                  f"from the reading: {', '.join(taken) if taken else 'none'}{doubted}")
+
+
+def _modes_read(state, read: list, reading: CouplingReading):
+    """``(index in state.modes, mode, (frequency, damping ratio, their standard deviations by the
+    reading))`` for each candidate of ``read`` (the reading's, in its order) that has a mode."""
+    columns = (reading.frequency_hz, reading.damping_ratio,
+               reading.frequency_std_hz, reading.damping_ratio_std)
+    for i, k in enumerate(read):
+        if k in state.origin:
+            j = state.origin.index(k)
+            yield j, state.modes[j], tuple(float(v[i]) for v in columns)
 
 
 #: A mode's ± is widened (and a note says so) where the coupling reading widens it by more than this share.
@@ -300,21 +305,15 @@ def _doubted(state, read: list, reading: CouplingReading, clean_bands: bool) -> 
     reading gives a mode no free decay (a damping ratio at or below zero). Returns the words for the trace
     ("" if nothing was widened)."""
     widened = []
-    for i, k in enumerate(read):
-        if k not in state.origin:
-            continue
-        j = state.origin.index(k)
-        mode = state.modes[j]
+    for j, mode, (f, z, f_read_std, z_read_std) in _modes_read(state, read, reading):
         if mode.source == "coupling":  # (the reading's own values, with its ±)
             continue
-        f, z = float(reading.frequency_hz[i]), float(reading.damping_ratio[i])
         if not (np.isfinite(f) and np.isfinite(z) and z > 0):
             continue
         f_std = float(np.hypot(mode.frequency_std_hz, f - mode.frequency_hz))
         z_std = float(np.hypot(mode.damping_ratio_std, z - mode.damping_ratio))
         if clean_bands:
-            f_std = max(f_std, float(reading.frequency_std_hz[i]))
-            z_std = max(z_std, float(reading.damping_ratio_std[i]))
+            f_std, z_std = max(f_std, f_read_std), max(z_std, z_read_std)
         if not (f_std > (1 + DOUBT_SHARE) * mode.frequency_std_hz
                 or z_std > (1 + DOUBT_SHARE) * mode.damping_ratio_std):
             continue
