@@ -47,6 +47,23 @@ def test_standard_deviations_are_calibrated():
         assert np.all((rms > 0.7) & (rms < 1.3)), rms
 
 
+
+def test_a_weak_component_beside_a_strong_one_is_not_reported_as_known_exactly():
+    """A component 110 dB under a lightly damped neighbour in the same bins: its pole's information is
+    tiny beside the neighbour's amplitudes', and its standard deviations must still be its scatter's
+    (not the round-off that an unscaled pseudo-inverse leaves of that direction)."""
+    t = np.arange(2000) / FS
+    truth = np.hypot(2.0, 2 * np.pi * 53.0) / (2 * np.pi)
+    z = []
+    for seed in range(30):
+        rng = np.random.default_rng(seed)
+        y = np.exp(-0.3 * t) * np.cos(2 * np.pi * 50.0 * t)
+        y += 3e-6 * np.exp(-2.0 * t) * np.cos(2 * np.pi * 53.0 * t + 1.0) + 1e-6 * rng.standard_normal(t.size)
+        fit = fit_decay(y, FS, [50.0, 53.0], [0.3, 2.0])
+        z.append((fit.frequency_hz[1] - truth) / fit.frequency_std_hz[1])
+    rms = float(np.sqrt(np.mean(np.square(z))))
+    assert 0.6 < rms < 1.6, rms
+
 def test_a_chirp_is_not_explained_by_a_linear_decay():
     a = np.exp(-1.0 * T)
     chirp = a * np.cos(2 * np.pi * (50.0 * T + 0.5 * (1 - a**2) / 2.0))  # 1 % higher at the start

@@ -451,14 +451,22 @@ def _fit_cluster(Y, noise, ranges, c, params, bounds, fs, n, max_nfev, first):
 
 def _cluster_covariance(Y, noise, ranges, c, params, fs, n) -> np.ndarray:
     """Covariance of cluster ``c``'s decay rates and damped angular frequencies (unit-variance weights:
-    the inverse of the Fisher information), in the order (sigma of ``c``, omega of ``c``)."""
+    the inverse of the Fisher information), in the order (sigma of ``c``, omega of ``c``).
+
+    The information is inverted scaled by its diagonal: a weak component's pole is known to a part of
+    its amplitude's (its columns are small beside a strong neighbour's), and unscaled, the pseudo-inverse
+    drops that direction as round-off and reports it as known exactly."""
     sigma, omega, g = params
     problem, _ = _cluster_problem(Y, noise, ranges, c, params, fs, n)
     idx = np.array(c)
     x = np.concatenate([sigma[idx], omega[idx], g[idx].real, g[idx].imag])
     jac = problem.jacobian(x, len(c))
+    normal = jac.T @ jac
+    scale = np.sqrt(np.diag(normal))
+    scale[scale == 0] = 1.0
     try:
-        return np.linalg.pinv(jac.T @ jac)[: 2 * len(c), : 2 * len(c)]
+        cov = np.linalg.pinv(normal / np.outer(scale, scale)) / np.outer(scale, scale)
+        return cov[: 2 * len(c), : 2 * len(c)]
     except np.linalg.LinAlgError:
         return np.full((2 * len(c), 2 * len(c)), np.nan)
 
