@@ -123,6 +123,21 @@ def test_a_cubic_springs_frequency_change_stands_out_where_a_linear_decays_does_
         assert e.coefficients[1] == pytest.approx(shift * w, abs=0.1 * 0.003 * w)
 
 
+
+@pytest.mark.parametrize("units", [1e-6, 1e4])
+def test_the_amplitude_dependence_does_not_depend_on_the_records_units(units):
+    """The same band envelope in other units (a displacement in metres, an acceleration in mm/s^2) gives
+    the same changes and the same standard errors: the squared amplitude's integral carries the units
+    squared, and it must not lose its direction to a least-squares cut-off."""
+    fs, t = 1000.0, np.arange(6000) / 1000.0
+    a = np.exp(-0.8 * t)
+    noise = 1e-3 * np.array([1, 1j]) @ np.random.default_rng(3).standard_normal((2, t.size))
+    z = a * np.exp(1j * 2 * np.pi * 50 * (t + 0.002 * (1 - a**2) / 1.6)) + noise
+    here, there = (_envelope.amplitude_dependence(z * u, fs, 10.0, 1e-3 * u) for u in (1.0, units))
+    for name in ("frequency_change", "frequency_change_std", "decay_change", "decay_change_std"):
+        assert getattr(there, name) == pytest.approx(getattr(here, name), rel=1e-6), name
+    assert there.nonlinear is here.nonlinear
+
 def test_a_decay_too_short_or_not_decaying_is_not_read():
     """Fewer than MIN_PERIODS periods, or no decay to start from: None."""
     t = np.arange(100) / 1000.0

@@ -206,10 +206,16 @@ def _weighted_line(design: np.ndarray, target: np.ndarray, weights: np.ndarray, 
     """Weighted least squares and the coefficients' covariance, the residual variance scaled by
     ``correlation`` (samples per independent one)."""
     w = np.sqrt(weights)
-    coef, *_ = np.linalg.lstsq(design * w[:, None], target * w, rcond=None)
+    weighted = design * w[:, None]
+    # columns scaled to unit norm first: the amplitude integrals carry the record's units squared, and
+    # unscaled, a record in small units loses their direction to the cut-off (its ± read as exact)
+    scale = np.linalg.norm(weighted, axis=0)
+    scale[scale == 0] = 1.0
+    coef = np.linalg.lstsq(weighted / scale, target * w, rcond=None)[0] / scale
     residual = (target - design @ coef) * w
     dof = max(target.size - design.shape[1], 1)
-    cov = np.linalg.pinv((design * w[:, None]).T @ (design * w[:, None])) * float(residual @ residual) / dof
+    normal = (weighted / scale).T @ (weighted / scale)
+    cov = np.linalg.pinv(normal) / np.outer(scale, scale) * float(residual @ residual) / dof
     return coef, cov * correlation
 
 #: Periods per window of the decay-rate measurement (half-overlapping windows).
