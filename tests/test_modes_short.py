@@ -127,6 +127,19 @@ def test_more_short_strongly_damped_records(config):
     _assert_every_mode_right(*_survey_config(config))
 
 
+def test_a_mode_under_three_periods_of_free_decay_named_by_a_stable_pole_is_found():
+    """A 16 %-damped 394 Hz mode and 7.7 ms of free decay (fewer than 3 periods: under the spectral
+    search's lowest frequency), and a 9 %-damped 177 Hz mode beside two others: the stable poles name them,
+    and left out of the decay fit the first is missed and the second's signal pulls its neighbours off."""
+    one = impact_record([394.42], [0.1616], [0.172], fs=25600.0, duration=0.008984, sensor="acceleration",
+                        pre_trigger=0.0878, offset=0.859, snr_db=46.3, random_state=853889205)
+    _assert_modes(_survey(one), one)
+    three = impact_record([176.879, 367.797, 536.647], [0.08942, 0.04710, 0.05591], [0.905, 0.475, 0.314],
+                          fs=10000.0, duration=0.0182, sensor="acceleration", pre_trigger=0.0536, offset=3.49,
+                          snr_db=39.5, random_state=1514896436)
+    _assert_modes(_survey(three), three)
+
+
 def test_a_short_mode_keeps_an_equation_on_its_free_decay():
     rec = impact_record(**RECORD_4)
     survey = _survey(rec)

@@ -314,6 +314,18 @@ def _searched(fit, lo: float, hi: float, threshold_db: float) -> tuple[np.ndarra
     return f[away][:NEW_PER_ROUND], s[away][:NEW_PER_ROUND]
 
 
+def _within_range(frequency_hz, lo: float, hi: float, table) -> np.ndarray:
+    """Which of ``frequency_hz`` the survey reads: up to ``hi``, and from ``lo`` (the spectral search's
+    lowest frequency, 3 periods over the free decay: below it a peak is not told from the offset's
+    leakage) or inside the half-power band of a seed pole (:func:`_pole_seeds`: a pole that recurs over
+    the diagram's orders is its own evidence, whatever the periods the record holds of it)."""
+    f = np.asarray(frequency_hz, float)
+    named = np.zeros(f.size, bool)
+    for g, sigma in zip(*_pole_seeds(table)):
+        named |= np.abs(f - g) <= sigma / (2 * np.pi)
+    return ((f >= lo) | named) & (f <= hi)
+
+
 def fit_candidates(state) -> None:
     """The modes of the free decay: poles and spectral peaks refined by the decay fit."""
     pre, fs, given = state.pre, state.pre.fs, state.options.bands is not None
@@ -321,7 +333,7 @@ def fit_candidates(state) -> None:
     lo = search_range(pre.peaks.spectrum)[0] if len(pre.peaks.spectrum.psd) > 2 else 0.0
     hi = TOP * fs
     f0, s0 = _seeds(state)
-    inside = (f0 >= lo) & (f0 <= hi)
+    inside = _within_range(f0, lo, hi, state.poles)
     f0, s0 = f0[inside], s0[inside]
     threshold = detection_threshold_db(max(ring.shape[0] // 2, 1))
     fit, rounds, noise = None, 0, None
@@ -333,7 +345,7 @@ def fit_candidates(state) -> None:
         f = fit.damped_frequency_hz
         keep = np.ones(len(fit), bool) if given else (fit.height_db >= threshold) & (
             fit.damping_ratio < TRANSIENT * MAX_DAMPING)
-        keep &= (f >= lo) & (f <= hi)
+        keep &= _within_range(f, lo, hi, state.poles)
         last = rounds >= ROUNDS
         new_f, new_s = (np.empty(0), np.empty(0)) if given or last else _searched(fit, lo, hi, threshold)
         if keep.all() and not new_f.size:
