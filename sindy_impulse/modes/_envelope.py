@@ -31,6 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._utils.scaled import scaled_covariance, scaled_normal
 from ..feature_library.terms import term_table
 
 __all__ = ["AmplitudeDependence", "decay_dependence", "amplitude_dependence", "joint_dependence",
@@ -206,16 +207,12 @@ def _weighted_line(design: np.ndarray, target: np.ndarray, weights: np.ndarray, 
     """Weighted least squares and the coefficients' covariance, the residual variance scaled by
     ``correlation`` (samples per independent one)."""
     w = np.sqrt(weights)
-    weighted = design * w[:, None]
-    # columns scaled to unit norm first: the amplitude integrals carry the record's units squared, and
-    # unscaled, a record in small units loses their direction to the cut-off (its ± read as exact)
-    scale = np.linalg.norm(weighted, axis=0)
-    scale[scale == 0] = 1.0
-    coef = np.linalg.lstsq(weighted / scale, target * w, rcond=None)[0] / scale
+    # scaled (:mod:`~sindy_impulse._utils.scaled`): the amplitude integrals carry the record's units squared
+    normal, scale, columns = scaled_normal(design * w[:, None], scaled=True)
+    coef = np.linalg.lstsq(columns, target * w, rcond=None)[0] / scale
     residual = (target - design @ coef) * w
     dof = max(target.size - design.shape[1], 1)
-    normal = (weighted / scale).T @ (weighted / scale)
-    cov = np.linalg.pinv(normal) / np.outer(scale, scale) * float(residual @ residual) / dof
+    cov = scaled_covariance(normal, scale) * float(residual @ residual) / dof
     return coef, cov * correlation
 
 #: Periods per window of the decay-rate measurement (half-overlapping windows).
@@ -380,7 +377,7 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
         # the Jacobian of an accepted point only (a rejected step's is never read)
         jac = np.column_stack([e.real, -e.imag, -t * ce.real, -t * ce.imag]
                               + [c for i in integrals for c in (-i * ce.imag, -i * ce.real)])
-        normal, scale, scaled = _scaled_normal(jac, scaled=True)
+        normal, scale, scaled = scaled_normal(jac, scaled=True)
         cost, best = new_cost, (x, residual, normal, scale)
         if iteration > 0 and np.sqrt(cost / y.size) > _HOPELESS * noise_std:
             break  # something else is in the decay: the misfit says so without converging
@@ -394,7 +391,7 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
     if not (x[2] > 0 and x[3] > 0):
         return None
     variance = _variance_near(residual, fs / stride, frequency_hz, decay_rate, x.size)
-    cov = np.linalg.pinv(normal) / np.outer(scale, scale) * variance
+    cov = scaled_covariance(normal, scale) * variance
     sigma0, omega0, omega2, sigma2 = x[2], x[3], x[4], x[5]
     largest, smallest = abs(amplitude), abs(amplitude) * np.exp(-decay_rate * t_end)
     # the changes over the decay: of the squared amplitudes (its own and each neighbour's) times their slopes
@@ -450,17 +447,6 @@ def _linear_integral(a2: float, rate: float, t: np.ndarray) -> np.ndarray:
     if rate == 0:
         return a2 * np.asarray(t, float)
     return a2 * -np.expm1(-2 * rate * t) / (2 * rate)
-
-
-def _scaled_normal(jac: np.ndarray, scaled: bool = False) -> tuple:
-    """The normal matrix of ``jac`` with its columns scaled to unit norm, and the scales (a mode's
-    amplitude, rates and slopes differ by many orders: unscaled, a pseudo-inverse drops the small ones);
-    with ``scaled``, the scaled ``jac`` too."""
-    scale = np.sqrt(np.einsum("ij,ij->j", jac, jac))
-    scale[scale == 0] = 1.0
-    columns = jac / scale
-    normal = columns.T @ columns
-    return (normal, scale, columns) if scaled else (normal, scale)
 
 
 #: A term of :func:`joint_dependence` (one mode's frequency and decay rate moved by one mode's squared
@@ -552,7 +538,7 @@ def joint_dependence(y: np.ndarray, fs: float, components: list, noise_std: floa
         cost, polished = decay.fit(best[0], terms)
         best = polished or best
     x, residual, normal, scale = best[:4]
-    cov = np.linalg.pinv(normal) / np.outer(scale, scale)
+    cov = scaled_covariance(normal, scale)
     misfit = float(np.sqrt(np.mean(residual**2))) / max(noise_std, 1e-300)
     return [_joint_reading(k, x, cov, residual, decay.fs, terms, drivers, stops[k] / fs, misfit)
             for k in range(len(components))]
@@ -633,7 +619,7 @@ class _JointDecay:
                 step = step / 2  # (a step too long for the exponent: halved from the last point)
                 x = best[0] + step
                 continue
-            normal, scale, scaled = _scaled_normal(self.jacobian(x, ce, terms, index), scaled=True)
+            normal, scale, scaled = scaled_normal(self.jacobian(x, ce, terms, index), scaled=True)
             settled = cost - new_cost < _JOINT_TOLERANCE * new_cost / self.y.size
             cost, best = new_cost, (x, residual, normal, scale, scaled, ce)
             if settled or steps == iterations:  # (settled: a step worth less than a tenth of one
@@ -648,7 +634,7 @@ class _JointDecay:
             x = x + step
         if best is not None and index is not None:  # every parameter's normal matrix at the point reached
             x, residual, ce = best[0], best[1], best[5]
-            best = (x, residual, *_scaled_normal(self.jacobian(x, ce, terms), scaled=True), ce)
+            best = (x, residual, *scaled_normal(self.jacobian(x, ce, terms), scaled=True), ce)
         return cost, best
 
     def parameters_of(self, k: int, terms) -> np.ndarray:

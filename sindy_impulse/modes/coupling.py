@@ -34,9 +34,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.special import gammaincc
 
+from .._utils.scaled import scaled_covariance, scaled_normal
 from .._utils.validation import check_signal
 from ..preprocessing._record import check_fs
-from ._envelope import ENVELOPE_MISFIT, _joint_stride, _linear_integral, _scaled_normal
+from ._envelope import ENVELOPE_MISFIT, _joint_stride, _linear_integral
 from .classify import MAX_TOGETHER, _audible, moves_with_amplitude
 from .kinds import Kind
 from .signals import deflated
@@ -164,14 +165,14 @@ def one_element_reading(y: np.ndarray, fs: float, components: list) -> CouplingR
         cost, best = new, (x, residual, ce)
         if settled:
             break
-        normal, scale, scaled = _scaled_normal(_jacobian(x, ce, t, integrals, n), scaled=True)
+        normal, scale, scaled = scaled_normal(_jacobian(x, ce, t, integrals, n), scaled=True)
         step = np.linalg.lstsq(normal, scaled.T @ residual, rcond=1e-10)[0] / scale  # (G E: one scale free)
         x = x + step
     if best is None:
         raise ValueError("one_element_reading: the components' linear decays give no finite signal")
     x, residual, ce = best
-    normal, scale = _scaled_normal(_jacobian(x, ce, t, integrals, n))
-    cov = np.linalg.pinv(normal) / np.outer(scale, scale) * (cost / max(y.size - x.size, 1))
+    normal, scale = scaled_normal(_jacobian(x, ce, t, integrals, n))
+    cov = scaled_covariance(normal, scale) * (cost / max(y.size - x.size, 1))
     sd = np.sqrt(np.abs(np.diag(cov)))
     sigma, omega = x[2:4 * n:4], x[3:4 * n:4]
     wn = np.hypot(omega, sigma)

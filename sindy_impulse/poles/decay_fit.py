@@ -30,6 +30,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy.special import gammaincc
 
+from .._utils.scaled import scaled_covariance, scaled_normal
 from .._utils.threads import one_thread
 from .._utils.validation import check_signal
 from ..preprocessing.noise_floor import noise_floor
@@ -453,20 +454,16 @@ def _cluster_covariance(Y, noise, ranges, c, params, fs, n) -> np.ndarray:
     """Covariance of cluster ``c``'s decay rates and damped angular frequencies (unit-variance weights:
     the inverse of the Fisher information), in the order (sigma of ``c``, omega of ``c``).
 
-    The information is inverted scaled by its diagonal: a weak component's pole is known to a part of
-    its amplitude's (its columns are small beside a strong neighbour's), and unscaled, the pseudo-inverse
-    drops that direction as round-off and reports it as known exactly."""
+    The information is inverted scaled (:mod:`~sindy_impulse._utils.scaled`): a weak component's pole
+    columns are small beside a strong neighbour's amplitudes', and unscaled, the pseudo-inverse drops that
+    direction as round-off and reports it as known exactly."""
     sigma, omega, g = params
     problem, _ = _cluster_problem(Y, noise, ranges, c, params, fs, n)
     idx = np.array(c)
     x = np.concatenate([sigma[idx], omega[idx], g[idx].real, g[idx].imag])
     jac = problem.jacobian(x, len(c))
-    normal = jac.T @ jac
-    scale = np.sqrt(np.diag(normal))
-    scale[scale == 0] = 1.0
     try:
-        cov = np.linalg.pinv(normal / np.outer(scale, scale)) / np.outer(scale, scale)
-        return cov[: 2 * len(c), : 2 * len(c)]
+        return scaled_covariance(*scaled_normal(jac))[: 2 * len(c), : 2 * len(c)]
     except np.linalg.LinAlgError:
         return np.full((2 * len(c), 2 * len(c)), np.nan)
 
