@@ -314,14 +314,14 @@ def _searched(fit, lo: float, hi: float, threshold_db: float) -> tuple[np.ndarra
     return f[away][:NEW_PER_ROUND], s[away][:NEW_PER_ROUND]
 
 
-def _within_range(frequency_hz, lo: float, hi: float, table) -> np.ndarray:
+def _within_range(frequency_hz, lo: float, hi: float, seeds: tuple) -> np.ndarray:
     """Which of ``frequency_hz`` the survey reads: up to ``hi``, and from ``lo`` (the spectral search's
     lowest frequency, 3 periods over the free decay: below it a peak is not told from the offset's
-    leakage) or inside the half-power band of a seed pole (:func:`_pole_seeds`: a pole that recurs over
-    the diagram's orders is its own evidence, whatever the periods the record holds of it)."""
+    leakage) or inside the half-power band of a seed pole (``seeds``, :func:`_pole_seeds`'s: a pole that
+    recurs over the diagram's orders is its own evidence, whatever the periods the record holds of it)."""
     f = np.asarray(frequency_hz, float)
     named = np.zeros(f.size, bool)
-    for g, sigma in zip(*_pole_seeds(table)):
+    for g, sigma in zip(*seeds):
         named |= np.abs(f - g) <= sigma / (2 * np.pi)
     return ((f >= lo) | named) & (f <= hi)
 
@@ -333,7 +333,8 @@ def fit_candidates(state) -> None:
     lo = search_range(pre.peaks.spectrum)[0] if len(pre.peaks.spectrum.psd) > 2 else 0.0
     hi = TOP * fs
     f0, s0 = _seeds(state)
-    inside = _within_range(f0, lo, hi, state.poles)
+    seeds = _pole_seeds(state.poles)
+    inside = _within_range(f0, lo, hi, seeds)
     f0, s0 = f0[inside], s0[inside]
     threshold = detection_threshold_db(max(ring.shape[0] // 2, 1))
     fit, rounds, noise = None, 0, None
@@ -345,7 +346,7 @@ def fit_candidates(state) -> None:
         f = fit.damped_frequency_hz
         keep = np.ones(len(fit), bool) if given else (fit.height_db >= threshold) & (
             fit.damping_ratio < TRANSIENT * MAX_DAMPING)
-        keep &= _within_range(f, lo, hi, state.poles)
+        keep &= _within_range(f, lo, hi, seeds)
         last = rounds >= ROUNDS
         new_f, new_s = (np.empty(0), np.empty(0)) if given or last else _searched(fit, lo, hi, threshold)
         if keep.all() and not new_f.size:
