@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from sindy_impulse import identify_modes, impact_record
+from sindy_impulse.modes import coupling
 from sindy_impulse.modes.coupling import NOISE_LEVEL, band_consistency, one_element_reading
 
 
@@ -36,6 +37,42 @@ def test_the_reading_recovers_small_amplitude_values_a_linear_decay_reads_offset
     off = np.abs(reading.frequency_hz - true_hz) / reading.frequency_std_hz
     assert np.all(off < 5)
     assert reading.rms == pytest.approx(1e-3, rel=0.1)
+
+
+def _bent(fs=2000.0, n=8000, G=(0.5, 1.5), H=(0.4, 3.0), rates=(1.0, 8.0), noise=1e-3, seed=0):
+    """Two modes of one element with an amplitude-dependent damper, from their averaged equations: mode k's
+    amplitude decays at ``rate_k + H_k s_k`` and its phase turns at ``w_k + G_k s_k``, ``s_k = sum_m (2 -
+    delta_km) a_m^2`` (the amplitudes are bent away from linear decays by the damper)."""
+    from scipy.integrate import solve_ivp
+
+    w, rates, G, H = 2 * np.pi * np.array([40.0, 90.0]), np.array(rates), np.array(G), np.array(H)
+
+    def slow_flow(_, state):
+        a = state[:2]
+        drive = (2 - np.eye(2)) @ a**2
+        return np.concatenate([-(rates + H * drive) * a, w + G * drive])
+
+    t = np.arange(n) / fs
+    flow = solve_ivp(slow_flow, (0, t[-1]), [1.0, 0.5, 0.0, 0.0], t_eval=t, rtol=1e-10, atol=1e-12)
+    y = (flow.y[:2] * np.cos(flow.y[2:])).sum(axis=0)
+    return y + noise * np.random.default_rng(seed).standard_normal(n), fs, w, rates
+
+
+def test_the_reading_integrates_its_own_amplitudes_where_a_damper_bends_them(monkeypatch):
+    y, fs, w, rates = _bent()
+    true_hz, true_zeta = np.hypot(w, rates) / (2 * np.pi), rates / np.hypot(w, rates)
+    start = [(1.0, 1.5, 40.2), (0.5, 9.0, 90.5)]  # the linear decays a mode's own reading gives
+    reading = one_element_reading(y, fs, start)
+    assert np.all(np.abs(reading.frequency_hz - true_hz) < 4 * reading.frequency_std_hz)
+    assert np.all(np.abs(reading.damping_ratio - true_zeta) < 4 * reading.damping_ratio_std)
+    assert band_consistency(reading.residual, reading.fs, start).min() > NOISE_LEVEL
+    assert reading.rms == pytest.approx(1e-3, rel=0.1)
+    # held at the linear decays' amplitudes, the coupling reads the lightly damped mode tens of its standard
+    # deviations off and leaves its band far from noise
+    monkeypatch.setattr(coupling, "ROUNDS", 1)
+    held = one_element_reading(y, fs, start)
+    assert abs(held.frequency_hz[0] - true_hz[0]) > 20 * held.frequency_std_hz[0]
+    assert band_consistency(held.residual, held.fs, start).min() < 1e-10
 
 
 def test_the_reading_refuses_what_is_not_one_free_decay():
@@ -150,8 +187,6 @@ def test_moves_with_amplitude_needs_a_misfit_of_the_linear_decay_and_a_significa
 
 
 def test_a_failing_reading_leaves_the_modes_own_values(monkeypatch):
-    import sindy_impulse.modes.coupling as coupling
-
     def broken(*args, **kws):
         raise FloatingPointError("overflow")
 
@@ -190,8 +225,6 @@ def test_a_mode_whose_own_reading_the_joint_reading_doubts_carries_the_differenc
 
 def test_a_reading_that_does_not_describe_the_decay_leaves_the_modes_std_alone(monkeypatch):
     """A joint reading whose residual is far above the noise says nothing of the modes: their ± stand."""
-    import sindy_impulse.modes.coupling as coupling
-
     real = coupling.one_element_reading
 
     def off(*args, **kws):
@@ -204,3 +237,36 @@ def test_a_reading_that_does_not_describe_the_decay_leaves_the_modes_std_alone(m
     decisions = " ".join(_coupling_trace(survey).decisions)
     assert "does not describe the decay" in decisions and "widened" not in decisions
     assert all("does not decide" not in (m.uncertainty_note or "") for m in survey.modes)
+
+
+def test_a_reading_that_lets_a_mode_grow_is_not_taken(monkeypatch):
+    """A joint reading that describes the decay by letting one mode grow (its damping ratio below zero) has
+    traded the physics for the noise: no mode takes its values, none is widened by it."""
+    real = coupling.one_element_reading
+
+    def growing(*args, **kws):
+        reading = real(*args, **kws)
+        zeta = reading.damping_ratio.copy()
+        zeta[-1] = -abs(zeta[-1])
+        return replace(reading, damping_ratio=zeta, frequency_hz=reading.frequency_hz * 1.01)
+
+    rec = impact_record(**FOUR_COUPLED)
+    monkeypatch.setattr(coupling, "one_element_reading", growing)
+    survey = _survey(rec)
+    decisions = " ".join(_coupling_trace(survey).decisions)
+    assert "no free decay" in decisions and "widened" not in decisions
+    assert all(m.source != "coupling" and m.damping_ratio > 0 for m in survey.modes)
+    assert all("does not decide" not in (m.uncertainty_note or "") for m in survey.modes)
+
+
+def test_a_mode_takes_the_reading_where_it_is_off_or_known_better():
+    from types import SimpleNamespace
+
+    own = SimpleNamespace(frequency_hz=200.0, damping_ratio=0.01, frequency_std_hz=0.1,
+                          damping_ratio_std=1e-3)
+    assert coupling.takes_reading(own, 200.5, 0.01, 0.1, 1e-3)  # 5 of the reading's sd off in frequency
+    assert coupling.takes_reading(own, 200.0, 0.0135, 0.1, 1e-3)  # 3.5 sd off in damping ratio
+    assert not coupling.takes_reading(own, 200.2, 0.011, 0.1, 1e-3)  # agrees, known as well
+    assert coupling.takes_reading(own, 200.05, 0.0105, 0.05, 5e-4)  # agrees, known better in both
+    assert not coupling.takes_reading(own, 200.05, 0.0105, 0.05, 2e-3)  # known better in frequency only
+    assert not coupling.takes_reading(own, 200.05, 0.0105, 0.2, 5e-4)  # known better in damping only

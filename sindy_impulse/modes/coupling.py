@@ -19,10 +19,11 @@ long stretches: each mode's own chirp, its neighbours', and their transients as 
 record with a nonlinear candidate, or one that moves with its amplitude however little
 (:func:`~.classify.moves_with_amplitude`), among 2 to :data:`~.classify.MAX_TOGETHER` decaying ones, it
 reads them together and, where the reading describes the decay (its residual at most
-:data:`~._envelope.ENVELOPE_MISFIT` times the noise) and leaves nothing but noise in any mode's band
-(:func:`band_consistency`, at :data:`NOISE_LEVEL` for the bands together), it reports a mode's
-small-amplitude frequency and damping ratio from it where they differ from the mode's own beyond
-:data:`COUPLING_SIGMAS` of the reading's standard deviations (``source`` ``"coupling"``). Where the reading
+:data:`~._envelope.ENVELOPE_MISFIT` times the noise, every mode decaying) and leaves nothing but noise in
+any mode's band (:func:`band_consistency`, at :data:`NOISE_LEVEL` for the bands together), it reports a
+mode's small-amplitude frequency and damping ratio from it where they differ from the mode's own beyond
+:data:`COUPLING_SIGMAS` of the reading's standard deviations or are known better than the mode's own
+(:func:`takes_reading`; ``source`` ``"coupling"``). Where the reading
 describes the decay but is not taken, each mode keeps its own values and its ± takes in the difference
 from the reading (:func:`_doubted`).
 """
@@ -43,7 +44,7 @@ from .kinds import Kind
 from .signals import deflated
 
 __all__ = ["COUPLING_SIGMAS", "CouplingReading", "NOISE_LEVEL", "band_consistency", "one_element_reading",
-           "read_coupling"]
+           "read_coupling", "takes_reading"]
 
 #: A mode's frequency or damping ratio is taken from the coupling reading where the reading moves it by
 #: more than this many of its standard deviations from the mode's own value.
@@ -52,6 +53,11 @@ COUPLING_SIGMAS = 3.0
 #: as much power in at least one of the bands is at least this (each band tested at this level over the
 #: number of bands).
 NOISE_LEVEL = 0.01
+#: Rounds of :func:`one_element_reading` at most: each fits the model with the amplitudes it integrates held,
+#: then takes them from that fit (the model's own decays, which an amplitude-dependent damper or a strong
+#: coupling bends away from the components' linear ones); it stops where a round lowers the squared
+#: residual by less than a tenth of one sample's share of it.
+ROUNDS = 6
 #: Gauss-Newton steps of :func:`one_element_reading` at most (a step that does not lower the residual is
 #: halved, up to 4 times each); it stops where a step lowers the squared residual by less than a tenth of
 #: one sample's share of it.
@@ -113,15 +119,54 @@ def _jacobian(x: np.ndarray, ce: np.ndarray, t: np.ndarray, integrals: np.ndarra
     return np.column_stack(columns)
 
 
+def _gauss_newton(x: np.ndarray, y: np.ndarray, t: np.ndarray, integrals: np.ndarray, n: int):
+    """``(x, squared residual, residual, components' complex signals)`` of the Gauss-Newton fit of
+    :func:`_model` to ``y`` from ``x`` with the ``integrals`` held (:data:`ITERATIONS` steps at most; a step
+    that does not lower the residual is halved); the cost is infinite where ``x`` gives no finite signal."""
+    cost, best, step = np.inf, (x, None, None), None
+    for _ in range(4 * ITERATIONS):
+        ce = _model(x, t, integrals, n)
+        with np.errstate(over="ignore", invalid="ignore"):
+            residual = y - ce.real.sum(axis=0)
+            new = float(residual @ residual)
+        if not np.isfinite(new) or new > cost:
+            if step is None:
+                break
+            step = step / 2
+            x = best[0] + step
+            continue
+        settled = cost - new < 0.1 * new / y.size
+        cost, best = new, (x, residual, ce)
+        if settled:
+            break
+        normal, scale, scaled = scaled_normal(_jacobian(x, ce, t, integrals, n), scaled=True)
+        step = np.linalg.lstsq(normal, scaled.T @ residual, rcond=1e-10)[0] / scale  # (G E: one scale free)
+        x = x + step
+    return best[0], cost, best[1], best[2]
+
+
+def _own_integrals(ce: np.ndarray, fs: float) -> np.ndarray:
+    """Per component, the running integral (trapezoids at ``fs``) of its squared amplitude ``|ce|^2``."""
+    power = np.abs(ce) ** 2
+    out = np.zeros_like(power)
+    out[:, 1:] = np.cumsum(power[:, 1:] + power[:, :-1], axis=1) / (2 * fs)
+    return out
+
+
 def one_element_reading(y: np.ndarray, fs: float, components: list) -> CouplingReading:
     """The small-amplitude values of the modes of a free decay ``y`` coupled through one nonlinear element.
 
     Fits ``y(t) = sum_k Re[c_k exp(-sigma_k t + i omega_k t + sum_m (2 - delta_km) (i G_k - H_k) E_m
-    I_m(t))]`` (``I_m``: the integral of mode ``m``'s linear decay's squared amplitude) by Gauss-Newton from
-    the components' linear decays (``G = H = 0``, ``E = 1``), on every ``m``-th sample where folding keeps
-    the components apart (:func:`~._envelope._joint_stride`). ``components``: ``(complex amplitude, decay
-    rate, damped frequency_hz)`` of each one's linear decay. The standard deviations are the fit's
-    (residual's variance times the pseudo-inverse of the normal matrix: ``G E`` keeps one scale free).
+    I_m(t))]`` (``I_m``: the integral of mode ``m``'s squared amplitude) by Gauss-Newton from the
+    components' linear decays (``G = H = 0``, ``E = 1``, ``I_m`` theirs), on every ``m``-th sample where
+    folding keeps the components apart (:func:`~._envelope._joint_stride`). The amplitudes integrated are
+    then the fit's own, and it is fitted again, for up to :data:`ROUNDS` rounds: an amplitude-dependent
+    damper, or a coupling that holds a mode's decay back while another rings, bends the amplitudes away
+    from the linear decays, and a model integrating the linear ones misreads the lightly damped modes'
+    small-amplitude frequencies by tens of their standard deviations to make up for it. ``components``:
+    ``(complex amplitude, decay rate, damped frequency_hz)`` of each one's linear decay. The standard
+    deviations are the fit's (residual's variance times the pseudo-inverse of the normal matrix, the
+    amplitudes integrated held: ``G E`` keeps one scale free).
 
     Examples
     --------
@@ -149,28 +194,19 @@ def one_element_reading(y: np.ndarray, fs: float, components: list) -> CouplingR
     integrals = np.array([_linear_integral(abs(complex(c)) ** 2, rate, t) for c, rate, _ in components])
     x = np.concatenate([np.concatenate([[complex(c).real, complex(c).imag, rate, 2 * np.pi * f]
                                         for c, rate, f in components]), np.zeros(2 * n), np.ones(n)])
-    cost, best, step = np.inf, None, None
-    for _ in range(4 * ITERATIONS):
-        ce = _model(x, t, integrals, n)
-        with np.errstate(over="ignore", invalid="ignore"):
-            residual = y - ce.real.sum(axis=0)
-            new = float(residual @ residual)
-        if not np.isfinite(new) or new > cost:
-            if step is None:
-                break
-            step = step / 2
-            x = best[0] + step
-            continue
-        settled = cost - new < 0.1 * new / y.size
-        cost, best = new, (x, residual, ce)
+    best = None
+    for _ in range(ROUNDS):  # the amplitudes the coupling integrates: the model's own, until they settle
+        fit = (*_gauss_newton(x, y, t, integrals, n), integrals)
+        if not fit[1] <= (np.inf if best is None else best[1]):
+            break
+        settled = best is not None and best[1] - fit[1] < 0.1 * fit[1] / y.size
+        best = fit
         if settled:
             break
-        normal, scale, scaled = scaled_normal(_jacobian(x, ce, t, integrals, n), scaled=True)
-        step = np.linalg.lstsq(normal, scaled.T @ residual, rcond=1e-10)[0] / scale  # (G E: one scale free)
-        x = x + step
+        x, integrals = fit[0], _own_integrals(fit[3], fs)
     if best is None:
         raise ValueError("one_element_reading: the components' linear decays give no finite signal")
-    x, residual, ce = best
+    x, cost, residual, ce, integrals = best
     normal, scale = scaled_normal(_jacobian(x, ce, t, integrals, n))
     cov = scaled_covariance(normal, scale) * (cost / max(y.size - x.size, 1))
     sd = np.sqrt(np.abs(np.diag(cov)))
@@ -222,11 +258,13 @@ def read_coupling(state) -> None:
     longest-lived falls into the noise) is read by :func:`one_element_reading`. A mode takes the reading's
     small-amplitude frequency and damping ratio, with their standard deviations (``source``
     ``"coupling"``), where either differs from its own by more than :data:`COUPLING_SIGMAS` of the
-    reading's standard deviations, provided the reading describes the decay: its residual's RMS at most
-    :data:`~._envelope.ENVELOPE_MISFIT` times the candidates' noise, and no mode's band holding more than
-    noise (:func:`band_consistency` at :data:`NOISE_LEVEL` for the bands together). Otherwise the modes'
-    own values stand, their ± widened by the reading where it describes the decay (:func:`_doubted`); the
-    trace says which.
+    reading's standard deviations or the reading knows both better (:func:`takes_reading`), provided the
+    reading describes the decay: its residual's RMS at most
+    :data:`~._envelope.ENVELOPE_MISFIT` times the candidates' noise, every mode decaying (a damping ratio
+    above zero: a reading that lets a mode grow has traded the record's physics for its noise), and no
+    mode's band holding more than noise (:func:`band_consistency` at :data:`NOISE_LEVEL` for the bands
+    together). Otherwise the modes' own values stand, their ± widened by the reading where it describes the
+    decay (:func:`_doubted`); the trace says which.
     """
     cands = state.candidates
     read = [k for k, c in enumerate(cands) if c.kind in (Kind.NONLINEAR, Kind.LINEAR) and c.decay_rate > 0]
@@ -252,6 +290,11 @@ def read_coupling(state) -> None:
         state.decide(f"the coupling reading does not describe the decay (residual {misfit:.3g} times the "
                      "noise): the modes' own values stand")
         return
+    growing = [f for f, z in zip(reading.frequency_hz, reading.damping_ratio) if not z > 0]
+    if growing:
+        state.decide(f"the coupling reading gives the mode at {growing[0]:.5g} Hz no free decay (a damping "
+                     "ratio at or below zero): the modes' own values stand")
+        return
     chance = band_consistency(reading.residual, reading.fs, components)
     if not chance.min() >= NOISE_LEVEL / len(read):
         where = cands[read[int(np.argmin(chance))]].frequency_hz
@@ -261,8 +304,7 @@ def read_coupling(state) -> None:
         return
     taken = []
     for j, mode, (f, z, f_std, z_std) in _modes_read(state, read, reading):
-        if not (abs(f - mode.frequency_hz) > COUPLING_SIGMAS * f_std
-                or abs(z - mode.damping_ratio) > COUPLING_SIGMAS * z_std):
+        if not takes_reading(mode, f, z, f_std, z_std):
             continue
         note = (f"its frequency and damping ratio are read with the other modes' coupling through one "
                 f"nonlinear element (its own reading, from its {mode.source}: {mode.frequency_hz:.6g} Hz, "
@@ -274,6 +316,32 @@ def read_coupling(state) -> None:
     doubted = _doubted(state, read, reading, clean_bands=True)
     state.decide(f"{len(read)} modes read together (residual {misfit:.2g} times the noise); values taken "
                  f"from the reading: {', '.join(taken) if taken else 'none'}{doubted}")
+
+
+def takes_reading(mode, frequency_hz: float, damping_ratio: float, frequency_std_hz: float,
+                  damping_ratio_std: float) -> bool:
+    """Whether a ``mode`` takes the coupling reading's values (given with their standard deviations) in
+    place of its own, the reading having described the decay: where they differ from its own by more than
+    :data:`COUPLING_SIGMAS` of the reading's standard deviations (its own reading, which sees only its own
+    amplitude, is offset by the others'), or where the reading knows both better than its own reading does
+    (the two agree, and the reading is the more precise of two readings of one record).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> own = SimpleNamespace(frequency_hz=100.0, damping_ratio=0.02, frequency_std_hz=0.5,
+    ...                       damping_ratio_std=0.002)
+    >>> takes_reading(own, 100.9, 0.021, 0.2, 0.001)  # 4.5 of its standard deviations off
+    True
+    >>> takes_reading(own, 100.1, 0.021, 0.2, 0.001)  # agrees, and knows both better
+    True
+    >>> takes_reading(own, 100.1, 0.021, 0.2, 0.004)  # agrees, and knows the damping ratio worse
+    False
+    """
+    off = (abs(frequency_hz - mode.frequency_hz) > COUPLING_SIGMAS * frequency_std_hz
+           or abs(damping_ratio - mode.damping_ratio) > COUPLING_SIGMAS * damping_ratio_std)
+    better = frequency_std_hz < mode.frequency_std_hz and damping_ratio_std < mode.damping_ratio_std
+    return bool(off or better)
 
 
 def _modes_read(state, read: list, reading: CouplingReading):
