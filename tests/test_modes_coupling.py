@@ -298,3 +298,23 @@ def test_a_mode_takes_the_reading_where_it_is_off_or_known_better():
     assert coupling.takes_reading(own, 200.05, 0.0105, 0.05, 5e-4)  # agrees, known better in both
     assert not coupling.takes_reading(own, 200.05, 0.0105, 0.05, 2e-3)  # known better in frequency only
     assert not coupling.takes_reading(own, 200.05, 0.0105, 0.2, 5e-4)  # known better in damping only
+
+
+def test_a_reading_that_sends_a_mode_out_of_its_band_is_not_taken(monkeypatch):
+    """The reading samples every m-th point, so a component may drift to an alias, or be damped away to a
+    huge natural frequency: a reading that puts a mode's damped frequency outside its band has dropped it
+    from the model, and no mode takes its values."""
+    real = coupling.one_element_reading
+
+    def astray(*args, **kws):
+        reading = real(*args, **kws)
+        frequency = reading.frequency_hz.copy()
+        frequency[-1] += reading.fs  # an alias of the strided samples: the same fit
+        return replace(reading, frequency_hz=frequency)
+
+    rec = impact_record(**FOUR_COUPLED)
+    monkeypatch.setattr(coupling, "one_element_reading", astray)
+    survey = _survey(rec)
+    decisions = " ".join(_coupling_trace(survey).decisions)
+    assert "out of its band" in decisions and "widened" not in decisions
+    assert all(m.source != "coupling" for m in survey.modes)

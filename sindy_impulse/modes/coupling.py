@@ -297,7 +297,8 @@ def read_coupling(state) -> None:
     reading's standard deviations or the reading knows both better (:func:`takes_reading`), provided the
     reading describes the decay: its residual's RMS at most
     :data:`~._envelope.ENVELOPE_MISFIT` times the candidates' noise, every mode decaying (a damping ratio
-    above zero: a reading that lets a mode grow has traded the record's physics for its noise), and no
+    above zero: a reading that lets a mode grow has traded the record's physics for its noise) within its
+    band (:func:`_astray`), and no
     mode's band holding more than noise (:func:`band_consistency` at :data:`NOISE_LEVEL` for the bands
     together). Otherwise the modes' own values stand, their ± widened by the reading where it describes the
     decay (:func:`_doubted`); the trace says which.
@@ -331,6 +332,12 @@ def read_coupling(state) -> None:
         state.decide(f"the coupling reading gives the mode at {growing[0]:.5g} Hz no free decay (a damping "
                      "ratio at or below zero): the modes' own values stand")
         return
+    astray = _astray(cands, read, reading)
+    if astray:
+        k, f = astray[0]
+        state.decide(f"the coupling reading moves the mode at {cands[k].frequency_hz:.5g} Hz out of its band "
+                     f"(to {f:.5g} Hz): the modes' own values stand")
+        return
     chance = band_consistency(reading.residual, reading.fs, components)
     clean = bool(chance.min() >= NOISE_LEVEL / len(read))
     stride = max(int(round(state.pre.fs / reading.fs)), 1)
@@ -362,6 +369,21 @@ def read_coupling(state) -> None:
                               f"{chance.min():.2g}) but at most {share.max():.2g} of any band's power")
     state.decide(f"{len(read)} modes read together (residual {misfit:.2g} times the noise{bands}); values "
                  f"taken from the reading: {', '.join(taken) if taken else 'none'}{doubted}")
+
+
+def _astray(cands, read: list, reading: CouplingReading) -> list:
+    """``(candidate, damped frequency_hz)`` of each candidate of ``read`` (the reading's, in its order) whose
+    damped frequency the reading puts outside its band (a reading refines a mode where the record shows it;
+    one that sends a component elsewhere, or damps it away, has dropped it from the model: its samples are
+    every ``m``-th, so a component may also drift to an alias)."""
+    out = []
+    for i, k in enumerate(read):
+        band = getattr(cands[k], "band_hz", None)
+        z = float(reading.damping_ratio[i])
+        damped = float(reading.frequency_hz[i]) * np.sqrt(max(1 - z * z, 0.0))
+        if band is not None and not band[0] <= damped <= band[1]:
+            out.append((k, damped))
+    return out
 
 
 def takes_reading(mode, frequency_hz: float, damping_ratio: float, frequency_std_hz: float,
