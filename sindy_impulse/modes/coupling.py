@@ -327,16 +327,9 @@ def read_coupling(state) -> None:
         state.decide(f"the coupling reading does not describe the decay (residual {misfit:.3g} times the "
                      "noise): the modes' own values stand")
         return
-    growing = [f for f, z in zip(reading.frequency_hz, reading.damping_ratio) if not z > 0]
-    if growing:
-        state.decide(f"the coupling reading gives the mode at {growing[0]:.5g} Hz no free decay (a damping "
-                     "ratio at or below zero): the modes' own values stand")
-        return
-    astray = _astray(cands, read, reading)
-    if astray:
-        k, f = astray[0]
-        state.decide(f"the coupling reading moves the mode at {cands[k].frequency_hz:.5g} Hz out of its band "
-                     f"(to {f:.5g} Hz): the modes' own values stand")
+    lost = _lost_mode(cands, read, reading)
+    if lost:
+        state.decide(f"the coupling reading {lost}: the modes' own values stand")
         return
     chance = band_consistency(reading.residual, reading.fs, components)
     clean = bool(chance.min() >= NOISE_LEVEL / len(read))
@@ -349,6 +342,20 @@ def read_coupling(state) -> None:
                      f"{chance.min():.2g}; {share.max():.2g} of a band's power): the modes' own values "
                      f"stand{doubted}")
         return
+    taken = _take(state, read, reading, clean)
+    doubted = _doubted(state, read, reading, clean_bands=clean)
+    bands = "" if clean else (f"; it leaves more than noise in the band at {where:.5g} Hz (chance "
+                              f"{chance.min():.2g}) but at most {share.max():.2g} of any band's power")
+    state.decide(f"{len(read)} modes read together (residual {misfit:.2g} times the noise{bands}); values "
+                 f"taken from the reading: {', '.join(taken) if taken else 'none'}{doubted}")
+
+
+def _take(state, read: list, reading: CouplingReading, clean: bool) -> list:
+    """The modes of the candidates ``read`` (the reading's, in its order) that take the ``reading``'s values
+    (:func:`takes_reading`), with its standard deviations, or, where it left more than noise in a band
+    (not ``clean``), those with the difference from the mode's own reading added (its own standard
+    deviations do not hold the misfit: the difference may be the error). Returns their frequencies' words
+    for the trace."""
     taken = []
     for j, mode, (f, z, f_std, z_std) in _modes_read(state, read, reading):
         if not takes_reading(mode, f, z, f_std, z_std):
@@ -356,7 +363,7 @@ def read_coupling(state) -> None:
         note = (f"its frequency and damping ratio are read with the other modes' coupling through one "
                 f"nonlinear element (its own reading, from its {mode.source}: {mode.frequency_hz:.6g} Hz, "
                 f"{mode.damping_ratio:.4g}; its equation is that reading's)")
-        if not clean:  # (its own standard deviations do not hold the misfit: the difference may be the error)
+        if not clean:
             f_std = float(np.hypot(f_std, f - mode.frequency_hz))
             z_std = float(np.hypot(z_std, z - mode.damping_ratio))
             note += "; its ± includes the difference from its own reading (the record does not decide)"
@@ -364,11 +371,21 @@ def read_coupling(state) -> None:
         state.modes[j] = replace(mode, frequency_hz=f, damping_ratio=z, frequency_std_hz=f_std,
                                  damping_ratio_std=z_std, source="coupling", uncertainty_note=note)
         taken.append(f"{f:.5g} Hz")
-    doubted = _doubted(state, read, reading, clean_bands=clean)
-    bands = "" if clean else (f"; it leaves more than noise in the band at {where:.5g} Hz (chance "
-                              f"{chance.min():.2g}) but at most {share.max():.2g} of any band's power")
-    state.decide(f"{len(read)} modes read together (residual {misfit:.2g} times the noise{bands}); values "
-                 f"taken from the reading: {', '.join(taken) if taken else 'none'}{doubted}")
+    return taken
+
+
+def _lost_mode(cands, read: list, reading: CouplingReading) -> str | None:
+    """Why the ``reading`` has lost one of the modes of ``read`` (the reading's, in its order), or ``None``:
+    a damping ratio at or below zero (a reading that lets a mode grow has traded the record's physics for
+    its noise), or a damped frequency out of the candidate's band (:func:`_astray`)."""
+    growing = [f for f, z in zip(reading.frequency_hz, reading.damping_ratio) if not z > 0]
+    if growing:
+        return f"gives the mode at {growing[0]:.5g} Hz no free decay (a damping ratio at or below zero)"
+    astray = _astray(cands, read, reading)
+    if astray:
+        k, f = astray[0]
+        return f"moves the mode at {cands[k].frequency_hz:.5g} Hz out of its band (to {f:.5g} Hz)"
+    return None
 
 
 def _astray(cands, read: list, reading: CouplingReading) -> list:
