@@ -10,7 +10,8 @@ Run from the repository root::
 row (no change, stiffness -0.5 %, damping +30 %, a cubic spring of +0.3 % at the hit, a drift of -0.05 %
 per test), each surveyed by :func:`sindy_impulse.survey_many`; the surveys' values
 (:class:`sindy_impulse.tracking.SurveyValues`) are cached as JSON under ``--cache`` (default
-``benchmarks/results/cache/track_study``, not committed), one file per sequence and row, so that the
+``benchmarks/results/cache/track_study/<fingerprint of the package's source>``, not committed: surveys of
+other code are never read), one file per sequence and row, so that the
 statistics rerun in seconds and an interrupted run resumes. Then :func:`sindy_impulse.tracking.track` on
 each (reference + row) sequence at the default 1 % rate: the fraction of new surveys flagged, the right
 mode, the term named, the trend; and how often today's survey gives the target mode of the cubic row a
@@ -27,6 +28,7 @@ false-alarm rate at 1 % and at 0.0625 % (one test of a family of 16), and the po
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
 import time
 import warnings
@@ -38,6 +40,18 @@ from benchmarks.tracking import sequences as seqs
 
 ROOT = Path(__file__).resolve().parents[2]
 CACHE = ROOT / "benchmarks" / "results" / "cache" / "track_study"
+
+
+def source_cache(root: Path = CACHE) -> Path:
+    """The default cache folder: ``root`` / a fingerprint of the package's source (the sha256 of every
+    ``sindy_impulse`` module's bytes, in path order), so that surveys cached by other code are never read
+    as this code's."""
+    digest = hashlib.sha256()
+    package = ROOT / "sindy_impulse"
+    for path in sorted(package.rglob("*.py")):
+        digest.update(str(path.relative_to(package)).encode())
+        digest.update(path.read_bytes())
+    return root / digest.hexdigest()[:12]
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -161,7 +175,8 @@ def main(argv=None) -> dict:
     parser.add_argument("--sequences", type=int, default=50)
     parser.add_argument("--first", type=int, default=0, help="first sequence seed")
     parser.add_argument("--rows", default=",".join(seqs.ROWS))
-    parser.add_argument("--cache", type=Path, default=CACHE)
+    parser.add_argument("--cache", type=Path, default=None,
+                        help="where the surveys are cached (default: a folder per source fingerprint)")
     parser.add_argument("--n-jobs", type=int, default=1)
     parser.add_argument("--alpha", type=float, default=0.01)
     parser.add_argument(
@@ -172,6 +187,9 @@ def main(argv=None) -> dict:
     parser.add_argument("--quick", action="store_true", help="fewer draws in the statistics part")
     parser.add_argument("--json", type=Path, default=None, help="also write the results as JSON there")
     args = parser.parse_args(argv)
+    if args.cache is None:
+        args.cache = source_cache()
+        print(f"surveys cached in {args.cache} (this source's fingerprint)")
     rows = [r for r in args.rows.split(",") if r]
     seeds = range(args.first, args.first + args.sequences)
     results = {}
