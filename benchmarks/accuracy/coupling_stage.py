@@ -3,8 +3,7 @@ that stage and after it, record by record.
 
 The stage (:mod:`sindy_impulse.modes.coupling`) reads every decaying mode of a record with a nonlinear one
 together under one element's first-order coupling and takes the reading's values where they move beyond its
-standard deviations (or knows them better) and it leaves nothing but noise, or under a thousandth of the
-power, in every mode's band. Here each record runs through the
+standard deviations and it leaves nothing but noise in every mode's band. Here each record runs through the
 survey's stages once: the modes before the last stage and after it are scored with the modes benchmark's
 marks (:func:`~benchmarks.accuracy.scoring.judge`), and every record whose verdict changes is listed with
 what the stage decided.
@@ -14,10 +13,7 @@ what the stage decided.
 
 Measured, family g (records right before / after the stage; records gained, lost): seed 131 (the seed the
 band test was read on) 85 / 90 (5, 0); held out 197 88 / 90 of 99 (3, 1), 199 88 / 91 (3, 0), 211 94 / 95
-(1, 0), 223 (fresh) 90 / 91 of 99 (1, 0), 227 (fresh) 93 / 99 (6, 0). Since the reading integrates its
-own amplitudes and is also taken where it leaves under a thousandth of every band's power (the
-changelog's December entries): 131 84 / 89 (8, 3), 197 88 / 90 of 99 (4, 2), 199 87 / 92 (6, 1); the
-stage before that change gave 89, 90 and 91 on the same records.
+(1, 0), 223 (fresh) 90 / 91 of 99 (1, 0), 227 (fresh) 93 / 99 (6, 0).
 """
 
 from __future__ import annotations

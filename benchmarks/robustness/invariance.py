@@ -18,7 +18,8 @@ Each record of a family of :mod:`benchmarks.accuracy.families` is surveyed as dr
 Measured on 2026-12-01 (main at 98c330b, the defaults): every record of b, d, g and h kept its table in
 other units, flipped and with a copied channel (80 of 80 each); twice as long, 73 of 80 kept their modes
 within 3 standard deviations (d 17, g 19, h 17 of 20; one family h record lost a 2.7 %-damped mode). On
-45fb2a9 (the coupling reading's own amplitudes and band shares): the same, but g 18 of 20 twice as long.
+45fb2a9 (the coupling reading's own amplitudes, and a band-share rule since reverted): the same, but g 18
+of 20 twice as long.
 
 A record the generator refuses is left out. Every differing record is listed with both tables.
 """

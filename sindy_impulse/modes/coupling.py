@@ -44,7 +44,7 @@ from .kinds import Kind
 from .signals import deflated
 
 __all__ = ["COUPLING_SIGMAS", "CouplingReading", "NOISE_LEVEL", "band_consistency", "one_element_reading",
-           "read_coupling", "takes_reading", "UNEXPLAINED_SHARE", "unexplained_share"]
+           "read_coupling", "takes_reading"]
 
 #: A mode's frequency or damping ratio is taken from the coupling reading where the reading moves it by
 #: more than this many of its standard deviations from the mode's own value.
@@ -53,12 +53,6 @@ COUPLING_SIGMAS = 3.0
 #: as much power in at least one of the bands is at least this (each band tested at this level over the
 #: number of bands).
 NOISE_LEVEL = 0.01
-#: The reading is also believed where, in every band, it leaves at most this share of the record's power
-#: (:func:`unexplained_share`): a frequency or decay-rate error of a band's mode that leaves a share ``s`` of
-#: its power behind is ``sqrt(2 s)`` of its decay rate, 4.5 % at this share, under what a modal table
-#: reads. At a high signal-to-noise ratio the band test finds a first-order model's smallest misfit; this
-#: bounds what that misfit can hide. The modes' ± then include the difference from their own readings.
-UNEXPLAINED_SHARE = 1e-3
 #: Rounds of :func:`one_element_reading` at most: each fits the model with the amplitudes it integrates held,
 #: then takes them from that fit (the model's own decays, which an amplitude-dependent damper or a strong
 #: coupling bends away from the components' linear ones); it stops where a round lowers the squared
@@ -241,47 +235,17 @@ def band_consistency(residual: np.ndarray, fs: float, components: list) -> np.nd
     [False]
     """
     residual = check_signal(residual, "residual", ndim=(1,), min_samples=2 * BAND_BINS, as_2d=False)
-    power, bins, median = _band_powers(residual, check_fs(fs), components)
-    return gammaincc(bins, power / (median / np.log(2)))  # Gamma(bins, 1) beyond the sum
-
-
-def unexplained_share(residual: np.ndarray, y: np.ndarray, fs: float, components: list) -> np.ndarray:
-    """Per component, the share of the power of ``y`` in its band (as :func:`band_consistency`'s) that
-    ``residual`` (the same samples less a model of them, at ``fs``) leaves.
-
-    Examples
-    --------
-    >>> t = np.arange(2000) / 1000.0
-    >>> y = np.exp(-2.0 * t) * np.cos(2 * np.pi * 100 * t)
-    >>> model = np.exp(-2.0 * t) * np.cos(2 * np.pi * 100.01 * t)  # 0.01 Hz, 3 % of its decay rate, off
-    >>> share = unexplained_share(y - model, y, 1000.0, [(1, 2.0, 100.0)])
-    >>> bool(1e-4 < share[0] < 1e-3)
-    True
-    """
-    residual = check_signal(residual, "residual", ndim=(1,), min_samples=2 * BAND_BINS, as_2d=False)
-    y = check_signal(y, "y", ndim=(1,), as_2d=False)
-    if y.shape != residual.shape:
-        raise ValueError(f"y has {y.size} samples and residual {residual.size}: they must be the same")
     fs = check_fs(fs)
-    left, total = _band_powers(residual, fs, components)[0], _band_powers(y, fs, components)[0]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(total > 0, left / np.where(total > 0, total, 1), np.inf)
-
-
-def _band_powers(x: np.ndarray, fs: float, components: list) -> tuple[np.ndarray, np.ndarray, float]:
-    """The periodogram of ``x`` summed over each component's band (:data:`BAND_WIDTHS` half-power
-    half-widths either side of its frequency folded into ``x``'s range, at least :data:`BAND_BINS` bins),
-    the bands' numbers of bins, and the median bin's power."""
-    power = np.abs(np.fft.rfft(x)) ** 2
-    frequencies = np.fft.rfftfreq(x.size, 1 / fs)
-    sums, bins = [], []
+    power = np.abs(np.fft.rfft(residual)) ** 2
+    power = power / (np.median(power) / np.log(2))
+    frequencies = np.fft.rfftfreq(residual.size, 1 / fs)
+    out = []
     for _, rate, f in components:
         folded = abs((f + fs / 2) % fs - fs / 2)
-        half = max(BAND_WIDTHS * rate / (2 * np.pi), BAND_BINS * fs / x.size)
+        half = max(BAND_WIDTHS * rate / (2 * np.pi), BAND_BINS * fs / residual.size)
         band = np.abs(frequencies - folded) <= half
-        sums.append(power[band].sum())
-        bins.append(band.sum())
-    return np.array(sums, float), np.array(bins), float(np.median(power))
+        out.append(float(gammaincc(band.sum(), power[band].sum())))  # Gamma(bins, 1) beyond the sum
+    return np.array(out)
 
 
 def read_coupling(state) -> None:
@@ -332,30 +296,22 @@ def read_coupling(state) -> None:
         state.decide(f"the coupling reading {lost}: the modes' own values stand")
         return
     chance = band_consistency(reading.residual, reading.fs, components)
-    clean = bool(chance.min() >= NOISE_LEVEL / len(read))
-    stride = max(int(round(state.pre.fs / reading.fs)), 1)
-    share = unexplained_share(reading.residual, y[::stride][:reading.residual.size], reading.fs, components)
-    where = cands[read[int(np.argmin(chance))]].frequency_hz
-    if not (clean or share.max() <= UNEXPLAINED_SHARE):
+    if not chance.min() >= NOISE_LEVEL / len(read):
+        where = cands[read[int(np.argmin(chance))]].frequency_hz
         doubted = _doubted(state, read, reading, clean_bands=False)
         state.decide(f"the coupling reading leaves more than noise in the band at {where:.5g} Hz (chance "
-                     f"{chance.min():.2g}; {share.max():.2g} of a band's power): the modes' own values "
-                     f"stand{doubted}")
+                     f"{chance.min():.2g}): the modes' own values stand{doubted}")
         return
-    taken = _take(state, read, reading, clean)
-    doubted = _doubted(state, read, reading, clean_bands=clean)
-    bands = "" if clean else (f"; it leaves more than noise in the band at {where:.5g} Hz (chance "
-                              f"{chance.min():.2g}) but at most {share.max():.2g} of any band's power")
-    state.decide(f"{len(read)} modes read together (residual {misfit:.2g} times the noise{bands}); values "
-                 f"taken from the reading: {', '.join(taken) if taken else 'none'}{doubted}")
+    taken = _take(state, read, reading)
+    doubted = _doubted(state, read, reading, clean_bands=True)
+    state.decide(f"{len(read)} modes read together (residual {misfit:.2g} times the noise); values taken "
+                 f"from the reading: {', '.join(taken) if taken else 'none'}{doubted}")
 
 
-def _take(state, read: list, reading: CouplingReading, clean: bool) -> list:
+def _take(state, read: list, reading: CouplingReading) -> list:
     """The modes of the candidates ``read`` (the reading's, in its order) that take the ``reading``'s values
-    (:func:`takes_reading`), with its standard deviations, or, where it left more than noise in a band
-    (not ``clean``), those with the difference from the mode's own reading added (its own standard
-    deviations do not hold the misfit: the difference may be the error). Returns their frequencies' words
-    for the trace."""
+    (:func:`takes_reading`), with its standard deviations. Returns their frequencies' words for the
+    trace."""
     taken = []
     for j, mode, (f, z, f_std, z_std) in _modes_read(state, read, reading):
         if not takes_reading(mode, f, z, f_std, z_std):
@@ -363,10 +319,6 @@ def _take(state, read: list, reading: CouplingReading, clean: bool) -> list:
         note = (f"its frequency and damping ratio are read with the other modes' coupling through one "
                 f"nonlinear element (its own reading, from its {mode.source}: {mode.frequency_hz:.6g} Hz, "
                 f"{mode.damping_ratio:.4g}; its equation is that reading's)")
-        if not clean:
-            f_std = float(np.hypot(f_std, f - mode.frequency_hz))
-            z_std = float(np.hypot(z_std, z - mode.damping_ratio))
-            note += "; its ± includes the difference from its own reading (the record does not decide)"
         note = f"{mode.uncertainty_note}; {note}" if mode.uncertainty_note else note
         state.modes[j] = replace(mode, frequency_hz=f, damping_ratio=z, frequency_std_hz=f_std,
                                  damping_ratio_std=z_std, source="coupling", uncertainty_note=note)
