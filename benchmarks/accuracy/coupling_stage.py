@@ -3,10 +3,10 @@ that stage and after it, record by record.
 
 The stage (:mod:`sindy_impulse.modes.coupling`) reads every decaying mode of a record with a nonlinear one
 together under one element's first-order coupling and takes the reading's values where they move beyond its
-standard deviations and it leaves nothing but noise in every mode's band. Here each record runs through the
-survey's stages once: the modes before the last stage and after it are scored with the modes benchmark's
-marks (:func:`~benchmarks.accuracy.scoring.judge`), and every record whose verdict changes is listed with
-what the stage decided.
+standard deviations (or knows them better) and it leaves nothing but noise in every mode's band. Here each
+record runs through the survey's stages once: the modes before the last stage and after it are scored with
+the modes benchmark's marks (:func:`~benchmarks.accuracy.scoring.judge`), and every record whose verdict
+changes is listed with what the stage decided.
 
     python -m benchmarks coupling_stage --seed 131 --n 100
     python -m benchmarks coupling_stage --family e --seed 223

@@ -17,7 +17,8 @@ stages over one :class:`~.pipeline.SurveyState` (``print(SURVEY)`` shows it):
 6. ``reconcile`` (:func:`~.reconcile.reconcile`): one answer per mode, the other candidates named;
 7. ``coupling`` (:func:`~.coupling.read_coupling`): where a nonlinear element couples the modes, their
    values read together under its first-order structure, taken where they move beyond the reading's
-   standard deviations and the reading leaves nothing but noise in every mode's band.
+   standard deviations (or it knows them better) and the reading leaves nothing but noise in every mode's
+   band.
 
 ``survey.trace`` holds, per record and stage, the time it took and what it decided. Repeated hits of one
 structure are matched by frequency and combined by the paper's consensus (section 3.3.2).
