@@ -80,6 +80,9 @@ def test_the_reading_refuses_what_is_not_one_free_decay():
         one_element_reading(np.zeros((10, 2)), 100.0, [(1.0, 1.0, 10.0)])
     with pytest.raises(ValueError, match="at least one component"):
         one_element_reading(np.zeros(100), 100.0, [])
+    with warnings.catch_warnings(), pytest.raises(ValueError, match="give no finite signal"):
+        warnings.simplefilter("ignore", RuntimeWarning)  # (the overflow it reports)
+        one_element_reading(np.zeros(2000), 1000.0, [(1.0, -1e5, 10.0)])
     with pytest.raises(ValueError, match="NaN"):
         one_element_reading(np.full(100, np.nan), 100.0, [(1.0, 1.0, 10.0)])
     with pytest.raises(ValueError, match="fs \\(sampling rate\\) must be a positive"):

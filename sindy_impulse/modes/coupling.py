@@ -33,6 +33,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
+from scipy.integrate import cumulative_trapezoid
 from scipy.special import gammaincc
 
 from .._utils.scaled import scaled_covariance, scaled_normal
@@ -147,10 +148,7 @@ def _gauss_newton(x: np.ndarray, y: np.ndarray, t: np.ndarray, integrals: np.nda
 
 def _own_integrals(ce: np.ndarray, fs: float) -> np.ndarray:
     """Per component, the running integral (trapezoids at ``fs``) of its squared amplitude ``|ce|^2``."""
-    power = np.abs(ce) ** 2
-    out = np.zeros_like(power)
-    out[:, 1:] = np.cumsum(power[:, 1:] + power[:, :-1], axis=1) / (2 * fs)
-    return out
+    return cumulative_trapezoid(np.abs(ce) ** 2, dx=1 / fs, axis=1, initial=0)
 
 
 def one_element_reading(y: np.ndarray, fs: float, components: list) -> CouplingReading:
@@ -197,7 +195,7 @@ def one_element_reading(y: np.ndarray, fs: float, components: list) -> CouplingR
     best = None
     for _ in range(ROUNDS):  # the amplitudes the coupling integrates: the model's own, until they settle
         fit = (*_gauss_newton(x, y, t, integrals, n), integrals)
-        if not fit[1] <= (np.inf if best is None else best[1]):
+        if not np.isfinite(fit[1]) or (best is not None and fit[1] > best[1]):
             break
         settled = best is not None and best[1] - fit[1] < 0.1 * fit[1] / y.size
         best = fit
@@ -259,12 +257,11 @@ def read_coupling(state) -> None:
     small-amplitude frequency and damping ratio, with their standard deviations (``source``
     ``"coupling"``), where either differs from its own by more than :data:`COUPLING_SIGMAS` of the
     reading's standard deviations or the reading knows both better (:func:`takes_reading`), provided the
-    reading describes the decay: its residual's RMS at most
-    :data:`~._envelope.ENVELOPE_MISFIT` times the candidates' noise, every mode decaying (a damping ratio
-    above zero: a reading that lets a mode grow has traded the record's physics for its noise) within its
-    band (:func:`_astray`), and no
-    mode's band holding more than noise (:func:`band_consistency` at :data:`NOISE_LEVEL` for the bands
-    together). Otherwise the modes' own values stand, their ± widened by the reading where it describes the
+    reading describes the decay: its residual's RMS at most :data:`~._envelope.ENVELOPE_MISFIT` times the
+    candidates' noise, every mode decaying within its band (:func:`_lost_mode`: a reading that lets a mode
+    grow, or sends it elsewhere, has traded the record's physics for its noise), and no mode's band
+    holding more than noise (:func:`band_consistency` at :data:`NOISE_LEVEL` for the bands together).
+    Otherwise the modes' own values stand, their ± widened by the reading where it describes the
     decay (:func:`_doubted`); the trace says which.
     """
     cands = state.candidates
@@ -347,7 +344,7 @@ def _astray(cands, read: list, reading: CouplingReading) -> list:
     every ``m``-th, so a component may also drift to an alias)."""
     out = []
     for i, k in enumerate(read):
-        band = getattr(cands[k], "band_hz", None)
+        band = cands[k].band_hz
         z = float(reading.damping_ratio[i])
         damped = float(reading.frequency_hz[i]) * np.sqrt(max(1 - z * z, 0.0))
         if band is not None and not band[0] <= damped <= band[1]:
