@@ -470,6 +470,46 @@ def test_a_backbone_names_an_unresolved_harmonic_only_where_its_ratio_does_not_r
     assert e["undecided"] is False
 
 
+@pytest.mark.parametrize("ratio, moving, undecided",
+                         [(2.991, True, True), (2.90, True, False), (2.991, False, False)])
+def test_a_resolved_test_of_a_moving_parent_that_names_nothing_leaves_the_candidate_to_its_backbone(
+        monkeypatch, ratio, moving, undecided):
+    """A candidate whose resolved phase test names no harmonic (not locked) is left undecided, for the
+    parent's backbone to decide, only where the parent's frequency moves and the ratio lies within the
+    window a moving parent's harmonic strays in (here RATIO_TOL + its 2 % sweep); a ratio beyond it, or a
+    parent that keeps its frequency, decides: no harmonic."""
+    from sindy_impulse.modes import _harmonics
+
+    def evidence(*_args):
+        return dict(order=3, frequency_ratio=ratio, ratio_sigma=0.0014, resolved=True, locked=False,
+                    locked_within_errors=False, locking_proven=False, harmonic=False, exponent=2.4,
+                    parent_sweep=0.02)
+
+    monkeypatch.setattr(_harmonics, "harmonic_evidence", evidence)
+    parent = types.SimpleNamespace(frequency_hz=19.5, damping_ratio=0.003, model=None)
+    candidate = types.SimpleNamespace(frequency_hz=58.4, damping_ratio=0.004)
+    pre = types.SimpleNamespace(fs=1000.0)
+    e = _harmonics._evidence(pre, None, None, 0, parent, (57, 60), 0.01, 3, candidate, nonlinear=moving,
+                             own=(np.ones(8), np.ones(8), (18.0, 21.0), 0.01))
+    assert e["harmonic"] is False and e["undecided"] is undecided
+
+
+def test_the_pieces_of_a_hardening_modes_swept_third_harmonic_are_all_named():
+    """A hardening cubic spring (18.9 Hz, its third harmonic 45 dB under it) sweeps its third harmonic over
+    56.8-59.1 Hz: the spectrum shows it as two candidates. The one the record cannot resolve was named by
+    the backbone; the other, a piece of the sweep whose own band's phase test read 2.991 +- 0.0014 (not
+    locked, within the window of a parent that moved 2.4 %), was reported as a mode at 58.25 Hz. The
+    backbone names both."""
+    survey = _g_survey([18.934037051164157], [0.0024759741114831974], [1.0], fs=1000.0, duration=18.708,
+                       sensor="acceleration", pre_trigger=0.07531911005650177, offset=3.8126466683362814,
+                       snr_db=50.32803820537093, random_state=2116528624,
+                       cubic_stiffness=482321176690.8052)
+    assert [round(m.frequency_hz, 1) for m in survey.modes] == [18.9]
+    rows = [r for r in survey.rejected if r.code is Reason.HARMONIC]
+    assert len(rows) == 2 and all(r.evidence["by_backbone"] for r in rows)
+    assert any("does not decide for a parent whose frequency moves" in r.reason for r in rows)
+
+
 def test_a_weak_mode_held_by_a_nonlinear_one_is_read_with_that_modes_chirp_removed():
     """A softening spring at mass 0 couples a strong 212.7 Hz mode (65 dB) to a weak 237.1 Hz one (40 dB):
     the strong mode's frequency moves, and so does the weak one's. Removed by its linear decay, the strong

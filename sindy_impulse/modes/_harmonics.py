@@ -25,7 +25,10 @@ over the noise, or seen only just after the hit) and the parent is a nonlinear m
 harmonic when it lies at ``n`` times a frequency of the parent's fitted backbone (:func:`_on_backbone`;
 ``by_backbone`` in the evidence), unless its measured ratio lies outside the window a harmonic is looked
 for in, beyond its standard errors (:func:`_contradicted`: the data then say no, and no backbone
-overrules them); harmonics of a nonlinear mode too weak to be candidates are named where a
+overrules them). So is a candidate whose resolved test names nothing while its parent's frequency moves
+and its ratio strays from ``n`` no farther than that movement explains (:func:`_strays_with_sweep`): a
+piece of the harmonic's sweep, whose band-passed envelope and phase are the piece's, not the harmonic's.
+Harmonics of a nonlinear mode too weak to be candidates are named where a
 spectral peak stands phase-locked at their place (:func:`_unseen_harmonics`).
 """
 
@@ -406,9 +409,10 @@ def _reason(parent, e: dict) -> str:
     if e.get("by_backbone"):
         locking = (f"frequency ratio {e['frequency_ratio']:.5f} +- {e['ratio_sigma']:.1g}"
                    if np.isfinite(e["ratio_sigma"]) else "too few periods outlast the band's filter")
+        why = ("its band's phase test does not decide for a parent whose frequency moves" if e.get("resolved")
+               else "the record cannot resolve the phase locking")
         return (f"harmonic {e['order']} of the nonlinear mode at {parent.frequency_hz:.4g} Hz (its backbone "
-                f"passes {e['frequency_hz'] / e['order']:.4g} Hz; the record cannot resolve the phase "
-                f"locking: {locking}), not a mode")
+                f"passes {e['frequency_hz'] / e['order']:.4g} Hz; {why}: {locking}), not a mode")
     return (f"harmonic {e['order']} of the mode at {parent.frequency_hz:.4g} Hz, not a mode: phase-locked "
             f"to it (frequency ratio {e['frequency_ratio']:.5f} +- {e['ratio_sigma']:.1g}) and its "
             f"amplitude goes as the mode's to the power {e['exponent']:.2f}")
@@ -464,10 +468,33 @@ def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: in
     # unresolved: the ratio's standard error too large to prove the locking; its value may still rule the
     # order out (a ratio outside the harmonic window is no harmonic, whatever a backbone passes)
     unresolved = not e["resolved"] and not _contradicted(e)
-    e.update(undecided=bool(unresolved and not e["harmonic"]))
+    # a moving parent's harmonic sweeps n times its backbone, and a candidate may be a piece of that sweep,
+    # whose band-passed envelope and phase are the piece's, not the harmonic's: its resolved test, not
+    # named, leaves it to the parent's backbone as an unresolved one does where its ratio strays from n no
+    # farther than the parent's sweep over the stretch explains (and the ratio's standard errors)
+    piece = e["resolved"] and not linear and _strays_with_sweep(e)
+    e.update(undecided=bool((unresolved or piece) and not e["harmonic"]))
     if unresolved and nonlinear is None and _on_backbone(parent, candidate, order):
         e.update(harmonic=True, by_backbone=True, undecided=False)
     return e
+
+
+def _strays_with_sweep(e: dict) -> bool:
+    """Whether a harmonic test's ratio lies off ``n`` by no more than the parent's relative frequency change
+    over the stretch (``parent_sweep``) and :data:`SIGMAS` standard errors: as far as a moving parent's
+    band-passed phases can make a harmonic's ratio stray. A mode of its own near ``n`` times a parent that
+    hardly moves lies farther off than that (e.g. 2.0036 +- 0.00006 times a parent that moved 0.04 %).
+
+    Examples
+    --------
+    >>> _strays_with_sweep(dict(frequency_ratio=2.991, ratio_sigma=0.0014, order=3, parent_sweep=0.024))
+    True
+    >>> _strays_with_sweep(dict(frequency_ratio=2.0036, ratio_sigma=6e-5, order=2, parent_sweep=4e-4))
+    False
+    """
+    sweep = e.get("parent_sweep", np.nan)
+    off = abs(e["frequency_ratio"] / e["order"] - 1)
+    return bool(np.isfinite(sweep) and off <= sweep + SIGMAS * e["ratio_sigma"] / e["order"])
 
 
 def _contradicted(e: dict) -> bool:

@@ -3,7 +3,8 @@
 - Tones, harmonics and unsupported components (:mod:`.classify`) become :class:`~.result.Rejected` rows
   with their code and the evidence (decay rate, phase locking, amplitude exponent).
 - A harmonic the record could not decide on its own (its phase locking unresolved: a few dB over the noise,
-  or seen only just after the hit) is decided by its parent's equation once fitted: at ``n`` times a
+  or seen only just after the hit; or a piece of a moving parent's harmonic sweep, whose band's test does
+  not decide) is decided by its parent's equation once fitted: at ``n`` times a
   frequency the nonlinear parent's backbone passes, it is the parent's harmonic
   (:func:`~._harmonics._on_backbone`); harmonics of a nonlinear mode too weak to be candidates are named
   where a spectral peak stands phase-locked at their place (:func:`~._harmonics._unseen_harmonics`).
@@ -214,8 +215,8 @@ def _maybe_harmonics(state) -> None:
     for k, mode in zip(state.origin, state.modes):
         for e in state.candidates[k].evidence.get("harmonic_tests", []):
             ratio, sigma, n = e["frequency_ratio"], e["ratio_sigma"], e["order"]
-            if not (e.get("undecided") and np.isfinite(sigma) and abs(ratio - n) <= SIGMAS * sigma
-                    and e["exponent"] >= MIN_EXPONENT):
+            if not (e.get("undecided") and not e["resolved"] and np.isfinite(sigma)
+                    and abs(ratio - n) <= SIGMAS * sigma and e["exponent"] >= MIN_EXPONENT):
                 continue
             state.note(f"the mode at {mode.frequency_hz:.5g} Hz may be harmonic {n} of the mode at "
                        f"{e['parent_frequency_hz']:.5g} Hz: {ratio:.4f} +- {sigma:.1g} times it, its "
