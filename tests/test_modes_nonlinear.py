@@ -494,6 +494,42 @@ def test_a_resolved_test_of_a_moving_parent_that_names_nothing_leaves_the_candid
     assert e["harmonic"] is False and e["undecided"] is undecided
 
 
+@pytest.mark.parametrize("sweep, named", [(0.00017, False), (0.02, True)])
+def test_a_ratio_locked_only_by_the_tolerance_must_be_explained_by_the_parents_sweep(
+        monkeypatch, sweep, named):
+    """A ratio 0.2 % off 3 at a hundred standard errors is locked by the tolerance a harmonic's phases get;
+    beside a parent that moved 0.017 % over the stretch, with neither amplitude exponent a whole power
+    (2.46, 2.54), nothing else makes it a harmonic, and it is none. Beside one that moved 2 %, it is."""
+    from sindy_impulse.modes import _harmonics
+
+    def evidence(*_args):
+        return dict(order=3, frequency_ratio=2.99394, ratio_sigma=6e-5, resolved=True, locked=True,
+                    locked_within_errors=False, locking_proven=False, harmonic=True, exponent=2.46,
+                    parent_sweep=sweep)
+
+    monkeypatch.setattr(_harmonics, "harmonic_evidence", evidence)
+    parent = types.SimpleNamespace(frequency_hz=65.0, damping_ratio=0.02, model=None)
+    candidate = types.SimpleNamespace(frequency_hz=194.6, damping_ratio=0.02 * 2.54 * 65.0 / 194.6)
+    pre = types.SimpleNamespace(fs=2048.0)
+    e = _harmonics._evidence(pre, None, None, 0, parent, (185, 205), 0.01, 3, candidate, nonlinear=True,
+                             own=(np.ones(8), np.ones(8), (60.0, 70.0), 0.01))
+    assert e["harmonic"] is named and e["locked"] is named
+
+
+def test_a_mode_near_three_times_a_nonlinear_one_that_keeps_its_frequency_is_a_mode():
+    """A nonlinear damper at mass 0 of a 65.0 and a 194.6 Hz mode (2.994 times the first, both strongly
+    damped): their phases read 2.99394 +- 0.00006, within the tolerance a harmonic's phases get, but the 65
+    Hz mode's frequency moved 0.017 % over the stretch, which explains no 0.2 % offset, and the amplitude
+    exponents (2.46, 2.54) are no whole power. It was named harmonic 3 of the 65 Hz mode; it is a mode."""
+    survey = _g_survey([65.00927095168508, 194.6384454172529], [0.02182105515646779, 0.01773294395743543],
+                       [0.4426829438973521, 0.7203030378171097], fs=2048.0, duration=13.7080078125,
+                       sensor="velocity", pre_trigger=0.03041010473107344, offset=4.938452081491311,
+                       snr_db=57.036808218659395, random_state=1032810974,
+                       damping_amplitude=48489035.13616267)
+    assert [round(m.frequency_hz) for m in survey.modes] == [65, 195]
+    assert not any(r.code is Reason.HARMONIC for r in survey.rejected)
+
+
 def test_the_pieces_of_a_hardening_modes_swept_third_harmonic_are_all_named():
     """A hardening cubic spring (18.9 Hz, its third harmonic 45 dB under it) sweeps its third harmonic over
     56.8-59.1 Hz: the spectrum shows it as two candidates. The one the record cannot resolve was named by

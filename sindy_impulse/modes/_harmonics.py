@@ -18,17 +18,18 @@ the residual with one independent sample per ``1 / bandwidth``; the exponent ``p
 a harmonic (:func:`_evidence`, which the survey's classification calls on each candidate's own signal) when it
 is locked (over the whole stretch and over each of its :data:`_SEGMENTS` pieces the ratio within
 :data:`SIGMAS` standard errors of ``n`` -- a Student-t quantile for pieces of few independent samples -- or
-within :data:`RATIO_TOL`; resolved: the whole stretch's relative standard error at most :data:`RESOLVED`) and
-whose exponent is at least :data:`MIN_EXPONENT` and at most ``n + 0.5`` (a term of power at most ``n`` makes
-harmonic ``n``), the numbers kept as evidence. When the record cannot resolve the locking (a harmonic a few dB
-over the noise, or seen only just after the hit) and the parent is a nonlinear mode, the candidate is its
-harmonic when it lies at ``n`` times a frequency of the parent's fitted backbone (:func:`_on_backbone`;
-``by_backbone`` in the evidence), unless its measured ratio lies outside the window a harmonic is looked
-for in, beyond its standard errors (:func:`_contradicted`: the data then say no, and no backbone
-overrules them). So is a candidate whose resolved test names nothing while its parent's frequency moves
-and its ratio strays from ``n`` no farther than that movement explains (:func:`_strays_with_sweep`): a
-piece of the harmonic's sweep, whose band-passed envelope and phase are the piece's, not the harmonic's.
-Harmonics of a nonlinear mode too weak to be candidates are named where a
+within :data:`RATIO_TOL`, for a parent that moves only, and only where its movement over the stretch explains
+the offset or an amplitude exponent is a whole power, :func:`_loosely_locked`; resolved: the whole stretch's
+relative standard error at most :data:`RESOLVED`) and whose exponent is at least :data:`MIN_EXPONENT` and at
+most ``n + 0.5`` (a term of power at most ``n`` makes harmonic ``n``), the numbers kept as evidence. When the
+record cannot resolve the locking (a harmonic a few dB over the noise, or seen only just after the hit) and
+the parent is a nonlinear mode, the candidate is its harmonic when it lies at ``n`` times a frequency of the
+parent's fitted backbone (:func:`_on_backbone`; ``by_backbone`` in the evidence), unless its measured ratio
+lies outside the window a harmonic is looked for in, beyond its standard errors (:func:`_contradicted`: the
+data then say no, and no backbone overrules them). So is a candidate whose resolved test names nothing while
+its parent's frequency moves and its ratio strays from ``n`` no farther than that movement explains
+(:func:`_strays_with_sweep`): a piece of the harmonic's sweep, whose band-passed envelope and phase are the
+piece's, not the harmonic's. Harmonics of a nonlinear mode too weak to be candidates are named where a
 spectral peak stands phase-locked at their place (:func:`_unseen_harmonics`).
 """
 
@@ -450,11 +451,11 @@ def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: in
     e = harmonic_evidence(ring, pre.fs, parent_band, band, order, (parent_noise, noise))
     e.update(parent_frequency_hz=parent.frequency_hz, frequency_hz=candidate.frequency_hz)
     linear = not (has_nonlinear_terms(parent.model) if nonlinear is None else nonlinear)
-    if e["locked"] and not e["locked_within_errors"] and linear:
-        e.update(locked=False, harmonic=False)  # a linear parent's harmonic: exactly n times it (see below)
     if candidate.damping_ratio > 0 and parent.damping_ratio > 0:  # fitted decays: their ratio is the exponent
         e.update(decay_exponent=float(candidate.damping_ratio * candidate.frequency_hz
                                       / (parent.damping_ratio * parent.frequency_hz)))
+    if e["locked"] and not e["locked_within_errors"] and (linear or _loosely_locked(e)):
+        e.update(locked=False, harmonic=False)  # a linear parent's harmonic: exactly n times it (see below)
     if e["harmonic"] and linear and not _decays_as_power(parent, candidate, order):
         e.update(harmonic=False)
     if e["locked"] and not e["harmonic"] and not linear and (
@@ -477,6 +478,29 @@ def _evidence(pre, ring, analysis, i: int, parent, band, noise: float, order: in
     if unresolved and nonlinear is None and _on_backbone(parent, candidate, order):
         e.update(harmonic=True, by_backbone=True, undecided=False)
     return e
+
+
+def _loosely_locked(e: dict) -> bool:
+    """Whether a ratio locked by :data:`RATIO_TOL` only (beyond its standard errors) has nothing else that
+    makes it a harmonic's: the parent's movement over the stretch does not explain the offset
+    (:func:`_strays_with_sweep`) and neither amplitude exponent (the envelopes', the decay rates') is a whole
+    power. A mode of its own near ``n`` times a parent that hardly moves reads the two modes' ratio, precise
+    and off ``n``, and its envelope decays as its own damping says (e.g. 2.99394 +- 0.00006 times a parent
+    that moved 0.017 %, exponents 2.46 and 2.54); a harmonic's band-passed phases may lag by as much (a
+    quadratic spring's second harmonic read 1.99742 +- 0.00063 beside a parent that moved 0.024 %) and its
+    exponent is a whole power (1.98 and 2.05).
+
+    Examples
+    --------
+    >>> mode = dict(frequency_ratio=2.99394, ratio_sigma=6e-5, order=3, parent_sweep=1.7e-4, exponent=2.46,
+    ...             decay_exponent=2.54)
+    >>> harmonic = dict(frequency_ratio=1.99742, ratio_sigma=6.3e-4, order=2, parent_sweep=2.4e-4,
+    ...                 exponent=1.98, decay_exponent=2.05)
+    >>> _loosely_locked(mode), _loosely_locked(harmonic)
+    (True, False)
+    """
+    exponents = (e["exponent"], e.get("decay_exponent", np.nan))
+    return not _strays_with_sweep(e) and not any(_whole_power(p, e["order"]) for p in exponents)
 
 
 def _strays_with_sweep(e: dict) -> bool:
