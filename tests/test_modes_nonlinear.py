@@ -842,3 +842,142 @@ def test_a_mode_near_twice_another_whose_ratio_its_parents_sweep_cannot_explain_
                       random_state=626935017, cubic_stiffness=-441939.76751032105)
     assert [round(m.frequency_hz) for m in found.modes] == [59, 87, 120, 217]
     assert not any("harmonic" in r.reason for r in found.rejected)
+
+
+def _within_marks(survey, frequencies, damping):
+    """Whether the survey reports exactly these modes, each within 0.3 % in frequency and 10 % in damping."""
+    found = sorted(survey.modes, key=lambda m: m.frequency_hz)
+    return len(found) == len(frequencies) and all(
+        abs(m.frequency_hz / f - 1) <= 3e-3 and abs(m.damping_ratio / z - 1) <= 0.1
+        for m, f, z in zip(found, frequencies, damping))
+
+
+def test_a_mode_read_with_its_own_harmonic_is_not_moved_by_it():
+    """A softening cubic mode (48.8 Hz, frequency 6 % lower at the hit) whose third harmonic's pieces
+    (136.5-139.7 Hz) follow its amplitude: read together, the harmonic's amplitude took the mode's own
+    amplitude dependence and left it a damping ratio of 0.0016 % at 47.7 Hz; and the parent's sweep over the
+    harmonic test's stretch, read from noise as 102 %, made a harmonic piece 'steady' beside it, reported as
+    a mode at 142.7 Hz. The mode is read alone and both pieces are named its harmonic 3."""
+    f, z = [48.835325051060906], [0.003600962389864584]
+    survey = _g_survey(f, z, [1.0], fs=2048.0, duration=3.30126953125, sensor="acceleration",
+                       pre_trigger=0.07326478776158012, offset=4.5542805874526024, snr_db=38.90758196531177,
+                       random_state=239001616, cubic_stiffness=-197951592674805.5)
+    assert _within_marks(survey, f, z)
+    assert sum("harmonic 3" in r.reason for r in survey.rejected) == 2
+
+
+def test_a_chirp_too_long_for_the_first_gauss_newton_step_is_read_by_halving_it():
+    """A softening cubic mode 8.7 % lower at the hit: the averaged equations' first Gauss-Newton step from
+    its linear decay raised the misfit, the iteration stopped at the start (no amplitude dependence: a
+    linear mode at 45.06 Hz from its poles, 3.4 % off) and the third harmonic's three pieces became modes.
+    Halving the step reads the chirp; the paper's fit gives the mode and its backbone names the pieces."""
+    f, z = [46.66147026415864], [0.0036958119554338985]
+    survey = _g_survey(f, z, [1.0], fs=2048.0, duration=6.14990234375, sensor="acceleration",
+                       pre_trigger=0.04384743415676656, offset=0.846734468562822, snr_db=57.711404620940144,
+                       random_state=1166998851, cubic_stiffness=-106094042572973.19)
+    assert _within_marks(survey, f, z)
+    assert sum("harmonic 3" in r.reason for r in survey.rejected) == 3
+
+
+def test_a_parent_whose_harmonic_test_is_left_to_its_backbone_gets_its_equation():
+    """A strongly damped quadratic spring (75.8 Hz, 2.8 %): its second harmonic reads 2.006 +- 0.002 times
+    it, beyond the tolerance of a steady parent's harmonic but within what the parent's movement and the
+    ratio's errors allow, so the test leaves it to the parent's backbone; the parent, whose frequency barely
+    moves, had been reported from its poles (no equation, no backbone) and the harmonic as a mode at
+    152.3 Hz. The parent now gets the paper's fit, whose backbone names the harmonic."""
+    f, z = [75.84075221331157], [0.028398501505310123]
+    survey = _g_survey(f, z, [1.0], fs=2048.0, duration=12.9912109375, sensor="displacement",
+                       pre_trigger=0.07418877894395702, offset=2.0130668678530856, snr_db=48.18454999830893,
+                       random_state=445926864, quadratic_stiffness=16015.704826444957)
+    assert _within_marks(survey, f, z)
+    row = next(r for r in survey.rejected if "harmonic 2" in r.reason)
+    assert row.evidence["by_backbone"]
+
+
+def test_every_piece_of_a_swept_harmonic_is_named_once_one_is():
+    """A strongly damped softening mode (299.4 Hz, 1.6 %) whose third harmonic sweeps 844-898 Hz, fitted as
+    two pieces: the backbone named the first, and the second, whose own frequency is steady (each piece
+    holds its own stretch of the sweep), was reported as a mode at 876.2 Hz."""
+    f, z = [299.4435760864024], [0.016272104465746125]
+    survey = _g_survey(f, z, [1.0], fs=10000.0, duration=0.9061, sensor="acceleration",
+                       pre_trigger=0.06329760840431464, offset=1.8391094975001188, snr_db=58.191939891475656,
+                       random_state=1789662182, cubic_stiffness=-1.0101415347447167e+19)
+    assert _within_marks(survey, f, z)
+    assert sum("harmonic 3" in r.reason for r in survey.rejected) == 2
+
+
+def test_a_stable_pole_beside_a_nonlinear_mode_names_a_weak_mode_away_from_its_products():
+    """Four modes, a cubic element coupling them; the strongly damped 3120.5 Hz mode (2.8 %) stands 13 dB
+    over the noise, under the whole spectrum's detection threshold (13.7 dB) but over that of the places
+    the stable poles name. It was fitted as a hidden component and not reported, because the record holds
+    a nonlinear mode; it lies at no harmonic or intermodulation place of it, and is a mode."""
+    f = [751.1117592082086, 920.6951213863886, 2867.361560962819, 3120.531492229329]
+    z = [0.014083811567948069, 0.001017894294193417, 0.0014200811968189365, 0.028010282908667358]
+    a = [0.5973699246103579, 0.7592219399573353, 0.48547533061849796, 0.2946377890747833]
+    survey = _g_survey(f, z, a, fs=25600.0, duration=1.012421875, sensor="acceleration",
+                       pre_trigger=0.09434637525149048, offset=2.014684331967074, snr_db=35.35256341575531,
+                       random_state=34532911,
+                       damping_amplitude=2.4075786110561864e+18)
+    assert [round(m.frequency_hz, -1) for m in sorted(survey.modes, key=lambda m: m.frequency_hz)] == [
+        750, 920, 2870, 3120]
+
+
+def test_a_parent_sweep_beyond_the_harmonic_window_shows_no_steady_frequency():
+    """A sweep the harmonic test measured beyond the window it looks in (the pieces' phase slopes read
+    noise) does not make a candidate 'steady' beside its parent; a credible one does."""
+    from sindy_impulse.modes._harmonics import NEAR
+    from sindy_impulse.modes.reconcile import _steady_frequency
+
+    steady = types.SimpleNamespace(frequency_change=1e-4, frequency_change_std=1e-5, misfit=0.5)
+    cand = types.SimpleNamespace(evidence={"amplitude_dependence": steady})
+    assert _steady_frequency(cand, {"parent_sweep": 0.03})
+    assert not _steady_frequency(cand, {"parent_sweep": 2 * NEAR})
+
+
+def test_a_mode_moved_only_by_its_own_harmonics_keeps_its_own_reading():
+    """The joint reading does not make a mode one moved by its harmonics (their amplitudes are powers of
+    its own), nor a harmonic a mode moved by its parent."""
+    from sindy_impulse.modes.classify import _at_their_harmonic
+    from sindy_impulse.modes.kinds import Kind
+
+    def cand(f, kind, zeta=0.002):
+        return types.SimpleNamespace(frequency_hz=f, damped_frequency_hz=f, damping_ratio=zeta, kind=kind,
+                                     explained=False)
+
+    cands = [cand(46.0, Kind.NONLINEAR), cand(139.7, Kind.NONLINEAR), cand(75.0, Kind.LINEAR)]
+    assert _at_their_harmonic(cands, 0, [0, 1], [1])  # the mode, moved by its harmonic 3
+    assert not _at_their_harmonic(cands, 0, [0, 2], [2])  # moved by a mode of its own
+    assert not _at_their_harmonic(cands, 0, [0, 1, 2], [1, 2])
+    cands[1].kind = Kind.LINEAR
+    assert _at_their_harmonic(cands, 1, [0, 1], [0])  # the harmonic, moved by its parent
+
+
+def test_a_backbone_names_no_harmonic_beyond_the_frequencies_its_parents_decay_passes():
+    """A strongly damped mode at 207.2 Hz (2.4 %) 2.85 times a 72.6 Hz mode that a cubic element couples
+    weakly: the phase test cannot resolve their ratio (2.885 +- 0.02), and the 72.6 Hz mode's equation,
+    extrapolated to the hit, gives a backbone down to 69.1 Hz, whose 3 times passes 207.2 Hz; its own free
+    decay moves its frequency by 0.15 % +- 0.03 %. The mode was named a harmonic and missed."""
+    f = [53.787483936902575, 72.61788832829833, 189.6684824287928, 207.17744400038086]
+    z = [0.0018644964635257046, 0.01244058591511693, 0.0016434541445812213, 0.023954165529450958]
+    a = [0.35335094277150897, 0.6184653007190892, 0.7470525264344141, 0.8768040053410738]
+    survey = _g_survey(f, z, a, fs=2048.0, duration=14.14404296875, sensor="displacement",
+                       pre_trigger=0.07194027823953084, offset=0.12854563939288854, snr_db=35.55565356703735,
+                       random_state=719428425,
+                       cubic_stiffness=-199343.04348951372, damping_amplitude=31.343598326168888)
+    assert _within_marks(survey, f, z)
+    assert not any("harmonic" in r.reason for r in survey.rejected)
+
+
+def test_a_harmonic_lies_within_the_frequencies_its_parents_own_decay_passes():
+    """The bound is the parent's measured change, its errors and the candidate's half-width, where the
+    parent's averaged equations describe its decay."""
+    from sindy_impulse.modes.reconcile import _beyond_its_decay
+
+    reading = types.SimpleNamespace(frequency_change=-0.0015, frequency_change_std=3e-4, misfit=0.4,
+                                    drivers=())
+    parent = types.SimpleNamespace(frequency_hz=72.6, evidence={"amplitude_dependence": reading})
+    far = types.SimpleNamespace(frequency_hz=207.2, damping_ratio=0.024)   # 4.9 % under 3 x 72.6
+    near = types.SimpleNamespace(frequency_hz=217.0, damping_ratio=0.002)  # 0.4 % under
+    assert _beyond_its_decay(parent, far, 3) and not _beyond_its_decay(parent, near, 3)
+    reading.misfit = 10.0  # its averaged equations do not describe its decay: nothing to bound the backbone
+    assert not _beyond_its_decay(parent, far, 3)

@@ -98,10 +98,10 @@ def test_a_strongly_damped_mode_under_the_threshold_is_reported_from_its_pole():
         assert mode.damping_ratio == pytest.approx(zeta, rel=0.1)
 
 
-def test_poles_name_a_mode_only_where_every_component_is_a_linear_decay():
+def test_poles_name_a_mode_away_from_a_nonlinear_modes_products():
     """The threshold of the places the stable poles name (lower than a whole spectrum's search) applies
-    only where the linear decay explains every component: a nonlinear mode spreads stable poles along its
-    chirp and makes harmonics where no mode is."""
+    where the linear decay explains every component, and beside a nonlinear mode only away from its
+    harmonics and intermodulation tones, which stand where no mode is."""
     from sindy_impulse.modes.candidates import _confirmed_by_poles
     from sindy_impulse.preprocessing.spectrum import detection_threshold_db
 
@@ -117,7 +117,13 @@ def test_poles_name_a_mode_only_where_every_component_is_a_linear_decay():
     fit = Fit()
     assert _confirmed_by_poles(fit, 2).tolist() == [True, True, False]
     assert not _confirmed_by_poles(fit, 0).any()
+    # beside a nonlinear mode (100 Hz), a pole names a mode only away from its harmonics and
+    # intermodulation places: 250 Hz is one, 300 Hz (3 x 100) is not, nor is the nonlinear mode itself
+    fit.damped_frequency_hz = np.array([100.0, 250.0, 300.0])
+    fit.height_db = np.array([at + 5, at + 0.1, at + 5])
     fit.lack_of_fit, fit.lack_of_fit_p = np.array([8.0, 1.0, 1.0]), np.array([1e-12, 0.5, 0.5])
+    assert _confirmed_by_poles(fit, 2).tolist() == [False, True, False]
+    fit.damped_frequency_hz = np.array([100.0, 205.0, 300.0])  # 2 x 100 within 6 %
     assert not _confirmed_by_poles(fit, 2).any()
     assert detection_threshold_db(2) < detection_threshold_db(10000)
 

@@ -364,27 +364,7 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
                          + [_linear_integral(b2, rate, t) for b2, rate in neighbours])
     x = np.concatenate([[amplitude.real, amplitude.imag, decay_rate, 2 * np.pi * frequency_hz],
                         np.zeros(2 * len(integrals))])
-    cost, best = np.inf, None
-    for iteration in range(_ITERATIONS):
-        slopes = x[4::2] * 1j - x[5::2]  # i omega_2 - sigma_2: of its own amplitude, then the neighbours'
-        with np.errstate(over="ignore", invalid="ignore"):  # (a step too long: not finite, not taken)
-            e = np.exp((-x[2] + 1j * x[3]) * t + slopes @ integrals)
-            ce = (x[0] + 1j * x[1]) * e
-            residual = y - ce.real
-            new_cost = float(residual @ residual)
-        if not np.isfinite(new_cost) or new_cost > cost * (1 - _TOLERANCE):
-            break  # (the last step no longer lowered the misfit: keep its start's values)
-        # the Jacobian of an accepted point only (a rejected step's is never read)
-        jac = np.column_stack([e.real, -e.imag, -t * ce.real, -t * ce.imag]
-                              + [c for i in integrals for c in (-i * ce.imag, -i * ce.real)])
-        normal, scale, scaled = scaled_normal(jac, scaled=True)
-        cost, best = new_cost, (x, residual, normal, scale)
-        if iteration > 0 and np.sqrt(cost / y.size) > _HOPELESS * noise_std:
-            break  # something else is in the decay: the misfit says so without converging
-        try:
-            x = x + np.linalg.solve(normal, scaled.T @ residual) / scale
-        except np.linalg.LinAlgError:
-            return None
+    best = _gauss_newton(y, t, x, integrals, noise_std)
     if best is None:  # (the start itself gave no finite signal)
         return None
     x, residual, normal, scale = best
@@ -405,6 +385,42 @@ def decay_dependence(y: np.ndarray, fs: float, amplitude: complex, decay_rate: f
                                (float(largest), float(smallest)),
                                (float(omega0), float(omega2), float(sigma0), float(sigma2)),
                                (std(3), std(4), std(2), std(5)), misfit, start)
+
+
+def _gauss_newton(y: np.ndarray, t: np.ndarray, x: np.ndarray, integrals: np.ndarray, noise_std: float):
+    """:func:`decay_dependence`'s Gauss-Newton fit from ``x``: ``(x, residual, normal matrix, its scales)``
+    at the last point that lowered the squared residual, or None (the start gave no finite signal; a
+    singular normal matrix). A step that raises the residual (too long for the first order's reach: a
+    chirp of several per cent) is halved from that point, :data:`_HALVINGS` times at most."""
+    cost, best, step, halvings, iteration = np.inf, None, None, 0, 0
+    while iteration < _ITERATIONS:
+        slopes = x[4::2] * 1j - x[5::2]  # i omega_2 - sigma_2: of its own amplitude, then the neighbours'
+        with np.errstate(over="ignore", invalid="ignore"):  # (a step too long: not finite, not taken)
+            e = np.exp((-x[2] + 1j * x[3]) * t + slopes @ integrals)
+            ce = (x[0] + 1j * x[1]) * e
+            residual = y - ce.real
+            new_cost = float(residual @ residual)
+        if not np.isfinite(new_cost) or new_cost > cost * (1 - _TOLERANCE):
+            if step is None or halvings >= _HALVINGS or new_cost <= cost:
+                break  # (neither the last step nor its halves lowered the misfit: keep its start)
+            # a step too long for the first order's reach (a chirp of several per cent): half of it
+            step, halvings = step / 2, halvings + 1
+            x = best[0] + step
+            continue
+        # the Jacobian of an accepted point only (a rejected step's is never read)
+        jac = np.column_stack([e.real, -e.imag, -t * ce.real, -t * ce.imag]
+                              + [c for i in integrals for c in (-i * ce.imag, -i * ce.real)])
+        normal, scale, scaled = scaled_normal(jac, scaled=True)
+        cost, best = new_cost, (x, residual, normal, scale)
+        if iteration > 0 and np.sqrt(cost / y.size) > _HOPELESS * noise_std:
+            break  # something else is in the decay: the misfit says so without converging
+        iteration += 1
+        try:
+            step = np.linalg.solve(normal, scaled.T @ residual) / scale
+        except np.linalg.LinAlgError:
+            return None
+        x, halvings = x + step, 0
+    return best
 
 
 def _variance_near(residual: np.ndarray, fs: float, frequency_hz: float, decay_rate: float,

@@ -30,7 +30,7 @@ import numpy as np
 from .._utils.params import Interval, check_param
 from ..poles.decay_fit import MAX_DAMPING, MISFIT_REACH, MISFIT_SHARE, fit_decay, missing_peaks
 from ..preprocessing._record import check_signal_1d
-from ..preprocessing.partition import at_harmonic_place, peak_bands, resolved
+from ..preprocessing.partition import HARMONIC_NEAR, at_harmonic_place, peak_bands, resolved
 from ..preprocessing.peaks import SpectralPeaks, spectral_peaks
 from ..preprocessing.pipeline import prepare_record
 from ..preprocessing.quality import check_quality, ringdown_snr_db
@@ -363,8 +363,8 @@ def fit_candidates(state) -> None:
         if confirmed.any():
             at = detection_threshold_db(places)
             state.decide(f"{int(confirmed.sum())} stable pole(s) under the detection threshold stand over "
-                         f"the {at:.1f} dB of {places} place(s) the poles name, in a record the linear decay "
-                         "explains: candidate(s) at "
+                         f"the {at:.1f} dB of {places} place(s) the poles name, none at a nonlinear mode's "
+                         "harmonic or intermodulation place: candidate(s) at "
                          + ", ".join(f"{f:.5g} Hz" for f in fit.frequency_hz[confirmed]))
     state.fit = fit
     found = [] if fit is None else _candidates(fit, state.poles)
@@ -440,17 +440,42 @@ def _with_hidden(fit, ring: np.ndarray, fs: float, table, noise, threshold_db: f
 
 def _confirmed_by_poles(fit, places: int) -> np.ndarray:
     """Which components stand out of the noise at a place the stable poles name: a mode, though under the
-    detection threshold, where the linear decay explains every component of the fit.
+    detection threshold.
 
     The detection threshold guards a search of the whole spectrum (:func:`detection_threshold_db` of its
     bins); a stable pole names its place before the fit looks there, so its component is tested against
-    the threshold of the ``places`` poles tried. A record whose components the linear decay does not all
-    explain holds a nonlinear mode, whose chirp spreads stable poles along its band and whose harmonics
-    and combination tones stand where no mode is: there a pole does not name a mode.
+    the threshold of the ``places`` poles tried. A component the linear decay does not explain is a
+    nonlinear mode, whose harmonics and intermodulation tones stand where no mode is: beside one, a pole
+    names a mode only away from those places (:func:`_at_product_place`; its chirp's own poles are beyond
+    the hidden components' reach, :func:`_standing`).
     """
-    if places < 1 or np.any(_misfit(fit.lack_of_fit, fit.lack_of_fit_p)):
+    if places < 1:
         return np.zeros(len(fit), bool)
-    return np.asarray(fit.height_db) >= detection_threshold_db(places)
+    over = np.asarray(fit.height_db) >= detection_threshold_db(places)
+    misfit = _misfit(fit.lack_of_fit, fit.lack_of_fit_p)
+    if not misfit.any():
+        return over
+    f = np.asarray(fit.damped_frequency_hz, float)
+    products = np.array([_at_product_place(fk, np.delete(f, k), f[misfit]) for k, fk in enumerate(f)], bool)
+    return over & ~misfit & ~products
+
+
+def _at_product_place(frequency_hz: float, components, nonlinear) -> bool:
+    """Whether ``frequency_hz`` lies within :data:`HARMONIC_NEAR` of a product of order 2 or 3 of a
+    ``nonlinear`` frequency: 2 or 3 times it, or it plus or minus one or two times any of ``components``
+    (the other components of the fit), or twice it plus or minus one of them.
+
+    Examples
+    --------
+    >>> _at_product_place(1310.0, [100.0, 1000.0], [310.0]), _at_product_place(1500.0, [1000.0], [310.0])
+    (True, False)
+    """
+    a = np.asarray(nonlinear, float)[:, None]
+    b = np.asarray(components, float)[None, :]
+    places = [2 * a, 3 * a, a + b, a - b, 2 * a + b, 2 * a - b, a + 2 * b, a - 2 * b]
+    places = np.abs(np.concatenate([np.ravel(p) for p in places]))
+    places = places[places > 0]
+    return bool(np.any(np.abs(frequency_hz / places - 1) <= HARMONIC_NEAR))
 
 
 def _standing(fit, hidden: np.ndarray, threshold_db: float) -> np.ndarray:

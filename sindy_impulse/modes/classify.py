@@ -275,6 +275,12 @@ def _harmonics(state) -> None:
             except (ValueError, ArithmeticError, np.linalg.LinAlgError):
                 continue
             cand.evidence.setdefault("harmonic_tests", []).append(e)
+            if e["undecided"] and e["resolved"] and parent.kind is Kind.LINEAR and _moves(parent):
+                # a resolved ratio that the parent's movement may explain is left to the parent's backbone:
+                # the parent needs its equation (where it has no nonlinear terms, its poles' values stand
+                # and the candidate stays a mode; an unresolved test says too little to fit for it)
+                parent.kind = Kind.NONLINEAR
+                parent.evidence["harmonic_undecided"] = True
             if e["harmonic"]:
                 cand.kind, cand.parent = Kind.HARMONIC, i  # (its merged pieces stay merged into it)
                 cand.evidence["harmonic"] = e
@@ -525,14 +531,19 @@ def _read_jointly(state) -> None:
 
 
 def _at_their_harmonic(cands: list, k: int, read: list, movers) -> bool:
-    """Whether linear candidate ``k`` lies within a harmonic's reach (:func:`_harmonic_order`) of a
-    nonlinear candidate of ``read``, and the other candidates that move it (``movers``) are such: a
-    nonlinear mode's harmonic follows that mode's amplitude (and its own, a power of it) as a mode the
-    element moves would, so the joint reading does not make it a mode; the harmonic tests decide."""
+    """Whether candidate ``k`` and the other candidates that move it in the joint reading (``movers``)
+    are a nonlinear mode and its harmonics (:func:`_harmonic_order`): ``k`` linear, within a harmonic's
+    reach of nonlinear candidates of ``read`` that are all its movers, or every mover within a harmonic's
+    reach of ``k``. A nonlinear mode's harmonic follows that mode's amplitude (and its own, a power of
+    it) as a mode the element moves would, and the mode's own amplitude dependence reads as the
+    harmonic's amplitude moving it: the joint reading does not make the harmonic a mode, nor the mode
+    one moved by another; the harmonic tests decide."""
     c = cands[k]
     parents = {j for j in read
                if cands[j].kind is Kind.NONLINEAR and _harmonic_order(c, cands[j]) is not None}
-    return bool(c.kind is Kind.LINEAR and parents and set(movers) <= parents)
+    if c.kind is Kind.LINEAR and parents and set(movers) <= parents:
+        return True
+    return bool(movers) and all(_harmonic_order(cands[j], c) is not None for j in movers)
 
 
 def _undescribed_alone(cand) -> bool:

@@ -166,12 +166,14 @@ def _doubtful(state, k: int, out) -> bool:
 
 def _sent_on_doubt(state, k: int, out) -> bool:
     """Whether ``out`` is the paper's fit of a single component sent to it on doubt: a doubtful change of
-    its frequency (:func:`_doubtful`), or neither its linear decay nor its averaged equations describing it
-    (:func:`~.classify._undescribed`). Where its equation has no nonlinear terms, both readings call the
-    mode linear, and its poles' values, the sharper reading with their calibrated standard deviations, are
-    its answer, as for any linear mode."""
+    its frequency (:func:`_doubtful`), neither its linear decay nor its averaged equations describing it
+    (:func:`~.classify._undescribed`), or a higher candidate's harmonic test left to its backbone
+    (``harmonic_undecided``: its decay moves, and the test could not tell its harmonic). Where its
+    equation has no nonlinear terms, both readings call the mode linear, and its poles' values, the sharper
+    reading with their calibrated standard deviations, are its answer, as for any linear mode."""
     cand = state.candidates[k]
-    return _single_equation(state, k, out) and (cand.explained or bool(cand.evidence.get("undescribed")))
+    return _single_equation(state, k, out) and (cand.explained or bool(cand.evidence.get("undescribed"))
+                                                or bool(cand.evidence.get("harmonic_undecided")))
 
 
 def _agreeing_poles(state, k: int, out) -> Mode | None:

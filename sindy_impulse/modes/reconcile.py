@@ -33,7 +33,7 @@ import numpy as np
 
 from ..preprocessing.partition import resolved
 from ._envelope import DECAY_CHANGE, DOUBT_SIGMAS, ENVELOPE_MISFIT, _missing_damping, _model_rate_change
-from ._harmonics import MIN_EXPONENT, SIGMAS, _on_backbone, _reason, _unseen_harmonics
+from ._harmonics import MIN_EXPONENT, NEAR, SIGMAS, _on_backbone, _reason, _unseen_harmonics
 from ._nonlinear import has_nonlinear_terms
 from .candidates import persistent_modes
 from .kinds import Kind, Reason
@@ -186,28 +186,57 @@ def _steady_decay(cand) -> bool:
 
 
 def _decided_by_backbones(state) -> None:
-    """Modes left undecided by the harmonic test that lie on a nonlinear parent's backbone times ``n``."""
+    """Modes left undecided by the harmonic test that lie on a nonlinear parent's backbone times ``n``.
+
+    A candidate whose own frequency stays steady while its parent's sweeps is no harmonic
+    (:func:`_steady_frequency`), unless another piece of the same harmonic (same parent, same order) is
+    named: a harmonic that sweeps is fitted as a run of pieces, and each piece, read with the others
+    removed, holds its own stretch of the sweep only."""
     by_candidate = dict(zip(state.origin, state.modes))
-    drop = set()
-    for i, (k, mode) in enumerate(zip(state.origin, state.modes)):
-        for e in state.candidates[k].evidence.get("harmonic_tests", []):
-            if not e.get("undecided"):
+    drop, named = set(), set()
+    for sweep_known in (False, True):
+        for i, (k, mode) in enumerate(zip(state.origin, state.modes)):
+            if i in drop:
                 continue
-            f = e["parent_frequency_hz"]
-            parent_k = next(
-                (j for j, c in enumerate(state.candidates) if abs(c.frequency_hz - f) <= 1e-9 * f), None)
-            parent = by_candidate.get(parent_k)
-            if parent is None or not has_nonlinear_terms(parent.model) or _steady_frequency(
-                    state.candidates[k], e):
-                continue
-            if _on_backbone(parent, mode, e["order"], e.get("decay_exponent")):
-                e = dict(e, harmonic=True, by_backbone=True, frequency_hz=mode.frequency_hz)
-                why = _reason(parent, e)
-                state.rejected.append(Rejected(mode.band_hz, why, state.index, e, Reason.HARMONIC))
-                state.note(f"the peak at {mode.frequency_hz:.4g} Hz is the {why}")
-                drop.add(i)
-                break
+            for e in state.candidates[k].evidence.get("harmonic_tests", []):
+                if not e.get("undecided"):
+                    continue
+                f = e["parent_frequency_hz"]
+                parent_k = next(
+                    (j for j, c in enumerate(state.candidates) if abs(c.frequency_hz - f) <= 1e-9 * f), None)
+                parent = by_candidate.get(parent_k)
+                if parent is None or not has_nonlinear_terms(parent.model):
+                    continue
+                if sweep_known != ((parent_k, e["order"]) in named):
+                    continue
+                if not sweep_known and _steady_frequency(state.candidates[k], e):
+                    continue
+                if _beyond_its_decay(state.candidates[parent_k], mode, e["order"]):
+                    continue
+                if _on_backbone(parent, mode, e["order"], e.get("decay_exponent")):
+                    e = dict(e, harmonic=True, by_backbone=True, frequency_hz=mode.frequency_hz)
+                    why = _reason(parent, e)
+                    state.rejected.append(Rejected(mode.band_hz, why, state.index, e, Reason.HARMONIC))
+                    state.note(f"the peak at {mode.frequency_hz:.4g} Hz is the {why}")
+                    drop.add(i)
+                    named.add((parent_k, e["order"]))
+                    break
     _drop(state, drop)
+
+
+def _beyond_its_decay(parent, mode, order: int) -> bool:
+    """Whether ``mode`` lies beyond ``order`` times every frequency its would-be parent's own free decay
+    passes: farther from it, relatively, than the parent's measured frequency change over its decay (its
+    averaged equations, where they describe it and no other mode's amplitude moves it) and
+    :data:`~._harmonics.SIGMAS` of its standard errors, widened by the mode's half-power half-width (a
+    strongly damped harmonic's decay reads its frequency that far off). A backbone extrapolated to the
+    hit's amplitude may pass frequencies the decay never shows."""
+    d = _described(parent)
+    if d is None or d.drivers:
+        return False
+    offset = abs(mode.frequency_hz / (order * parent.frequency_hz) - 1)
+    reach = abs(d.frequency_change) + SIGMAS * d.frequency_change_std + mode.damping_ratio
+    return bool(offset > reach)
 
 
 def _maybe_harmonics(state) -> None:
@@ -233,9 +262,11 @@ def _steady_frequency(cand, e: dict) -> bool:
     candidate's decay (misfit at most :data:`~._envelope.ENVELOPE_MISFIT`) and its frequency's relative
     change over its amplitudes, at :data:`~._harmonics.SIGMAS` standard errors, stays under half that
     sweep. The backbone then does not name it (its phase locking unresolved over few independent samples,
-    a mode of its own 2.02 times as high as a softening mode that swept 2.2 % read as on its backbone)."""
+    a mode of its own 2.02 times as high as a softening mode that swept 2.2 % read as on its backbone). A
+    sweep beyond :data:`~._harmonics.NEAR` is no measure of the parent's frequency (its harmonic would
+    have left the window the test looks in: the pieces' phase slopes read noise) and shows nothing."""
     d, sweep = _described(cand), e.get("parent_sweep", np.nan)
-    if d is None or not np.isfinite(sweep):
+    if d is None or not np.isfinite(sweep) or sweep > NEAR:
         return False
     return bool(abs(d.frequency_change) + SIGMAS * d.frequency_change_std < 0.5 * sweep)
 
