@@ -230,7 +230,7 @@ def test_a_harmonic_of_a_nonlinear_mode_read_together_is_not_made_a_mode():
     from sindy_impulse.modes.kinds import Kind
 
     def cand(f, kind):
-        return types.SimpleNamespace(damped_frequency_hz=f, damping_ratio=0.005, kind=kind)
+        return types.SimpleNamespace(damped_frequency_hz=f, damping_ratio=0.005, kind=kind, explained=True)
 
     cands = [cand(158.56, Kind.NONLINEAR), cand(468.04, Kind.LINEAR), cand(400.0, Kind.LINEAR),
              cand(250.0, Kind.LINEAR)]

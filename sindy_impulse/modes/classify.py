@@ -275,10 +275,13 @@ def _harmonics(state) -> None:
             except (ValueError, ArithmeticError, np.linalg.LinAlgError):
                 continue
             cand.evidence.setdefault("harmonic_tests", []).append(e)
-            if e["undecided"] and e["resolved"] and parent.kind is Kind.LINEAR and _moves(parent):
+            if (e["undecided"] and e["resolved"] and parent.kind is Kind.LINEAR
+                    and moves_with_amplitude(parent)):
                 # a resolved ratio that the parent's movement may explain is left to the parent's backbone:
-                # the parent needs its equation (where it has no nonlinear terms, its poles' values stand
-                # and the candidate stays a mode; an unresolved test says too little to fit for it)
+                # a parent whose free decay shows its frequency move needs its equation (where it has no
+                # nonlinear terms, its poles' values stand and the candidate stays a mode; an unresolved
+                # test says too little to fit for, and a decay the averaged equations do not describe, as
+                # a real structure's often, shows no movement to follow)
                 parent.kind = Kind.NONLINEAR
                 parent.evidence["harmonic_undecided"] = True
             if e["harmonic"]:
