@@ -203,13 +203,34 @@ def test_a_failing_reading_leaves_the_modes_own_values(monkeypatch):
     assert len(survey.modes) == 2 and all(m.source != "coupling" for m in survey)
 
 
-def test_a_mode_whose_own_reading_the_joint_reading_doubts_carries_the_difference_in_its_std():
+def test_a_reading_that_misses_a_tenth_of_what_the_linear_decays_miss_is_taken_with_a_widened_std():
     """A hardening cubic spring couples four modes; the strongly damped 459.1 Hz one (0.96 %) rings beside
     a lightly damped 518.4 Hz one whose amplitude moves it, and its own reading (its stable poles) puts it
-    at 461.0 Hz. The joint reading describes the decay and puts it at 459.15 Hz, but leaves more than
-    noise in another band (a combination tone of the two), so it is not taken. The record does not decide
-    between the two: the mode keeps its own values, with the difference in its standard deviation, so that
-    its ± holds the truth (before, 461.01 +- 0.06 Hz, 31 standard deviations off)."""
+    at 461.0 Hz. The joint reading leaves more than noise in one band (a combination tone beside the
+    two), but there less than a tenth of what the modes' own linear decays leave: of two readings that
+    both miss something, the one that misses far less is reported, its ± widened by the difference from
+    the mode's own (what it misses may move it as far). Before, the own value stood (461.01 +- 0.06 Hz, 31
+    standard deviations off, then widened to hold the truth)."""
+    config = dict(frequencies_hz=[459.11463279706936, 518.427338675233, 2464.867473678721, 3159.596625661936],
+                  damping_ratios=[0.009605714799099153, 0.003319432331107731, 0.025215373885126905,
+                                  0.0059627847558094025],
+                  amplitudes=[0.34225611627188224, 0.30616756284783847, 0.18949624050458388,
+                              0.17814136229501232], fs=25600.0, duration=0.8265625, sensor="acceleration",
+                  pre_trigger=0.025023058486183292, offset=4.896248687080899, snr_db=51.97345050468782,
+                  random_state=1492823299, cubic_stiffness=1.726170163507745e22)
+    survey = _survey(impact_record(**config))
+    decisions = " ".join(_coupling_trace(survey).decisions)
+    assert "leaves more than noise" in decisions and "but at most 10%" in decisions
+    mode = min(survey.modes, key=lambda m: abs(m.frequency_hz - 459.1))
+    assert mode.source == "coupling" and abs(mode.frequency_hz / 459.115 - 1) < 3e-4
+    assert abs(mode.frequency_hz - 459.115) <= 2 * mode.frequency_std_hz
+    assert mode.frequency_std_hz >= abs(461.01 - mode.frequency_hz) * 0.9  # the own reading's difference
+
+
+def test_a_reading_that_leaves_more_than_noise_and_explains_little_leaves_the_own_values(monkeypatch):
+    """Where the joint reading leaves more than noise in a band and more than a tenth of what the linear
+    decays leave there, the modes' own values stand, their ± widened by the reading."""
+    monkeypatch.setattr(coupling, "EXPLAINED_SHARE", 0.0)
     config = dict(frequencies_hz=[459.11463279706936, 518.427338675233, 2464.867473678721, 3159.596625661936],
                   damping_ratios=[0.009605714799099153, 0.003319432331107731, 0.025215373885126905,
                                   0.0059627847558094025],
@@ -224,6 +245,16 @@ def test_a_mode_whose_own_reading_the_joint_reading_doubts_carries_the_differenc
     assert mode.source != "coupling" and abs(mode.frequency_hz / 459.115 - 1) > 3e-3  # its own value stands
     assert abs(mode.frequency_hz - 459.115) <= 2 * mode.frequency_std_hz
     assert "the record does not decide between the two" in mode.uncertainty_note
+
+
+def test_explains_compares_band_power_with_the_linear_decays():
+    """:func:`coupling._explains`: the reading's band power over the linear decays' in the failing bands."""
+    y, fs, w, rates = _coupled()
+    start = [(1.0, 1.0, 40.0 * 1.02), (0.5, 8.0, 90.0 * 1.06)]
+    reading = one_element_reading(y, fs, start)
+    assert coupling._explains(y, fs, start, reading, [True, True])
+    worse = replace(reading, residual=y[:: int(fs // reading.fs)])  # a "reading" that explains nothing
+    assert not coupling._explains(y, fs, start, worse, [True, True])
 
 
 def test_a_reading_that_does_not_describe_the_decay_leaves_the_modes_std_alone(monkeypatch):

@@ -227,10 +227,25 @@ MODEL_SHARE = 0.5
 MIN_WINDOWS, MAX_RANGE = 8, 0.5
 
 
+def _demodulated(y: np.ndarray, dy: np.ndarray, dt: float, omega: float) -> np.ndarray:
+    """The envelope of a mode's states ``[y, dy]`` with its harmonics removed: ``y - i dy / omega`` turns
+    the mode into ``A exp(i theta)`` and each harmonic ``n`` into terms rotating ``n - 1`` and ``-(n + 1)``
+    times as fast; brought to rest at ``omega`` and averaged over one period, only the mode's own term
+    stays. (``sqrt(y^2 + (dy / omega)^2)`` itself ripples once per period with a harmonic in the states,
+    by three times its relative amplitude for the second, and a window's slope picks up that ripple's
+    phase, which drifts as the mode's frequency moves with its amplitude.)"""
+    period = max(1, int(round(2 * np.pi / omega / dt)))
+    z = (y - 1j * dy / omega) * np.exp(-1j * omega * dt * np.arange(y.size))
+    if z.size < period:
+        return np.abs(z)
+    return np.abs(np.convolve(z, np.full(period, 1.0 / period), mode="valid"))
+
+
 def envelope_decay(y: np.ndarray, dy: np.ndarray, dt: float, omega: float):
     """The decay rate against the squared amplitude of a free decay of one mode: windows of
-    :data:`WINDOW_PERIODS` periods of the envelope ``sqrt(y^2 + (dy / omega)^2)``; a straight line of the
-    rate (1/s) on the squared amplitude relative to its largest, weighted by the amplitude.
+    :data:`WINDOW_PERIODS` periods of its envelope (:func:`_demodulated`, its harmonics removed); a
+    straight line of the rate (1/s) on the squared amplitude relative to its largest, weighted by the
+    amplitude.
 
     Returns ``(intercept, slope, intercept_se, slope_se, smallest, largest_amplitude)`` or None when the
     decay is too short or covers too little amplitude (:data:`MIN_WINDOWS`, :data:`MAX_RANGE`).
@@ -244,7 +259,7 @@ def envelope_decay(y: np.ndarray, dy: np.ndarray, dt: float, omega: float):
     >>> round(fit[0], 1)  # the rate at zero amplitude
     0.5
     """
-    amplitude = np.sqrt(y**2 + (dy / omega) ** 2)
+    amplitude = _demodulated(np.asarray(y, float), np.asarray(dy, float), dt, omega)
     n = max(4, int(round(WINDOW_PERIODS * 2 * np.pi / omega / dt)))
     starts = np.arange(0, amplitude.size - n, max(1, n // 2))
     if starts.size < MIN_WINDOWS or not np.all(amplitude > 0):
