@@ -305,17 +305,15 @@ def read_coupling(state) -> None:
     chance = band_consistency(reading.residual, reading.fs, components)
     failing = chance < NOISE_LEVEL / len(read)
     where = cands[read[int(np.argmin(chance))]].frequency_hz
-    if failing.any() and not _explains(y, state.pre.fs, components, reading, failing):
-        doubted = _doubted(state, read, reading, clean_bands=False)
-        state.decide(f"the coupling reading leaves more than noise in the band at {where:.5g} Hz (chance "
-                     f"{chance.min():.2g}): the modes' own values stand{doubted}")
-        return
     if failing.any():
-        taken = _take(state, read, reading, widened=True)
+        explained = _explains(y, state.pre.fs, components, reading, failing)
+        taken = _take(state, read, reading, widened=True, only=None if explained else ~failing)
+        doubted = _doubted(state, read, reading, clean_bands=False)
+        why = (f"but at most {EXPLAINED_SHARE:.0%} of what the modes' linear decays leave there" if explained
+               else "where its own band is noise")
         state.decide(f"the coupling reading leaves more than noise in the band at {where:.5g} Hz (chance "
-                     f"{chance.min():.2g}) but at most {EXPLAINED_SHARE:.0%} of what the modes' linear "
-                     f"decays leave there; values taken from the reading, their ± widened by the modes' own: "
-                     f"{', '.join(taken) if taken else 'none'}")
+                     f"{chance.min():.2g}); values taken from the reading {why}, their ± widened by the "
+                     f"modes' own: {', '.join(taken) if taken else 'none'}{doubted}")
         return
     taken = _take(state, read, reading)
     doubted = _doubted(state, read, reading, clean_bands=True)
@@ -344,14 +342,15 @@ def _explains(y: np.ndarray, fs: float, components: list, reading: CouplingReadi
     return bool(np.all(left[failing] <= EXPLAINED_SHARE * own[failing]))
 
 
-def _take(state, read: list, reading: CouplingReading, widened: bool = False) -> list:
-    """The modes of the candidates ``read`` (the reading's, in its order) that take the ``reading``'s values
-    (:func:`takes_reading`), with its standard deviations; ``widened``: where the reading leaves more than
-    noise in a band, the difference from the mode's own values added to them in quadrature (what the
-    reading misses may move its values as far). Returns their frequencies' words for the trace."""
+def _take(state, read: list, reading: CouplingReading, widened: bool = False, only=None) -> list:
+    """The modes of the candidates ``read`` (the reading's, in its order; ``only``: a mask over them) that
+    take the ``reading``'s values (:func:`takes_reading`), with its standard deviations; ``widened``: where
+    the reading leaves more than noise in a band, the difference from the mode's own values added to them
+    in quadrature (what the reading misses may move its values as far). Returns their frequencies' words
+    for the trace."""
     taken = []
-    for j, mode, (f, z, f_std, z_std) in _modes_read(state, read, reading):
-        if not takes_reading(mode, f, z, f_std, z_std):
+    for i, (j, mode, (f, z, f_std, z_std)) in _modes_read(state, read, reading, positions=True):
+        if (only is not None and not only[i]) or not takes_reading(mode, f, z, f_std, z_std):
             continue
         if widened:
             f_std = float(np.hypot(f_std, f - mode.frequency_hz))
@@ -421,15 +420,17 @@ def takes_reading(mode, frequency_hz: float, damping_ratio: float, frequency_std
     return bool(off or better)
 
 
-def _modes_read(state, read: list, reading: CouplingReading):
+def _modes_read(state, read: list, reading: CouplingReading, positions: bool = False):
     """``(index in state.modes, mode, (frequency, damping ratio, their standard deviations by the
-    reading))`` for each candidate of ``read`` (the reading's, in its order) that has a mode."""
+    reading))`` for each candidate of ``read`` (the reading's, in its order) that has a mode; with
+    ``positions``, ``(its position in read, that)``."""
     columns = (reading.frequency_hz, reading.damping_ratio,
                reading.frequency_std_hz, reading.damping_ratio_std)
     for i, k in enumerate(read):
         if k in state.origin:
             j = state.origin.index(k)
-            yield j, state.modes[j], tuple(float(v[i]) for v in columns)
+            row = (j, state.modes[j], tuple(float(v[i]) for v in columns))
+            yield (i, row) if positions else row
 
 
 #: A mode's ± is widened (and a note says so) where the coupling reading widens it by more than this share.
