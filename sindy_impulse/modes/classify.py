@@ -13,6 +13,10 @@ The decay fit (:mod:`sindy_impulse.poles.decay_fit`) already holds the evidence;
 - **harmonic** (:attr:`Kind.HARMONIC`): a component near 2 or 3 times a lower one that is phase-locked to it
   and whose amplitude goes as a whole power of the lower one's (:func:`~._harmonics.harmonic_evidence`): a
   product of the lower mode's nonlinearity, which is then nonlinear too.
+- **product** (:attr:`Kind.PRODUCT`): in a record with a mode that moves with its amplitude, a component
+  near a sum or difference ``m f_a + n f_b`` (``|m| + |n|`` 2 or 3) of two stronger candidates that is
+  phase-locked to that combination of their phases and whose amplitude goes as ``a_a^|m| a_b^|n|``
+  (:func:`~._harmonics.product_evidence`): the intermodulation of a nonlinear element both modes drive.
 - **clipping** (:attr:`Kind.CLIPPING`): in a record whose clipped samples could be neither repaired nor
   left behind (the impact's ``clipping`` is ``"kept"``), a component on a harmonic of a stronger one or on a
   combination of two (within its half-power half-width or three standard deviations, folded about the
@@ -67,7 +71,7 @@ from ._envelope import (
     decay_dependence,
     joint_dependence,
 )
-from ._harmonics import NEAR, ORDERS, RATIO_TOL, _evidence
+from ._harmonics import NEAR, ORDERS, RATIO_TOL, _evidence, product_evidence
 from .candidates import MISFIT_REACH, MISFIT_SHARE
 from .kinds import Kind
 from .signals import _members, analytic, component, deflated
@@ -107,6 +111,7 @@ def classify_candidates(state) -> None:
     _amplitude_dependent(state)
     _unconfirmed(state)
     _harmonics(state)  # of whole modes: a chirp's pieces are one parent
+    _products(state)
     _read_jointly(state)
     _unsupported(cands)
     counts = {k: sum(c.kind is k for c in cands) for k in Kind}
@@ -292,6 +297,101 @@ def _harmonics(state) -> None:
                     parent.kind = Kind.NONLINEAR
                 _sweep_pieces(state, i, j, order)
                 break
+
+
+#: Intermodulation products tested: ``m f_a + n f_b`` with ``m, n`` non-zero and ``|m| + |n|`` of these
+#: (a quadratic element's sums and differences, a cubic one's ``2 f_a +- f_b``).
+PRODUCT_ORDERS = (2, 3)
+
+
+def _combinations(cand, a, b) -> list:
+    """``(m, n)`` of :data:`PRODUCT_ORDERS` whose ``m f_a + n f_b`` lies within a product's reach of
+    ``cand``'s frequency (as :func:`_harmonic_order`: the phase test's tolerance where both modes keep
+    their frequencies, :data:`~._harmonics.NEAR` where one moves; the candidate's damping ratio added),
+    nearest first."""
+    steady = all(p.kind is Kind.LINEAR and p.explained for p in (a, b))
+    near = (RATIO_TOL if steady else NEAR) + cand.damping_ratio
+    f, fa, fb = cand.damped_frequency_hz, a.damped_frequency_hz, b.damped_frequency_hz
+    found = []
+    for m, n in itertools.product(range(-2, 3), repeat=2):
+        value = m * fa + n * fb
+        if m and n and abs(m) + abs(n) in PRODUCT_ORDERS and value > 0 and abs(f / value - 1) <= near:
+            found.append((abs(f / value - 1), (m, n)))
+    return [counts for _, counts in sorted(found)]
+
+
+def _product_band(state, k: int, reach: float = 0.0) -> tuple[float, float]:
+    """Candidate ``k``'s band for the product test: its frequencies (its merged pieces') and
+    :data:`_REACH` half-power half-widths beyond them, at least ``reach`` either side of its frequency; up
+    to the midpoints to the nearest other components (the other components are removed from its signal by
+    their linear decays, which leave a nonlinear mode's chirp behind)."""
+    cands, fs = state.candidates, state.pre.fs
+    members = _members(state, k)
+    f = [cands[m].damped_frequency_hz for m in members]
+    half = _REACH * cands[k].decay_rate / (2 * np.pi)
+    centre = cands[k].damped_frequency_hz
+    lo, hi = min(min(f) - half, centre - reach), max(max(f) + half, centre + reach)
+    others = np.array([c.damped_frequency_hz for q, c in enumerate(cands) if q not in members])
+    below, above = others[others < min(f)], others[others > max(f)]
+    if below.size:
+        lo = max(lo, 0.5 * (below.max() + min(f)))
+    if above.size:
+        hi = min(hi, 0.5 * (above.min() + max(f)))
+    return max(lo, 0.05 * centre), min(hi, _TOP * fs)
+
+
+def _products(state) -> None:
+    """Candidates phase-locked to a sum or difference of two stronger modes' phases, their amplitude going
+    as the product of those modes' (:func:`~._harmonics.product_evidence`): intermodulation products of a
+    nonlinear element both modes drive, not modes. Tested where one of the two moves with its amplitude
+    (the element shows itself there), on the combinations near the candidate's frequency
+    (:func:`_combinations`); the first product found names it (:attr:`Kind.PRODUCT`, the stronger mode as
+    parent, the evidence kept)."""
+    cands = state.candidates
+    live = [k for k, c in enumerate(cands) if c.kind in (Kind.LINEAR, Kind.NONLINEAR)]
+    movers = {k for k in live if cands[k].kind is Kind.NONLINEAR or moves_with_amplitude(cands[k])}
+    if not movers or len(live) < 3:
+        return
+    for j in live:
+        cand = cands[j]
+        if cand.evidence.get("makes_harmonic"):
+            continue
+        stronger = [k for k in live if k != j and _energy(cands[k]) > _energy(cand)]
+        for i, k in itertools.combinations(stronger, 2):
+            if i not in movers and k not in movers:
+                continue
+            for m, n in _combinations(cand, cands[i], cands[k]):
+                e = _product_test(state, i, k, j, (m, n))
+                if e is None:
+                    continue
+                cand.evidence.setdefault("product_tests", []).append(e)
+                if e["product"]:
+                    parent = max((i, k), key=lambda q: _energy(cands[q]))
+                    cand.kind, cand.parent = Kind.PRODUCT, parent
+                    cand.evidence["product"] = dict(e, modes=(cands[i].frequency_hz, cands[k].frequency_hz))
+                    break
+            if cand.kind is Kind.PRODUCT:
+                break
+
+
+def _product_test(state, i: int, k: int, j: int, counts) -> dict | None:
+    """:func:`~._harmonics.product_evidence` of candidate ``j`` as the product ``counts`` of candidates
+    ``i`` and ``k``, on their own signals (the other components removed) until ``j`` falls into its band's
+    noise; None where the signals give no test."""
+    m, n = counts
+    band_a, band_b = _product_band(state, i), _product_band(state, k)
+    reach = abs(m) * 0.5 * (band_a[1] - band_a[0]) + abs(n) * 0.5 * (band_b[1] - band_b[0])
+    band_c = _product_band(state, j, reach)
+    # the modes' bands as wide as the product's, so that their filters' transients are no longer than its
+    # (a product decays as fast as its modes together)
+    half = 0.5 * (band_c[1] - band_c[0])
+    bands = (*(_product_band(state, q, half) for q in (i, k)), band_c)
+    (ya, na), (yb, nb), (yc, nc) = (_own(state, q, band) for q, band in zip((i, k, j), bands))
+    stop = _heard(state.candidates[j], nc, state.pre.fs, bands)
+    try:
+        return product_evidence((ya[:stop], yb[:stop], yc[:stop]), state.pre.fs, bands, counts, (na, nb, nc))
+    except (ValueError, ArithmeticError, np.linalg.LinAlgError):
+        return None
 
 
 def _moves(parent) -> bool:

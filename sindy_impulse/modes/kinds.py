@@ -25,6 +25,7 @@ class Kind(str, Enum):
     NONLINEAR = "nonlinear"
     MERGED = "merged"
     HARMONIC = "harmonic"
+    PRODUCT = "product"
     CLIPPING = "clipping"
     TONE = "tone"
     UNSUPPORTED = "unsupported"
@@ -39,6 +40,7 @@ _KIND_WORDS = {
     Kind.NONLINEAR: "a mode the linear decay does not explain: the paper's sweep and refinement fit it",
     Kind.MERGED: "a piece of a nonlinear mode fitted with it",
     Kind.HARMONIC: "a harmonic of a lower, nonlinear mode, not a mode",
+    Kind.PRODUCT: "an intermodulation product of two modes through a nonlinear element, not a mode",
     Kind.CLIPPING: "a product of the clipping of stronger modes (harmonic, intermodulation), not a mode",
     Kind.TONE: "a tone that does not decay (hum, a rotating machine), not a mode",
     Kind.UNSUPPORTED: "does not decay, and neither a stable pole nor a sinusoid describes it: not a mode",
@@ -56,6 +58,7 @@ class Reason(str, Enum):
 
     TONE = "tone"
     HARMONIC = "harmonic"
+    INTERMODULATION = "intermodulation"
     CLIPPING_PRODUCT = "clipping_product"
     POOR_FIT = "poor_fit"
     UNSTABLE = "unstable"
@@ -73,6 +76,7 @@ class Reason(str, Enum):
 _REASON_WORDS = {
     Reason.TONE: "a tone that does not decay, not a mode",
     Reason.HARMONIC: "a harmonic of a lower mode, not a mode",
+    Reason.INTERMODULATION: "an intermodulation product of two modes, not a mode",
     Reason.CLIPPING_PRODUCT: "a product of the sensor's clipping, not a mode",
     Reason.POOR_FIT: "no model reproduces the band",
     Reason.UNSTABLE: "the identified model's mode is not damped",

@@ -88,6 +88,15 @@ def _named(state) -> None:
                    f"({e['combination_offset']:.2%} off) in a record that stays clipped: a product of the "
                    "clipping, not a mode")
             state.rejected.append(Rejected(c.band_hz, why, state.index, dict(e), Reason.CLIPPING_PRODUCT))
+        elif c.kind is Kind.PRODUCT:
+            e = c.evidence["product"]
+            (m, n), (fa, fb) = e["counts"], e["modes"]
+            combination = f"{m} x {fa:.5g} Hz {'+' if n > 0 else '-'} {abs(n)} x {fb:.5g} Hz"
+            why = (f"intermodulation product {combination} of two modes, not a mode: phase-locked to their "
+                   f"combination (offset {e['offset']:+.1e} +- {e['offset_sigma']:.1g}) and its amplitude "
+                   f"goes as theirs (exponent {e['exponent']:.2f}, 1 for a product)")
+            state.rejected.append(Rejected(c.band_hz, why, state.index, dict(e), Reason.INTERMODULATION))
+            state.note(f"the peak at {c.frequency_hz:.4g} Hz is an {why}")
         elif c.kind is Kind.HARMONIC:
             e = c.evidence["harmonic"]
             parent = next((m for k, m in zip(state.origin, state.modes) if k == c.parent), cands[c.parent])
