@@ -68,12 +68,12 @@ def _cand(f, kind=Kind.LINEAR, explained=True, zeta=0.001):
 
 def test_combinations_nearest_first_and_within_reach():
     a, b = _cand(37.0, Kind.NONLINEAR), _cand(93.0)
-    assert classify._combinations(_cand(167.5), a, b)[0] == (2, 1)  # 2 x 37 + 93 = 167
+    assert classify._combinations(_cand(167.3), a, b)[0] == (2, 1)  # 2 x 37 + 93 = 167
     assert classify._combinations(_cand(149.2), a, b)[0] == (-1, 2)  # 2 x 93 - 37 = 149
     assert classify._combinations(_cand(400.0), a, b) == []
-    steady = (_cand(37.0), _cand(93.0))  # modes that keep their frequencies: the phase test's tolerance
-    assert classify._combinations(_cand(167.0 * 1.01), *steady) == []
-    assert classify._combinations(_cand(167.0 * 1.001), *steady) == [(2, 1)]
+    # within the phase test's tolerance only (a real beam's mode 0.34 % off a sum read as locked to it)
+    assert classify._combinations(_cand(167.0 * 1.0034, zeta=0.0016), a, b) == []
+    assert classify._combinations(_cand(167.0 * 1.001), a, b) == [(2, 1)]
 
 
 # A cubic spring couples three modes (family g of benchmarks/accuracy/modes.py); a tone at 2 f_1 + f_2
