@@ -324,3 +324,17 @@ def test_a_reading_that_sends_a_mode_out_of_its_band_is_not_taken(monkeypatch):
     decisions = " ".join(_coupling_trace(survey).decisions)
     assert "out of its band" in decisions and "widened" not in decisions
     assert all(m.source != "coupling" for m in survey.modes)
+
+
+def test_a_reading_of_one_mode_and_what_is_not_one_leaves_its_values_alone():
+    """A hardening mode (158.6 Hz) and its third harmonic, which its backbone names: the joint reading of
+    the two leaves more than noise, and reads one mode only; the mode keeps its own values (the reading's
+    159.96 Hz was 0.84 % off)."""
+    rec = impact_record(158.62537118062534, 0.0037097025593240017, [1.0], fs=4853.687975314075,
+                        duration=0.7354855392824855, snr_db=35.672931998913825,
+                        cubic_stiffness=1.070541445488249e17, random_state=7)
+    survey = _survey(rec)
+    decisions = " ".join(_coupling_trace(survey).decisions)
+    assert "reads 1 mode(s) only" in decisions
+    assert len(survey.modes) == 1 and survey.modes[0].source != "coupling"
+    assert abs(survey.modes[0].frequency_hz / 158.625 - 1) < 3e-3

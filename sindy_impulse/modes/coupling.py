@@ -305,6 +305,13 @@ def read_coupling(state) -> None:
     chance = band_consistency(reading.residual, reading.fs, components)
     failing = chance < NOISE_LEVEL / len(read)
     where = cands[read[int(np.argmin(chance))]].frequency_hz
+    modes = sum(k in state.origin for k in read)
+    if failing.any() and modes < 2:  # a mode and what is not one (a harmonic its backbone named): no coupling
+        doubted = _doubted(state, read, reading, clean_bands=False)
+        state.decide(f"the coupling reading leaves more than noise in the band at {where:.5g} Hz (chance "
+                     f"{chance.min():.2g}), and reads {modes} mode(s) only: the modes' own values "
+                     f"stand{doubted}")
+        return
     if failing.any():
         explained = _explains(y, state.pre.fs, components, reading, failing)
         taken = _take(state, read, reading, widened=True, only=None if explained else ~failing)
