@@ -203,6 +203,18 @@ def test_a_failing_reading_leaves_the_modes_own_values(monkeypatch):
     assert len(survey.modes) == 2 and all(m.source != "coupling" for m in survey)
 
 
+# A hardening cubic spring coupling four modes: a strongly damped 459.1 Hz one rings beside a lightly damped
+# 518.4 Hz one whose amplitude moves it (family g of benchmarks/accuracy/modes.py).
+COUPLED_459 = dict(frequencies_hz=[459.11463279706936, 518.427338675233, 2464.867473678721,
+                                   3159.596625661936],
+                   damping_ratios=[0.009605714799099153, 0.003319432331107731, 0.025215373885126905,
+                                   0.0059627847558094025],
+                   amplitudes=[0.34225611627188224, 0.30616756284783847, 0.18949624050458388,
+                               0.17814136229501232], fs=25600.0, duration=0.8265625, sensor="acceleration",
+                   pre_trigger=0.025023058486183292, offset=4.896248687080899, snr_db=51.97345050468782,
+                   random_state=1492823299, cubic_stiffness=1.726170163507745e22)
+
+
 def test_a_reading_that_misses_a_tenth_of_what_the_linear_decays_miss_is_taken_with_a_widened_std():
     """A hardening cubic spring couples four modes; the strongly damped 459.1 Hz one (0.96 %) rings beside
     a lightly damped 518.4 Hz one whose amplitude moves it, and its own reading (its stable poles) puts it
@@ -211,14 +223,7 @@ def test_a_reading_that_misses_a_tenth_of_what_the_linear_decays_miss_is_taken_w
     both miss something, the one that misses far less is reported, its ± widened by the difference from
     the mode's own (what it misses may move it as far). Before, the own value stood (461.01 +- 0.06 Hz, 31
     standard deviations off, then widened to hold the truth)."""
-    config = dict(frequencies_hz=[459.11463279706936, 518.427338675233, 2464.867473678721, 3159.596625661936],
-                  damping_ratios=[0.009605714799099153, 0.003319432331107731, 0.025215373885126905,
-                                  0.0059627847558094025],
-                  amplitudes=[0.34225611627188224, 0.30616756284783847, 0.18949624050458388,
-                              0.17814136229501232], fs=25600.0, duration=0.8265625, sensor="acceleration",
-                  pre_trigger=0.025023058486183292, offset=4.896248687080899, snr_db=51.97345050468782,
-                  random_state=1492823299, cubic_stiffness=1.726170163507745e22)
-    survey = _survey(impact_record(**config))
+    survey = _survey(impact_record(**COUPLED_459))
     decisions = " ".join(_coupling_trace(survey).decisions)
     assert "leaves more than noise" in decisions and "but at most 10%" in decisions
     mode = min(survey.modes, key=lambda m: abs(m.frequency_hz - 459.1))
@@ -231,14 +236,7 @@ def test_a_reading_that_leaves_more_than_noise_and_explains_little_leaves_the_ow
     """Where the joint reading leaves more than noise in a band and more than a tenth of what the linear
     decays leave there, the modes' own values stand, their ± widened by the reading."""
     monkeypatch.setattr(coupling, "EXPLAINED_SHARE", 0.0)
-    config = dict(frequencies_hz=[459.11463279706936, 518.427338675233, 2464.867473678721, 3159.596625661936],
-                  damping_ratios=[0.009605714799099153, 0.003319432331107731, 0.025215373885126905,
-                                  0.0059627847558094025],
-                  amplitudes=[0.34225611627188224, 0.30616756284783847, 0.18949624050458388,
-                              0.17814136229501232], fs=25600.0, duration=0.8265625, sensor="acceleration",
-                  pre_trigger=0.025023058486183292, offset=4.896248687080899, snr_db=51.97345050468782,
-                  random_state=1492823299, cubic_stiffness=1.726170163507745e22)
-    survey = _survey(impact_record(**config))
+    survey = _survey(impact_record(**COUPLED_459))
     decisions = " ".join(_coupling_trace(survey).decisions)
     assert "leaves more than noise" in decisions and "their ± widened by it" in decisions
     mode = min(survey.modes, key=lambda m: abs(m.frequency_hz - 459.1))
@@ -338,3 +336,8 @@ def test_a_reading_of_one_mode_and_what_is_not_one_leaves_its_values_alone():
     assert "reads 1 mode(s) only" in decisions
     assert len(survey.modes) == 1 and survey.modes[0].source != "coupling"
     assert abs(survey.modes[0].frequency_hz / 158.625 - 1) < 3e-3
+
+
+def test_band_power_refuses_a_noise_level_that_is_no_power():
+    with pytest.raises(ValueError, match="noise must be a positive"):
+        coupling.band_power(np.zeros(100), 100.0, [(1.0, 1.0, 10.0)], noise=0.0)

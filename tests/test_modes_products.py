@@ -117,3 +117,19 @@ def test_the_longest_run_of_samples():
     mask = np.array([0, 1, 1, 0, 1, 1, 1, 0, 1], bool)
     assert _longest_run(mask).tolist() == [4, 5, 6]
     assert _longest_run(np.zeros(5, bool)).size == 0
+
+
+@pytest.mark.parametrize("kwargs, error, words", [
+    (dict(signals=(np.zeros(100), np.zeros(100))), TypeError, "three arrays"),
+    (dict(signals=(np.zeros(100), np.zeros(100), np.zeros(90))), ValueError, "one length"),
+    (dict(counts=(0, 1)), ValueError, "non-zero whole"),
+    (dict(counts=(1.5, 1)), ValueError, "non-zero whole"),
+    (dict(bands=((30, 44), (101, 85), (155, 179))), ValueError, "low < high"),
+    (dict(noise_rms=(1e-5, -1.0, 1e-5)), ValueError, "noise_rms"),
+    (dict(fs=-1.0), ValueError, "fs"),
+])
+def test_product_evidence_names_bad_input(kwargs, error, words):
+    ya, yb, (aa, pa), (ab, pb) = _modes()
+    args = dict(signals=(ya, yb, ya), fs=FS, bands=BANDS, counts=(2, 1), noise_rms=NOISE) | kwargs
+    with pytest.raises(error, match=words):
+        product_evidence(args["signals"], args["fs"], args["bands"], args["counts"], args["noise_rms"])

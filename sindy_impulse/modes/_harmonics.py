@@ -42,6 +42,8 @@ import numpy as np
 from scipy.special import ndtr as normal_cdf
 from scipy.special import stdtrit
 
+from .._utils.validation import check_signal
+from ..preprocessing._record import check_fs
 from ..preprocessing.band import band_noise_rms
 from ..preprocessing.filters import bandpass, transient_samples
 from ..preprocessing.partition import HARMONIC_NEAR, peak_bands
@@ -226,6 +228,31 @@ def _longest_run(mask: np.ndarray) -> np.ndarray:
     return np.arange(starts[longest], stops[longest])
 
 
+def _product_inputs(signals, fs, bands, counts, noise_rms):
+    """:func:`product_evidence`'s inputs checked: three 1-D signals of one length, three ``(low, high)``
+    bands, two non-zero whole counts, three noise levels at least zero (a ValueError or TypeError naming
+    the problem)."""
+    if not isinstance(signals, (tuple, list)) or len(signals) != 3:
+        raise TypeError("product_evidence: signals must be three arrays (the two modes' and the "
+                        "candidate's)")
+    names = ("the first mode's signal", "the second mode's signal", "the candidate's signal")
+    signals = [check_signal(y, name, ndim=(1,), as_2d=False) for y, name in zip(signals, names)]
+    if len({y.size for y in signals}) != 1:
+        raise ValueError(f"product_evidence: the signals must have one length, got "
+                         f"{[y.size for y in signals]}")
+    check_fs(fs)
+    bands = [tuple(float(v) for v in b) for b in bands]
+    if len(bands) != 3 or any(len(b) != 2 or not 0 <= b[0] < b[1] for b in bands):
+        raise ValueError(f"product_evidence: bands must be three (low, high) pairs in Hz, low < high, "
+                         f"got {bands}")
+    if len(counts) != 2 or any(int(c) != c or c == 0 for c in counts):
+        raise ValueError(f"product_evidence: counts must be two non-zero whole numbers (m, n), got {counts}")
+    noise = np.asarray(noise_rms, float)
+    if noise.shape != (3,) or not np.all(np.isfinite(noise) & (noise >= 0)):
+        raise ValueError(f"product_evidence: noise_rms must be three finite levels >= 0, got {noise_rms}")
+    return signals, bands, int(counts[0]), int(counts[1]), noise
+
+
 def product_evidence(signals, fs: float, bands, counts, noise_rms) -> dict:
     """Phase locking and amplitude of a candidate intermodulation product ``m f_a + n f_b`` of two modes.
 
@@ -279,7 +306,7 @@ def product_evidence(signals, fs: float, bands, counts, noise_rms) -> dict:
     >>> product_evidence((ya, yb, mode), fs, bands, (2, 1), (1e-5, 1e-5, 1e-5))["product"]
     False
     """
-    m, n = (int(c) for c in counts)
+    signals, bands, m, n, noise_rms = _product_inputs(signals, fs, bands, counts, noise_rms)
     z = [bandpass(y, fs, band, analytic=True) for y, band in zip(signals, bands)]
     a = [np.abs(v) for v in z]
     trim = max(transient_samples(fs, b, tol=_TRANSIENT_TOL) for b in bands)
@@ -304,19 +331,19 @@ def product_evidence(signals, fs: float, bands, counts, noise_rms) -> dict:
     noise = np.asarray(noise_rms, float) + tiny
     w = 1.0 / ((noise[2] / a[2]) ** 2 + (m * noise[0] / a[0]) ** 2 + (n * noise[1] / a[1]) ** 2)
     bandwidth = min(b[1] - b[0] for b in bands)
-    f_measured = abs(m * np.polyfit(t, np.unwrap(np.angle(z[0])), 1)[0]
-                     + n * np.polyfit(t, np.unwrap(np.angle(z[1])), 1)[0]) / (2 * np.pi)
-    # the offset as a frequency ratio of order 1 (the harmonic test's measure, :func:`_near_order`)
     stretches = [np.arange(t.size), *np.array_split(np.arange(t.size), _SEGMENTS)]
+    # the combination's frequency over the whole stretch and its pieces: a mode of its own stays put while
+    # its modes move
+    combined_hz = np.array([abs(m * np.polyfit(t[k], np.unwrap(np.angle(z[0][k])), 1)[0]
+                                + n * np.polyfit(t[k], np.unwrap(np.angle(z[1][k])), 1)[0]) / (2 * np.pi)
+                            for k in stretches])
+    f_measured, pieces = float(combined_hz[0]), combined_hz[1:]
+    # the offset as a frequency ratio of order 1 (the harmonic test's measure, :func:`_near_order`)
     samples = [bandwidth * k.size / fs for k in stretches]  # independent ones
     tested = [(*_ratio(t[k], psi[k], w[k], n_eff, 1, f_measured)[:2], n_eff)
               for k, n_eff in zip(stretches, samples)]
     tested[0] = (*tested[0][:2], np.inf)
     ratio, sigma = tested[0][:2]
-    # the combination's frequency over the pieces: a mode of its own stays put while its modes move
-    pieces = np.array([abs(m * np.polyfit(t[k], np.unwrap(np.angle(z[0][k])), 1)[0]
-                           + n * np.polyfit(t[k], np.unwrap(np.angle(z[1][k])), 1)[0]) / (2 * np.pi)
-                       for k in stretches[1:]])
     sweep = float((pieces.max() - pieces.min()) / f_measured)
     resolved = sigma <= RESOLVED
     # locked: each stretch's offset within its errors of zero, or within half the combination's own
@@ -325,7 +352,7 @@ def product_evidence(signals, fs: float, bands, counts, noise_rms) -> dict:
     locked = resolved and all(_near_order(*piece, 1, tol=0.5 * sweep) for piece in tested)
     combined = abs(m) * np.log(a[0]) + abs(n) * np.log(a[1])
     _, p, _ = _line(combined, np.log(a[2]), w)
-    return dict(counts=(m, n), frequency_hz=float(f_measured), offset=float(ratio - 1),
+    return dict(counts=(m, n), frequency_hz=f_measured, offset=float(ratio - 1),
                 offset_sigma=float(sigma), exponent=float(p), sweep=sweep, resolved=bool(resolved),
                 locked=bool(locked),
                 product=bool(locked and abs(p - 1) <= _EXPONENT_TOL))

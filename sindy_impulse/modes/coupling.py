@@ -243,6 +243,8 @@ def band_power(residual: np.ndarray, fs: float, components: list,
     ``ln 2``."""
     residual = check_signal(residual, "residual", ndim=(1,), min_samples=2 * BAND_BINS, as_2d=False)
     fs = check_fs(fs)
+    if noise is not None and not (np.isfinite(noise) and noise > 0):
+        raise ValueError(f"band_power: noise must be a positive power per bin, got {noise}")
     power = np.abs(np.fft.rfft(residual)) ** 2
     power = power / (np.median(power) / np.log(2) if noise is None else noise)
     frequencies = np.fft.rfftfreq(residual.size, 1 / fs)
