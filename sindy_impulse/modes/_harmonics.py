@@ -176,12 +176,15 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
                harmonic=False)
     if t.size < 8 or t.size / fs * f2 < _MIN_PERIODS:
         return nan
+    # the parent's phase unwrapped over every sample of the stretch: where the candidate dips under its
+    # floor the kept samples leave gaps, across which the parent's phase would lose whole turns
+    phase1 = np.unwrap(np.angle(z1[keep[0] : keep[-1] + 1]))[keep - keep[0]]
     z1, z2, a1, a2 = z1[keep], z2[keep], a1[keep], a2[keep]
     psi = np.unwrap(np.angle(z2 * np.conj(z1 / a1) ** order))
     tiny = 1e-12 * np.array([a1.max(), a2.max()])
     w = 1.0 / (((noise_rms[1] + tiny[1]) / a2) ** 2 + order**2 * ((noise_rms[0] + tiny[0]) / a1) ** 2)
     bandwidth = min(parent_band[1] - parent_band[0], candidate_band[1] - candidate_band[0])
-    f1 = float(np.polyfit(t, np.unwrap(np.angle(z1)), 1)[0] / (2 * np.pi))
+    f1 = float(np.polyfit(t, phase1, 1)[0] / (2 * np.pi))
     ratio, sigma, slope = _ratio(t, psi, w, bandwidth * t.size / fs, order, f1)
     quarters = np.array_split(np.arange(t.size), _SEGMENTS)
     pieces = [(*_ratio(t[k], psi[k], w[k], bandwidth * k.size / fs, order, f1)[:2], bandwidth * k.size / fs)
@@ -195,7 +198,7 @@ def harmonic_evidence(y, fs: float, parent_band, candidate_band, order: int, noi
     within_errors = locked and all(_near_order(*piece, order, tol=0.0) for piece in tested)
     # the parent's frequency over the pieces: a mode of its own at n f_1 would stay where it is while the
     # parent moves, and its ratio would move by n times the parent's relative change
-    f_pieces = [np.polyfit(t[k], np.unwrap(np.angle(z1[k])), 1)[0] / (2 * np.pi) for k in quarters]
+    f_pieces = [np.polyfit(t[k], phase1[k], 1)[0] / (2 * np.pi) for k in quarters]
     sweep = float((max(f_pieces) - min(f_pieces)) / f1)
     # ... and a harmonic's stays put: within its errors of n, or (locked) its pieces' spread far under that
     ratios = [piece[0] for piece in pieces]

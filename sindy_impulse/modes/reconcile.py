@@ -33,7 +33,7 @@ import numpy as np
 
 from ..preprocessing.partition import resolved
 from ._envelope import DECAY_CHANGE, DOUBT_SIGMAS, ENVELOPE_MISFIT, _missing_damping, _model_rate_change
-from ._harmonics import MIN_EXPONENT, NEAR, SIGMAS, _on_backbone, _reason, _unseen_harmonics
+from ._harmonics import _EXPONENT_MARGIN, MIN_EXPONENT, NEAR, SIGMAS, _on_backbone, _reason, _unseen_harmonics
 from ._nonlinear import has_nonlinear_terms
 from .candidates import persistent_modes
 from .kinds import Kind, Reason
@@ -218,7 +218,8 @@ def _decided_by_backbones(state) -> None:
                     continue
                 if sweep_known != ((parent_k, e["order"]) in named):
                     continue
-                if not sweep_known and _steady_frequency(state.candidates[k], e):
+                if not sweep_known and (_steady_frequency(state.candidates[k], e)
+                                        or _steeper_than_harmonic(mode, e)):
                     continue
                 if _beyond_its_decay(state.candidates[parent_k], mode, e["order"]):
                     continue
@@ -262,6 +263,33 @@ def _maybe_harmonics(state) -> None:
                        f"periods ({e['periods']:.0f}) to prove the phase locking; a hit at another amplitude "
                        "tells (a harmonic's share of its mode changes with the amplitude, a mode's does not)")
             break
+
+
+def _steeper_than_harmonic(mode, e: dict) -> bool:
+    """Whether the candidate's envelope decays faster against its would-be parent's than a harmonic of
+    order ``n`` can: a term of power at most ``n`` makes harmonic ``n``, whose amplitude goes as the
+    parent's to that power, so an exponent beyond ``n`` + :data:`~._harmonics._EXPONENT_MARGIN` by
+    :data:`~._harmonics.SIGMAS` standard errors is a mode that decays faster of its own. Only where the
+    candidate's band holds the whole sweep a harmonic would make over the test's stretch (``n`` times the
+    parent's, ``e["parent_sweep"]``): a piece of a sweeping harmonic has the piece's envelope, which rises
+    and falls as the sweep passes, not the harmonic's.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as Mode
+    >>> e = dict(order=2, exponent=4.69, exponent_sigma=0.40, parent_sweep=0.013, parent_frequency_hz=42.6)
+    >>> wide, piece = Mode(band_hz=(60.3, 120.5)), Mode(band_hz=(85.0, 86.0))
+    >>> _steeper_than_harmonic(wide, e), _steeper_than_harmonic(piece, e)
+    (True, False)
+    """
+    order, p, p_sigma = e["order"], e.get("exponent", np.nan), e.get("exponent_sigma", np.nan)
+    sweep = e.get("parent_sweep", np.nan)
+    if not (np.isfinite(p) and np.isfinite(p_sigma) and np.isfinite(sweep)):
+        return False
+    centre = order * e["parent_frequency_hz"]
+    lo, hi = mode.band_hz
+    holds = lo <= centre * (1 - sweep) and centre * (1 + sweep) <= hi
+    return bool(holds and p - SIGMAS * p_sigma > order + _EXPONENT_MARGIN)
 
 
 def _steady_frequency(cand, e: dict) -> bool:
