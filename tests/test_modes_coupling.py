@@ -341,3 +341,34 @@ def test_a_reading_of_one_mode_and_what_is_not_one_leaves_its_values_alone():
 def test_band_power_refuses_a_noise_level_that_is_no_power():
     with pytest.raises(ValueError, match="noise must be a positive"):
         coupling.band_power(np.zeros(100), 100.0, [(1.0, 1.0, 10.0)], noise=0.0)
+
+
+def test_a_reading_that_moves_one_mode_against_the_others_leaves_that_modes_values():
+    """One softening spring: the reading moved the two lightly damped modes up from their own readings
+    (by 5 and 15 of its standard deviations) and the strongly damped 476.3 Hz one down, 3.3 of its
+    standard deviations, to 470.95 Hz (1.1 % off). One element moves every mode one way: that mode keeps
+    its own values, and its ± is not widened by a reading that is not one element's for it."""
+    rec = impact_record([76.27522144043209, 196.63525963871692, 476.27316423886487],
+                        [0.0023796929423656583, 0.0016503256236752493, 0.021754277188739814],
+                        [0.3348258452829384, 0.2006636904840418, 0.1965550175902566], fs=5000.0,
+                        duration=6.792, sensor="velocity", pre_trigger=0.06403204793632962,
+                        offset=1.282238409026114, snr_db=54.681417574137605, random_state=1004091664,
+                        cubic_stiffness=-63853206345.97671)
+    survey = _survey(rec)
+    for f, z in zip(rec.modes.frequency_hz, rec.modes.damping_ratio):
+        mode = min(survey.modes, key=lambda m: abs(m.frequency_hz - f))
+        assert mode.frequency_hz == pytest.approx(f, rel=3e-3)
+        assert mode.damping_ratio == pytest.approx(z, rel=0.1)
+    strong = min(survey.modes, key=lambda m: abs(m.frequency_hz - 476.27))
+    assert strong.source != "coupling" and strong.frequency_std_hz < 0.5
+
+
+def test_against_element_needs_a_sure_move_the_other_way():
+    from types import SimpleNamespace as Mode
+
+    state = Mode(modes=[Mode(frequency_hz=100.0), Mode(frequency_hz=200.0)], origin=[0, 1])
+    reading = Mode(frequency_hz=np.array([100.5, 199.9]), damping_ratio=np.zeros(2),
+                   frequency_std_hz=np.array([0.1, 0.1]), damping_ratio_std=np.zeros(2))
+    assert coupling._against_element(state, [0, 1], reading) == set()  # 1 standard deviation: no move
+    reading.frequency_hz = np.array([100.5, 199.5])  # 5 standard deviations down, the other 5 up
+    assert coupling._against_element(state, [0, 1], reading) == {1}

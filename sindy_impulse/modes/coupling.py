@@ -304,28 +304,29 @@ def read_coupling(state) -> None:
     if lost:
         state.decide(f"the coupling reading {lost}: the modes' own values stand")
         return
+    against = _against_element(state, read, reading)  # (read before any mode takes the reading's values)
     chance = band_consistency(reading.residual, reading.fs, components)
     failing = chance < NOISE_LEVEL / len(read)
     where = cands[read[int(np.argmin(chance))]].frequency_hz
     modes = sum(k in state.origin for k in read)
     if failing.any() and modes < 2:  # a mode and what is not one (a harmonic its backbone named): no coupling
-        doubted = _doubted(state, read, reading, clean_bands=False)
+        doubted = _doubted(state, read, reading, against, clean_bands=False)
         state.decide(f"the coupling reading leaves more than noise in the band at {where:.5g} Hz (chance "
                      f"{chance.min():.2g}), and reads {modes} mode(s) only: the modes' own values "
                      f"stand{doubted}")
         return
     if failing.any():
         explained = _explains(y, state.pre.fs, components, reading, failing)
-        taken = _take(state, read, reading, widened=True, only=None if explained else ~failing)
-        doubted = _doubted(state, read, reading, clean_bands=False)
+        taken = _take(state, read, reading, against, widened=True, only=None if explained else ~failing)
+        doubted = _doubted(state, read, reading, against, clean_bands=False)
         why = (f"but at most {EXPLAINED_SHARE:.0%} of what the modes' linear decays leave there" if explained
                else "where its own band is noise")
         state.decide(f"the coupling reading leaves more than noise in the band at {where:.5g} Hz (chance "
                      f"{chance.min():.2g}); values taken from the reading {why}, their ± widened by the "
                      f"modes' own: {', '.join(taken) if taken else 'none'}{doubted}")
         return
-    taken = _take(state, read, reading)
-    doubted = _doubted(state, read, reading, clean_bands=True)
+    taken = _take(state, read, reading, against)
+    doubted = _doubted(state, read, reading, against, clean_bands=True)
     state.decide(f"{len(read)} modes read together (residual {misfit:.2g} times the noise); values taken "
                  f"from the reading: {', '.join(taken) if taken else 'none'}{doubted}")
 
@@ -351,15 +352,17 @@ def _explains(y: np.ndarray, fs: float, components: list, reading: CouplingReadi
     return bool(np.all(left[failing] <= EXPLAINED_SHARE * own[failing]))
 
 
-def _take(state, read: list, reading: CouplingReading, widened: bool = False, only=None) -> list:
+def _take(state, read: list, reading: CouplingReading, against: set, widened: bool = False,
+          only=None) -> list:
     """The modes of the candidates ``read`` (the reading's, in its order; ``only``: a mask over them) that
     take the ``reading``'s values (:func:`takes_reading`), with its standard deviations; ``widened``: where
     the reading leaves more than noise in a band, the difference from the mode's own values added to them
-    in quadrature (what the reading misses may move its values as far). Returns their frequencies' words
+    in quadrature (what the reading misses may move its values as far); never the modes at the positions
+    ``against`` (:func:`_against_element`). Returns their frequencies' words
     for the trace."""
     taken = []
     for i, (j, mode, (f, z, f_std, z_std)) in _modes_read(state, read, reading, positions=True):
-        if (only is not None and not only[i]) or not takes_reading(mode, f, z, f_std, z_std):
+        if (only is not None and not only[i]) or i in against or not takes_reading(mode, f, z, f_std, z_std):
             continue
         if widened:
             f_std = float(np.hypot(f_std, f - mode.frequency_hz))
@@ -372,6 +375,35 @@ def _take(state, read: list, reading: CouplingReading, widened: bool = False, on
                                  damping_ratio_std=z_std, source="coupling", uncertainty_note=note)
         taken.append(f"{f:.5g} Hz")
     return taken
+
+
+def _against_element(state, read: list, reading: CouplingReading) -> set:
+    """Positions in ``read`` of the modes whose small-amplitude frequency the ``reading`` moves from their
+    own the other way than it moves the mode it moves most surely (each move counted where it exceeds
+    :data:`COUPLING_SIGMAS` of the reading's standard deviations). One element moves every mode one way:
+    its stiffness share of each mode has the element's sign, and a mode's own reading, taken while the
+    others ring, is moved by their amplitudes the way the element moves it, so the small-amplitude
+    frequencies all lie on one side of the modes' own. A reading that moves one mode against the others
+    (a strongly damped 476.2 Hz mode read at 470.95 +- 1.6 Hz, 3.3 standard deviations down, while the
+    two lightly damped modes it was read with moved up by 5 and 15) is not one element's for that mode.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as Mode
+    >>> modes = [Mode(frequency_hz=76.2743), Mode(frequency_hz=196.633), Mode(frequency_hz=476.219)]
+    >>> state = Mode(modes=modes, origin=[0, 1, 2])
+    >>> reading = Mode(frequency_hz=np.array([76.2748, 196.6375, 470.9547]), damping_ratio=np.zeros(3),
+    ...                frequency_std_hz=np.array([1e-4, 3e-4, 1.6]), damping_ratio_std=np.zeros(3))
+    >>> _against_element(state, [0, 1, 2], reading)
+    {2}
+    """
+    moves = {i: (f - mode.frequency_hz) / f_std
+             for i, (_, mode, (f, _, f_std, _)) in _modes_read(state, read, reading, positions=True)
+             if f_std > 0 and abs(f - mode.frequency_hz) > COUPLING_SIGMAS * f_std}
+    if not moves:
+        return set()
+    surest = max(moves.values(), key=abs)
+    return {i for i, z in moves.items() if z * surest < 0}
 
 
 def _lost_mode(cands, read: list, reading: CouplingReading) -> str | None:
@@ -446,7 +478,7 @@ def _modes_read(state, read: list, reading: CouplingReading, positions: bool = F
 DOUBT_SHARE = 0.1
 
 
-def _doubted(state, read: list, reading: CouplingReading, clean_bands: bool) -> str:
+def _doubted(state, read: list, reading: CouplingReading, against: set, clean_bands: bool) -> str:
     """The ± of the modes of the candidates ``read`` (the reading's, in its order) whose own values stand
     beside the coupling ``reading``, widened by what that reading says of them. Called only where the
     reading describes the decay (its residual within :data:`~._envelope.ENVELOPE_MISFIT` times the noise;
@@ -461,11 +493,12 @@ def _doubted(state, read: list, reading: CouplingReading, clean_bands: bool) -> 
     reading gives a mode no free decay, or one it does not resolve (a damping ratio within
     :data:`COUPLING_SIGMAS` of its standard deviations of zero: a strongly damped mode 12 dB over the noise,
     its own 109.5 Hz and 2.05 %, read at 102.9 +- 5.0 Hz and 0.27 +- 3.7 %, says nothing of it). Returns the
-    words for the trace ("" if nothing was widened)."""
+    words for the trace ("" if nothing was widened); nor at the positions ``against``, where it moves the
+    mode against the others (:func:`_against_element`)."""
     widened = []
-    for j, mode, (f, z, f_read_std, z_read_std) in _modes_read(state, read, reading):
-        if mode.source == "coupling":  # (the reading's own values, with its ±)
-            continue
+    for i, (j, mode, (f, z, f_read_std, z_read_std)) in _modes_read(state, read, reading, positions=True):
+        if mode.source == "coupling" or i in against:  # (the reading's own values, with its ±; or not one
+            continue                                   # element's reading of it)
         if not (np.isfinite(f) and np.isfinite(z) and z > COUPLING_SIGMAS * z_read_std):
             continue
         f_std = float(np.hypot(mode.frequency_std_hz, f - mode.frequency_hz))
