@@ -23,9 +23,10 @@ reads them together and, where the reading describes the decay (its residual at 
 any mode's band (:func:`band_consistency`, at :data:`NOISE_LEVEL` for the bands together), it reports a
 mode's small-amplitude frequency and damping ratio from it where they differ from the mode's own beyond
 :data:`COUPLING_SIGMAS` of the reading's standard deviations or are known better than the mode's own
-(:func:`takes_reading`; ``source`` ``"coupling"``). Where the reading
-describes the decay but is not taken, each mode keeps its own values and its ± takes in the difference
-from the reading (:func:`_doubted`).
+(:func:`takes_reading`; ``source`` ``"coupling"``), unless the reading moves it against the way it
+surely moves the others (:func:`_against_element`: one element moves every mode one way). Where the
+reading describes the decay but is not taken, each mode keeps its own values and its ± takes in the
+difference from the reading (:func:`_doubted`).
 """
 
 from __future__ import annotations

@@ -6,8 +6,10 @@
   or seen only just after the hit; or a piece of a moving parent's harmonic sweep, whose band's test does
   not decide) is decided by its parent's equation once fitted: at ``n`` times a
   frequency the nonlinear parent's backbone passes, it is the parent's harmonic
-  (:func:`~._harmonics._on_backbone`); harmonics of a nonlinear mode too weak to be candidates are named
-  where a spectral peak stands phase-locked at their place (:func:`~._harmonics._unseen_harmonics`).
+  (:func:`~._harmonics._on_backbone`), unless its envelope decays faster against the parent's than a
+  harmonic of that order can (:func:`_steeper_than_harmonic`); harmonics of a nonlinear mode too weak to
+  be candidates are named where a spectral peak stands phase-locked at their place
+  (:func:`~._harmonics._unseen_harmonics`).
 - A nonlinear mode whose equation misreads how its decay rate changes with amplitude gets its decay's
   damping ratio (``source`` "envelope"): the envelope's at zero amplitude where the decay rate changes and
   the equation lacks that change (:func:`~._envelope._missing_damping`), the free decay's constant rate where
