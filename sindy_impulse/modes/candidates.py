@@ -447,7 +447,8 @@ def _confirmed_by_poles(fit, places: int) -> np.ndarray:
     the threshold of the ``places`` poles tried. A component the linear decay does not explain is a
     nonlinear mode, whose harmonics and intermodulation tones stand where no mode is: beside one, a pole
     names a mode only away from those places (:func:`_at_product_place`; its chirp's own poles are beyond
-    the hidden components' reach, :func:`_standing`).
+    the hidden components' reach, :func:`_standing`), or where it decays faster than a product of the
+    others can (:func:`_faster_than_products`).
     """
     if places < 1:
         return np.zeros(len(fit), bool)
@@ -636,7 +637,9 @@ def _may_be_harmonic(fit, k: int) -> bool:
 
 def _candidates(fit, table) -> list:
     stable = [m for m in table.modes() if m.n_orders >= SEED_PERSISTENCE * len(table.orders)]
-    resolution = fit.fs / fit.n_samples
+    # the diagram reads the decay's first SEED_SAMPLES: where a mode's frequency moves with its amplitude,
+    # its pole lies where the mode was then, within that stretch's resolution of the whole decay's component
+    resolution = fit.fs / min(fit.n_samples, SEED_SAMPLES)
     # a pole confirms the component nearest to it only (a broad component's half-power band holds its
     # neighbours' poles too)
     f_all = np.asarray(fit.frequency_hz, float)
