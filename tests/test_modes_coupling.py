@@ -344,10 +344,10 @@ def test_band_power_refuses_a_noise_level_that_is_no_power():
 
 
 def test_a_reading_that_moves_one_mode_against_the_others_leaves_that_modes_values():
-    """One softening spring: the reading moved the two lightly damped modes up from their own readings
-    (by 5 and 15 of its standard deviations) and the strongly damped 476.3 Hz one down, 3.3 of its
-    standard deviations, to 470.95 Hz (1.1 % off). One element moves every mode one way: that mode keeps
-    its own values, and its ± is not widened by a reading that is not one element's for it."""
+    """One softening spring: the reading gave the two lightly damped modes softening stiffness shares and
+    the strongly damped 476.3 Hz one a hardening share, moving it 3.3 of its standard deviations down to
+    470.95 Hz (1.1 % off). One element's share of every mode has its sign: that mode keeps its own values,
+    and its ± is not widened by a reading that is not one element's for it."""
     rec = impact_record([76.27522144043209, 196.63525963871692, 476.27316423886487],
                         [0.0023796929423656583, 0.0016503256236752493, 0.021754277188739814],
                         [0.3348258452829384, 0.2006636904840418, 0.1965550175902566], fs=5000.0,
@@ -363,12 +363,20 @@ def test_a_reading_that_moves_one_mode_against_the_others_leaves_that_modes_valu
     assert strong.source != "coupling" and strong.frequency_std_hz < 0.5
 
 
-def test_against_element_needs_a_sure_move_the_other_way():
-    from types import SimpleNamespace as Mode
+def test_against_element_needs_a_sure_share_of_the_other_sign():
+    from types import SimpleNamespace as Reading
 
-    state = Mode(modes=[Mode(frequency_hz=100.0), Mode(frequency_hz=200.0)], origin=[0, 1])
-    reading = Mode(frequency_hz=np.array([100.5, 199.9]), damping_ratio=np.zeros(2),
-                   frequency_std_hz=np.array([0.1, 0.1]), damping_ratio_std=np.zeros(2))
-    assert coupling._against_element(state, [0, 1], reading) == set()  # 1 standard deviation: no move
-    reading.frequency_hz = np.array([100.5, 199.5])  # 5 standard deviations down, the other 5 up
-    assert coupling._against_element(state, [0, 1], reading) == {1}
+    reading = Reading(stiffness=np.array([-2.0, 0.5]), stiffness_std=np.array([0.1, 0.3]))
+    assert coupling._against_element(None, [0, 1], reading) == set()  # under 3 standard deviations
+    reading.stiffness_std = np.array([0.1, 0.1])
+    assert coupling._against_element(None, [0, 1], reading) == {1}
+    reading.stiffness_std = None  # not computed: nothing to judge
+    assert coupling._against_element(None, [0, 1], reading) == set()
+
+
+def test_the_reading_gives_its_stiffness_shares_standard_deviations():
+    y, fs, w, rates = _coupled()
+    reading = one_element_reading(y, fs, [(1.0, rates[0], 40.3), (0.5, rates[1], 91.0)])
+    assert reading.stiffness_std.shape == (2,) and np.all(reading.stiffness_std > 0)
+    assert np.all(np.abs(reading.stiffness) > 3 * reading.stiffness_std)  # both shares sure, one sign
+    assert np.all(reading.stiffness * reading.stiffness[0] > 0)

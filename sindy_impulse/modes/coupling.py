@@ -85,6 +85,7 @@ class CouplingReading:
     element: np.ndarray
     residual: np.ndarray
     fs: float
+    stiffness_std: np.ndarray | None = None
 
     @property
     def rms(self) -> float:
@@ -212,7 +213,7 @@ def one_element_reading(y: np.ndarray, fs: float, components: list) -> CouplingR
     sigma, omega = x[2:4 * n:4], x[3:4 * n:4]
     wn = np.hypot(omega, sigma)
     return CouplingReading(wn / (2 * np.pi), sigma / wn, sd[3:4 * n:4] / (2 * np.pi), sd[2:4 * n:4] / wn,
-                           x[4 * n:5 * n], x[5 * n:6 * n], x[6 * n:], residual, float(fs))
+                           x[4 * n:5 * n], x[5 * n:6 * n], x[6 * n:], residual, float(fs), sd[4 * n:5 * n])
 
 
 def band_consistency(residual: np.ndarray, fs: float, components: list) -> np.ndarray:
@@ -305,7 +306,7 @@ def read_coupling(state) -> None:
     if lost:
         state.decide(f"the coupling reading {lost}: the modes' own values stand")
         return
-    against = _against_element(state, read, reading)  # (read before any mode takes the reading's values)
+    against = _against_element(state, read, reading)
     chance = band_consistency(reading.residual, reading.fs, components)
     failing = chance < NOISE_LEVEL / len(read)
     where = cands[read[int(np.argmin(chance))]].frequency_hz
@@ -379,32 +380,32 @@ def _take(state, read: list, reading: CouplingReading, against: set, widened: bo
 
 
 def _against_element(state, read: list, reading: CouplingReading) -> set:
-    """Positions in ``read`` of the modes whose small-amplitude frequency the ``reading`` moves from their
-    own the other way than it moves the mode it moves most surely (each move counted where it exceeds
-    :data:`COUPLING_SIGMAS` of the reading's standard deviations). One element moves every mode one way:
-    its stiffness share of each mode has the element's sign, and a mode's own reading, taken while the
-    others ring, is moved by their amplitudes the way the element moves it, so the small-amplitude
-    frequencies all lie on one side of the modes' own. A reading that moves one mode against the others
-    (a strongly damped 476.2 Hz mode read at 470.95 +- 1.6 Hz, 3.3 standard deviations down, while the
-    two lightly damped modes it was read with moved up by 5 and 15) is not one element's for that mode.
+    """Positions in ``read`` of the modes whose stiffness share ``G`` the ``reading`` gives the other sign
+    than it gives the share it knows most surely (each beyond :data:`COUPLING_SIGMAS` of its standard
+    deviation). One element's stiffness share of every mode has the element's sign (its stiffness times
+    the mode's shape there squared): a reading that moves one mode with the others' amplitudes the other
+    way is not one element's for that mode (a strongly damped 476.3 Hz mode beside a softening spring read
+    with a hardening share, 470.95 +- 1.6 Hz, 1.1 % below its own and the true value).
 
     Examples
     --------
-    >>> from types import SimpleNamespace as Mode
-    >>> modes = [Mode(frequency_hz=76.2743), Mode(frequency_hz=196.633), Mode(frequency_hz=476.219)]
-    >>> state = Mode(modes=modes, origin=[0, 1, 2])
-    >>> reading = Mode(frequency_hz=np.array([76.2748, 196.6375, 470.9547]), damping_ratio=np.zeros(3),
-    ...                frequency_std_hz=np.array([1e-4, 3e-4, 1.6]), damping_ratio_std=np.zeros(3))
-    >>> _against_element(state, [0, 1, 2], reading)
+    >>> from types import SimpleNamespace as Reading
+    >>> reading = Reading(stiffness=np.array([-21.8, -20.0, 115.3]), stiffness_std=np.array([0.5, 0.8, 20.0]))
+    >>> _against_element(None, [0, 1, 2], reading)
     {2}
+    >>> reading.stiffness_std = np.array([0.5, 0.8, 60.0])  # not sure of its sign: not against
+    >>> _against_element(None, [0, 1, 2], reading)
+    set()
     """
-    moves = {i: (f - mode.frequency_hz) / f_std
-             for i, (_, mode, (f, _, f_std, _)) in _modes_read(state, read, reading, positions=True)
-             if f_std > 0 and abs(f - mode.frequency_hz) > COUPLING_SIGMAS * f_std}
-    if not moves:
+    g, g_std = np.asarray(reading.stiffness, float), reading.stiffness_std
+    if g_std is None:
         return set()
-    surest = max(moves.values(), key=abs)
-    return {i for i, z in moves.items() if z * surest < 0}
+    g_std = np.asarray(g_std, float)
+    sure = np.isfinite(g) & np.isfinite(g_std) & (np.abs(g) > COUPLING_SIGMAS * g_std)
+    if not sure.any():
+        return set()
+    surest = np.flatnonzero(sure)[np.argmax(np.abs(g[sure]) / np.maximum(g_std[sure], 1e-300))]
+    return {int(i) for i in np.flatnonzero(sure & (g * g[surest] < 0))}
 
 
 def _lost_mode(cands, read: list, reading: CouplingReading) -> str | None:
