@@ -6,7 +6,10 @@ neighbours' skirts and the filter transient they would cause are gone, so its ba
 band-pass transient short. Its band (:func:`mode_bands`) is cut among the modes alone (tones, harmonics and
 merged pieces are removed or belong to their mode): a linear mode's among all modes, a nonlinear mode's
 among the nonlinear ones only (its linear neighbours are removed exactly, its nonlinear ones are not) and
-never past :data:`HARMONIC_REACH` of its frequency (its harmonics are not removed).
+never up to its second harmonic's sweep: its top stays under twice its lowest piece's frequency by the
+harmonic window (:data:`~sindy_impulse.preprocessing.partition.HARMONIC_NEAR`; its harmonics are not
+removed, and three broad pieces of a quadratic spring's 672 Hz mode had spread its band over its own 1316
+Hz harmonic, and its equation, fitted to both, was 1.2 % off).
 Where even that band keeps too few periods (a short, strongly damped record), the mode's free decay is used
 without band-pass (:func:`free_decay`).
 """
@@ -17,7 +20,7 @@ import numpy as np
 
 from ..preprocessing.band import band_noise_rms, extract_band
 from ..preprocessing.filters import bandpass, transient_samples
-from ..preprocessing.partition import peak_bands
+from ..preprocessing.partition import HARMONIC_NEAR, peak_bands
 from .kinds import Kind
 
 __all__ = ["component", "deflated", "analytic", "band_signal", "free_decay", "mode_bands", "END_SNR_DB",
@@ -29,11 +32,6 @@ END_SNR_DB, MIN_PERIODS = 10.0, 2.0
 #: ... and at least this many samples (a smoothing window's worth).
 MIN_SAMPLES = 24
 _MODES = (Kind.LINEAR, Kind.NONLINEAR)
-#: A nonlinear mode's band ends at this ratio of its frequency, either side: the geometric middle between it
-#: and its second harmonic. A band spanning merged pieces widens with their spread; three broad pieces of a
-#: quadratic spring's 672 Hz mode had made its band 229-1916 Hz, holding its own 1316 Hz harmonic, and its
-#: equation fitted to both was 1.2 % off.
-HARMONIC_REACH = float(np.sqrt(2.0))
 
 
 def component(cand, n: int, fs: float, t: np.ndarray | None = None) -> np.ndarray:
@@ -177,8 +175,9 @@ def mode_bands(state) -> None:
     for i, k in enumerate(heads):
         cands[k].band_hz = tuple(float(b) for b in every[i])
     for i, band in zip(nonlinear, wide):
-        reach = HARMONIC_REACH * f[i]  # (a nonlinear mode's band never holds its own harmonics)
-        cands[heads[i]].band_hz = (float(max(band[0], f[i] ** 2 / reach)), float(min(band[1], reach)))
+        lowest = min(cands[j].damped_frequency_hz for j in _members(state, heads[i]))
+        top = 2 * (1 - HARMONIC_NEAR) * lowest  # (a nonlinear mode's band never holds its harmonic's sweep)
+        cands[heads[i]].band_hz = (float(band[0]), float(min(band[1], top)))
     for c in cands:
         if c.kind is Kind.MERGED:
             c.band_hz = cands[c.parent].band_hz
