@@ -120,11 +120,15 @@ def test_poles_name_a_mode_away_from_a_nonlinear_modes_products():
     # beside a nonlinear mode (100 Hz), a pole names a mode only away from its harmonics and
     # intermodulation places: 250 Hz is one, 300 Hz (3 x 100) is not, nor is the nonlinear mode itself
     fit.damped_frequency_hz = np.array([100.0, 250.0, 300.0])
+    fit.decay_rate = np.array([1.0, 2.0, 3.0])
     fit.height_db = np.array([at + 5, at + 0.1, at + 5])
     fit.lack_of_fit, fit.lack_of_fit_p = np.array([8.0, 1.0, 1.0]), np.array([1e-12, 0.5, 0.5])
     assert _confirmed_by_poles(fit, 2).tolist() == [False, True, False]
     fit.damped_frequency_hz = np.array([100.0, 205.0, 300.0])  # 2 x 100 within 6 %
     assert not _confirmed_by_poles(fit, 2).any()
+    # ... but a component at such a place that decays faster than any product of the others can is a mode
+    fit.decay_rate = np.array([1.0, 40.0, 3.0])
+    assert _confirmed_by_poles(fit, 2).tolist() == [False, True, False]
     assert detection_threshold_db(2) < detection_threshold_db(10000)
 
 
