@@ -344,10 +344,11 @@ def test_band_power_refuses_a_noise_level_that_is_no_power():
 
 
 def test_a_reading_that_moves_one_mode_against_the_others_leaves_that_modes_values():
-    """One softening spring: the reading gave the strongly damped 476.3 Hz mode a share of the element of
-    the other sign than the two lightly damped ones' (-0.53 beside 1.11 and 0.74), moving it 3.3 of its
-    standard deviations down to 470.95 Hz (1.1 % off). One element's share of every mode has one sign: that
-    mode keeps its own values, and its ± is not widened by a reading that is not one element's for it."""
+    """One softening spring: the reading gave the strongly damped 476.3 Hz mode a stiffness share and a
+    share of the element both of the other sign than the two lightly damped ones' (G 115 beside -22 and
+    -20, E -0.53 beside 1.11 and 0.74), moving it 3.3 of its standard deviations down to 470.95 Hz (1.1 %
+    off). One element couples every pair one way: that mode keeps its own values, and its ± is not widened
+    by a reading that is not one element's for it."""
     rec = impact_record([76.27522144043209, 196.63525963871692, 476.27316423886487],
                         [0.0023796929423656583, 0.0016503256236752493, 0.021754277188739814],
                         [0.3348258452829384, 0.2006636904840418, 0.1965550175902566], fs=5000.0,
@@ -363,20 +364,24 @@ def test_a_reading_that_moves_one_mode_against_the_others_leaves_that_modes_valu
     assert strong.source != "coupling" and strong.frequency_std_hz < 0.5
 
 
-def test_against_element_needs_a_sure_share_of_the_other_sign():
+def test_against_element_needs_both_shares_surely_of_the_other_sign():
     from types import SimpleNamespace as Reading
 
-    reading = Reading(element=np.array([2.0, -0.5]), element_std=np.array([0.1, 0.3]))
-    assert coupling._against_element(None, [0, 1], reading) == set()  # under 3 standard deviations
+    reading = Reading(stiffness=np.array([-3.0, 1.0]), stiffness_std=np.array([0.1, 0.1]),
+                      element=np.array([2.0, -0.5]), element_std=np.array([0.1, 0.3]))
+    assert coupling._against_element(None, [0, 1], reading) == set()  # E under 3 standard deviations
     reading.element_std = np.array([0.1, 0.1])
     assert coupling._against_element(None, [0, 1], reading) == {1}
-    reading.element_std = None  # not computed: nothing to judge
+    reading.stiffness = np.array([-3.0, -1.0])  # its stiffness share has the others' sign
+    assert coupling._against_element(None, [0, 1], reading) == set()
+    reading.stiffness, reading.element_std = np.array([-3.0, 1.0]), None  # not computed: nothing to judge
     assert coupling._against_element(None, [0, 1], reading) == set()
 
 
-def test_the_reading_gives_its_element_shares_standard_deviations():
+def test_the_reading_gives_its_shares_standard_deviations():
     y, fs, w, rates = _coupled()
     reading = one_element_reading(y, fs, [(1.0, rates[0], 40.3), (0.5, rates[1], 91.0)])
+    assert reading.stiffness_std.shape == (2,) and np.all(reading.stiffness_std > 0)
     assert reading.element_std.shape == (2,) and np.all(reading.element_std > 0)
     assert np.all(np.abs(reading.element) > 3 * reading.element_std)  # both shares sure, one sign
     assert np.all(reading.element * reading.element[0] > 0)
@@ -385,8 +390,9 @@ def test_the_reading_gives_its_element_shares_standard_deviations():
 def test_a_damper_records_stiffness_shares_do_not_keep_a_mode_from_its_reading():
     """An amplitude-dependent damper (no stiffness): the reading's stiffness shares are small and of both
     signs, several standard deviations each (what the model misses), while the element's shares have one
-    sign but for a strongly damped 118.2 Hz mode's. The 29.2 Hz mode (1.39 %), whose own reading holds
-    the lightly damped modes' damping added (1.53 %, 10 % off), takes the reading's 1.38 %."""
+    sign but for a strongly damped 118.2 Hz mode's. Neither alone keeps a mode from the reading: the 29.2
+    Hz mode (1.39 %), whose own reading holds the lightly damped modes' damping added (1.53 %, 10 % off),
+    takes the reading's 1.38 %."""
     rec = impact_record([29.202727079676556, 44.39850964976903, 118.23976143179215, 131.83139063368603],
                         [0.013853017568517988, 0.001822627500607232, 0.013456693748704908,
                          0.0014820076987013132],
@@ -394,6 +400,24 @@ def test_a_damper_records_stiffness_shares_do_not_keep_a_mode_from_its_reading()
                         fs=2048.0, duration=10.1943359375, sensor="velocity", pre_trigger=0.03354228540120302,
                         offset=2.1190391531124275, snr_db=59.74182825754869, random_state=1453962030,
                         damping_amplitude=23802383.680398293)
+    survey = _survey(rec)
+    for f, z in zip(rec.modes.frequency_hz, rec.modes.damping_ratio):
+        mode = min(survey.modes, key=lambda m: abs(m.frequency_hz - f))
+        assert mode.frequency_hz == pytest.approx(f, rel=3e-3)
+        assert mode.damping_ratio == pytest.approx(z, rel=0.1)
+
+
+def test_a_strongly_damped_modes_share_of_the_element_alone_does_not_refuse_its_reading():
+    """A cubic spring and a damper: the reading gives the 1095.2 Hz mode (0.66 %) a share of the element
+    of the other sign (-0.41 beside 4.7 and 0.94, 19 standard deviations) but a stiffness share of the
+    others' sign: it is moved by the others' amplitudes the way they are, and takes the reading (0.683 %;
+    its own reading, which holds their damping added, 0.764 %, 16 % off)."""
+    rec = impact_record([698.4683561955727, 866.5637656258177, 1095.193395641992],
+                        [0.00571590909867236, 0.0033803756441591324, 0.006604115036445274],
+                        [0.4123294088690974, 0.482914697830745, 0.8538480916540528], fs=10000.0,
+                        duration=2.676, sensor="acceleration", pre_trigger=0.0092679665547584,
+                        offset=4.786243491275263, snr_db=40.49124353641092, random_state=2086165683,
+                        cubic_stiffness=1.4674292459511356e+23, damping_amplitude=1.0480952675349023e+19)
     survey = _survey(rec)
     for f, z in zip(rec.modes.frequency_hz, rec.modes.damping_ratio):
         mode = min(survey.modes, key=lambda m: abs(m.frequency_hz - f))

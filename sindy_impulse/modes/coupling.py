@@ -23,8 +23,8 @@ reads them together and, where the reading describes the decay (its residual at 
 any mode's band (:func:`band_consistency`, at :data:`NOISE_LEVEL` for the bands together), it reports a
 mode's small-amplitude frequency and damping ratio from it where they differ from the mode's own beyond
 :data:`COUPLING_SIGMAS` of the reading's standard deviations or are known better than the mode's own
-(:func:`takes_reading`; ``source`` ``"coupling"``), unless the reading gives it a share of the element of
-the other sign (:func:`_against_element`: one element's share of every mode has one sign). Where the
+(:func:`takes_reading`; ``source`` ``"coupling"``), unless the reading couples it the other way than
+one element can (:func:`_against_element`). Where the
 reading describes the decay but is not taken, each mode keeps its own values and its ± takes in the
 difference from the reading (:func:`_doubted`).
 """
@@ -85,6 +85,7 @@ class CouplingReading:
     element: np.ndarray
     residual: np.ndarray
     fs: float
+    stiffness_std: np.ndarray | None = None
     element_std: np.ndarray | None = None
 
     @property
@@ -213,7 +214,8 @@ def one_element_reading(y: np.ndarray, fs: float, components: list) -> CouplingR
     sigma, omega = x[2:4 * n:4], x[3:4 * n:4]
     wn = np.hypot(omega, sigma)
     return CouplingReading(wn / (2 * np.pi), sigma / wn, sd[3:4 * n:4] / (2 * np.pi), sd[2:4 * n:4] / wn,
-                           x[4 * n:5 * n], x[5 * n:6 * n], x[6 * n:], residual, float(fs), sd[6 * n:])
+                           x[4 * n:5 * n], x[5 * n:6 * n], x[6 * n:], residual, float(fs), sd[4 * n:5 * n],
+                           sd[6 * n:])
 
 
 def band_consistency(residual: np.ndarray, fs: float, components: list) -> np.ndarray:
@@ -380,33 +382,43 @@ def _take(state, read: list, reading: CouplingReading, against: set, widened: bo
 
 
 def _against_element(state, read: list, reading: CouplingReading) -> set:
-    """Positions in ``read`` of the modes whose share of the element ``E`` the ``reading`` gives the other
-    sign than it gives the share it knows most surely (each beyond :data:`COUPLING_SIGMAS` of its standard
-    deviation). One element's share of each mode (its shape there squared, ``C_km = (2 - delta_km) G_k
-    E_m``) has one sign: a reading that gives a mode the other sign is not one element's for that mode. It
-    happens to strongly damped modes, whose short decays leave their share free to take up what the model
-    misses (a 476.3 Hz mode at 2.2 % beside a softening spring, read 470.95 +- 1.6 Hz, 1.1 % below its own
-    and the true value, with ``E`` -0.53 beside the others' 1.11 and 0.74).
+    """Positions in ``read`` of the modes that the ``reading`` couples the other way than one element can:
+    both their stiffness share ``G`` and their share of the element ``E`` of the other sign than the shares
+    it knows most surely (:func:`_other_sign`). One element moves mode ``k`` by mode ``m``'s amplitude as
+    ``C_km = (2 - delta_km) G_k E_m``, every term of one sign; with both shares flipped, mode ``k`` is moved
+    by every other mode, and moves them, the other way (a strongly damped 476.3 Hz mode beside a softening
+    spring, ``G`` 115 beside -22 and -20, ``E`` -0.53 beside 1.11 and 0.74, read 470.95 +- 1.6 Hz, 1.1 %
+    below its own and the true value). One share of the other sign alone is not enough: a strongly damped
+    mode's ``E`` (its own amplitude, soon gone) is free to take up what the model misses while its reading
+    is right, and a damper's stiffness shares are small and of either sign.
 
     Examples
     --------
     >>> from types import SimpleNamespace as Reading
-    >>> reading = Reading(element=np.array([1.11, 0.74, -0.53]), element_std=np.array([0.01, 0.02, 0.1]))
+    >>> reading = Reading(stiffness=np.array([-21.8, -20.0, 115.3]), stiffness_std=np.array([0.5, 0.8, 20.0]),
+    ...                   element=np.array([1.11, 0.74, -0.53]), element_std=np.array([0.01, 0.02, 0.1]))
     >>> _against_element(None, [0, 1, 2], reading)
     {2}
-    >>> reading.element_std = np.array([0.01, 0.02, 0.3])  # not sure of its sign: not against
+    >>> reading.element = np.array([1.11, 0.74, 0.53])  # its share of the element has their sign
     >>> _against_element(None, [0, 1, 2], reading)
     set()
     """
-    e, e_std = np.asarray(reading.element, float), reading.element_std
-    if e_std is None:
+    stiffness = _other_sign(reading.stiffness, getattr(reading, "stiffness_std", None))
+    element = _other_sign(reading.element, getattr(reading, "element_std", None))
+    return stiffness & element
+
+
+def _other_sign(share, share_std) -> set:
+    """Positions of the shares of the other sign than the one known most surely (each beyond
+    :data:`COUPLING_SIGMAS` of its standard deviation; none where the standard deviations are None)."""
+    if share_std is None:
         return set()
-    e_std = np.asarray(e_std, float)
-    sure = np.isfinite(e) & np.isfinite(e_std) & (np.abs(e) > COUPLING_SIGMAS * e_std)
+    share, share_std = np.asarray(share, float), np.asarray(share_std, float)
+    sure = np.isfinite(share) & np.isfinite(share_std) & (np.abs(share) > COUPLING_SIGMAS * share_std)
     if not sure.any():
         return set()
-    surest = np.flatnonzero(sure)[np.argmax(np.abs(e[sure]) / np.maximum(e_std[sure], 1e-300))]
-    return {int(i) for i in np.flatnonzero(sure & (e * e[surest] < 0))}
+    surest = np.flatnonzero(sure)[np.argmax(np.abs(share[sure]) / np.maximum(share_std[sure], 1e-300))]
+    return {int(i) for i in np.flatnonzero(sure & (share * share[surest] < 0))}
 
 
 def _lost_mode(cands, read: list, reading: CouplingReading) -> str | None:
@@ -496,8 +508,8 @@ def _doubted(state, read: list, reading: CouplingReading, against: set, clean_ba
     reading gives a mode no free decay, or one it does not resolve (a damping ratio within
     :data:`COUPLING_SIGMAS` of its standard deviations of zero: a strongly damped mode 12 dB over the noise,
     its own 109.5 Hz and 2.05 %, read at 102.9 +- 5.0 Hz and 0.27 +- 3.7 %, says nothing of it). Returns the
-    words for the trace ("" if nothing was widened); nor at the positions ``against``, where it gives the
-    mode a share of the element of the other sign (:func:`_against_element`)."""
+    words for the trace ("" if nothing was widened); nor at the positions ``against``, where it couples the
+    mode the other way than one element can (:func:`_against_element`)."""
     widened = []
     for i, (j, mode, (f, z, f_read_std, z_read_std)) in _modes_read(state, read, reading, positions=True):
         if mode.source == "coupling" or i in against:  # (the reading's own values, with its ±; or not one
