@@ -34,6 +34,7 @@ from ..preprocessing.partition import peak_bands
 from ._envelope import DOUBT_SIGMAS
 from ._states import free_decay_states
 from .band_fit import MAX_FIT_ERROR, fit_band, fit_states, mode_of_states, with_uncertainty
+from .classify import TONE_SIGMAS
 from .kinds import Kind, Reason
 from .linear import (
     envelope_mode,
@@ -108,14 +109,19 @@ def _one(state, k: int) -> list:
 
 
 def _unsupported(state, k: int, out) -> bool:
-    """Whether nothing supports candidate ``k`` as a mode: no stable pole of the diagram confirms it, its
-    linear decay does not explain it, and the mode ``out`` carries the decay fit's values (no equation
-    reproduced it) from a model whose fit error exceeds :data:`~.band_fit.MAX_FIT_ERROR` (what a linear
-    decay fit leaves beside a nonlinear mode's chirp or a slow drift: a broad component that changes
-    from fit to fit)."""
+    """Whether nothing supports candidate ``k`` as a mode: the mode ``out`` carries the decay fit's values
+    (no equation reproduced it) from a model whose fit error exceeds :data:`~.band_fit.MAX_FIT_ERROR`, and
+    either no stable pole of the diagram confirms it and its linear decay does not explain it (what a
+    linear decay fit leaves beside a nonlinear mode's chirp or a slow drift: a broad component that changes
+    from fit to fit), or its damping ratio lies within :data:`~.classify.TONE_SIGMAS` of its standard
+    deviations of zero (the record does not measure its decay: what a short record of strongly damped modes
+    leaves in the noise after they died out, 15 dB over it, read 0.35 +- 0.51 % damped with a fit error of
+    0.70, beside a pole found at 3 of the diagram's 12 orders)."""
     cand = state.candidates[k]
-    return (isinstance(out, Mode) and out.source == "poles" and not cand.stable and not cand.explained
-            and out.fit_error > MAX_FIT_ERROR)
+    if not (isinstance(out, Mode) and out.source == "poles" and out.fit_error > MAX_FIT_ERROR):
+        return False
+    unconfirmed = not cand.stable and not cand.explained
+    return unconfirmed or not out.damping_ratio > TONE_SIGMAS * out.damping_ratio_std
 
 
 def _supported(state, k: int, out):
@@ -123,9 +129,14 @@ def _supported(state, k: int, out):
     if not _unsupported(state, k, out):
         return out
     cand = state.candidates[k]
-    why = (f"no stable pole confirms the component at {cand.damped_frequency_hz:.5g} Hz, its linear decay "
-           f"does not explain it (lack of fit {cand.lack_of_fit:.3g} x the noise) and that decay does not "
-           f"reproduce its band (fit error {out.fit_error:.3g} > {MAX_FIT_ERROR}): not reported as a mode")
+    if not cand.stable and not cand.explained:
+        first = (f"no stable pole confirms the component at {cand.damped_frequency_hz:.5g} Hz, its linear "
+                 f"decay does not explain it (lack of fit {cand.lack_of_fit:.3g} x the noise)")
+    else:
+        first = (f"the record does not measure the decay of the component at {cand.damped_frequency_hz:.5g} "
+                 f"Hz (damping ratio {out.damping_ratio:.3g} +- {out.damping_ratio_std:.2g})")
+    why = (f"{first} and that decay does not reproduce its band (fit error {out.fit_error:.3g} > "
+           f"{MAX_FIT_ERROR}): not reported as a mode")
     evidence = {"fit_error": float(out.fit_error), "lack_of_fit": float(cand.lack_of_fit),
                 "frequency_hz": float(out.frequency_hz), "damping_ratio": float(out.damping_ratio)}
     return Rejected(cand.band_hz, why, state.index, evidence, Reason.POOR_FIT)
