@@ -6,6 +6,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from survey_helpers import assert_true_modes_found, nearest_mode
 
 from sindy_impulse import identify_modes, impact_record
 from sindy_impulse.modes import coupling
@@ -356,11 +357,8 @@ def test_a_reading_that_moves_one_mode_against_the_others_leaves_that_modes_valu
                         offset=1.282238409026114, snr_db=54.681417574137605, random_state=1004091664,
                         cubic_stiffness=-63853206345.97671)
     survey = _survey(rec)
-    for f, z in zip(rec.modes.frequency_hz, rec.modes.damping_ratio):
-        mode = min(survey.modes, key=lambda m: abs(m.frequency_hz - f))
-        assert mode.frequency_hz == pytest.approx(f, rel=3e-3)
-        assert mode.damping_ratio == pytest.approx(z, rel=0.1)
-    strong = min(survey.modes, key=lambda m: abs(m.frequency_hz - 476.27))
+    assert_true_modes_found(survey, rec)
+    strong = nearest_mode(survey, 476.27)
     assert strong.source != "coupling" and strong.frequency_std_hz < 0.5
 
 
@@ -369,13 +367,13 @@ def test_against_element_needs_both_shares_surely_of_the_other_sign():
 
     reading = Reading(stiffness=np.array([-3.0, 1.0]), stiffness_std=np.array([0.1, 0.1]),
                       element=np.array([2.0, -0.5]), element_std=np.array([0.1, 0.3]))
-    assert coupling._against_element(None, [0, 1], reading) == set()  # E under 3 standard deviations
+    assert coupling._against_element(reading) == set()  # E under 3 standard deviations
     reading.element_std = np.array([0.1, 0.1])
-    assert coupling._against_element(None, [0, 1], reading) == {1}
+    assert coupling._against_element(reading) == {1}
     reading.stiffness = np.array([-3.0, -1.0])  # its stiffness share has the others' sign
-    assert coupling._against_element(None, [0, 1], reading) == set()
+    assert coupling._against_element(reading) == set()
     reading.stiffness, reading.element_std = np.array([-3.0, 1.0]), None  # not computed: nothing to judge
-    assert coupling._against_element(None, [0, 1], reading) == set()
+    assert coupling._against_element(reading) == set()
 
 
 def test_the_reading_gives_its_shares_standard_deviations():
@@ -401,10 +399,7 @@ def test_a_damper_records_stiffness_shares_do_not_keep_a_mode_from_its_reading()
                         offset=2.1190391531124275, snr_db=59.74182825754869, random_state=1453962030,
                         damping_amplitude=23802383.680398293)
     survey = _survey(rec)
-    for f, z in zip(rec.modes.frequency_hz, rec.modes.damping_ratio):
-        mode = min(survey.modes, key=lambda m: abs(m.frequency_hz - f))
-        assert mode.frequency_hz == pytest.approx(f, rel=3e-3)
-        assert mode.damping_ratio == pytest.approx(z, rel=0.1)
+    assert_true_modes_found(survey, rec)
 
 
 def test_a_strongly_damped_modes_share_of_the_element_alone_does_not_refuse_its_reading():
@@ -419,7 +414,4 @@ def test_a_strongly_damped_modes_share_of_the_element_alone_does_not_refuse_its_
                         offset=4.786243491275263, snr_db=40.49124353641092, random_state=2086165683,
                         cubic_stiffness=1.4674292459511356e+23, damping_amplitude=1.0480952675349023e+19)
     survey = _survey(rec)
-    for f, z in zip(rec.modes.frequency_hz, rec.modes.damping_ratio):
-        mode = min(survey.modes, key=lambda m: abs(m.frequency_hz - f))
-        assert mode.frequency_hz == pytest.approx(f, rel=3e-3)
-        assert mode.damping_ratio == pytest.approx(z, rel=0.1)
+    assert_true_modes_found(survey, rec)

@@ -24,9 +24,8 @@ any mode's band (:func:`band_consistency`, at :data:`NOISE_LEVEL` for the bands 
 mode's small-amplitude frequency and damping ratio from it where they differ from the mode's own beyond
 :data:`COUPLING_SIGMAS` of the reading's standard deviations or are known better than the mode's own
 (:func:`takes_reading`; ``source`` ``"coupling"``), unless the reading couples it the other way than
-one element can (:func:`_against_element`). Where the
-reading describes the decay but is not taken, each mode keeps its own values and its ± takes in the
-difference from the reading (:func:`_doubted`).
+one element can (:func:`_against_element`). Where the reading describes the decay but is not taken, each
+mode keeps its own values and its ± takes in the difference from the reading (:func:`_doubted`).
 """
 
 from __future__ import annotations
@@ -308,7 +307,7 @@ def read_coupling(state) -> None:
     if lost:
         state.decide(f"the coupling reading {lost}: the modes' own values stand")
         return
-    against = _against_element(state, read, reading)
+    against = _against_element(reading)
     chance = band_consistency(reading.residual, reading.fs, components)
     failing = chance < NOISE_LEVEL / len(read)
     where = cands[read[int(np.argmin(chance))]].frequency_hz
@@ -362,8 +361,7 @@ def _take(state, read: list, reading: CouplingReading, against: set, widened: bo
     take the ``reading``'s values (:func:`takes_reading`), with its standard deviations; ``widened``: where
     the reading leaves more than noise in a band, the difference from the mode's own values added to them
     in quadrature (what the reading misses may move its values as far); never the modes at the positions
-    ``against`` (:func:`_against_element`). Returns their frequencies' words
-    for the trace."""
+    ``against`` (:func:`_against_element`). Returns their frequencies' words for the trace."""
     taken = []
     for i, (j, mode, (f, z, f_std, z_std)) in _modes_read(state, read, reading, positions=True):
         if (only is not None and not only[i]) or i in against or not takes_reading(mode, f, z, f_std, z_std):
@@ -381,31 +379,30 @@ def _take(state, read: list, reading: CouplingReading, against: set, widened: bo
     return taken
 
 
-def _against_element(state, read: list, reading: CouplingReading) -> set:
-    """Positions in ``read`` of the modes that the ``reading`` couples the other way than one element can:
-    both their stiffness share ``G`` and their share of the element ``E`` of the other sign than the shares
-    it knows most surely (:func:`_other_sign`). One element moves mode ``k`` by mode ``m``'s amplitude as
-    ``C_km = (2 - delta_km) G_k E_m``, every term of one sign; with both shares flipped, mode ``k`` is moved
-    by every other mode, and moves them, the other way (a strongly damped 476.3 Hz mode beside a softening
-    spring, ``G`` 115 beside -22 and -20, ``E`` -0.53 beside 1.11 and 0.74, read 470.95 +- 1.6 Hz, 1.1 %
-    below its own and the true value). One share of the other sign alone is not enough: a strongly damped
-    mode's ``E`` (its own amplitude, soon gone) is free to take up what the model misses while its reading
-    is right, and a damper's stiffness shares are small and of either sign.
+def _against_element(reading: CouplingReading) -> set:
+    """Positions (in the reading's order) of the modes that the ``reading`` couples the other way than one
+    element can: both their stiffness share ``G`` and their share of the element ``E`` of the other sign
+    than the shares it knows most surely (:func:`_other_sign`). One element moves mode ``k`` by mode
+    ``m``'s amplitude as ``C_km = (2 - delta_km) G_k E_m``, every term of one sign; with both shares
+    flipped, mode ``k`` is moved by every other mode, and moves them, the other way (a strongly damped
+    476.3 Hz mode beside a softening spring, ``G`` 115 beside -22 and -20, ``E`` -0.53 beside 1.11 and
+    0.74, read 470.95 +- 1.6 Hz, 1.1 % below its own and the true value). One share of the other sign alone
+    is not enough: a strongly damped mode's ``E`` (its own amplitude, soon gone) is free to take up what the
+    model misses while its reading is right, and a damper's stiffness shares are small and of either sign.
 
     Examples
     --------
     >>> from types import SimpleNamespace as Reading
     >>> reading = Reading(stiffness=np.array([-21.8, -20.0, 115.3]), stiffness_std=np.array([0.5, 0.8, 20.0]),
     ...                   element=np.array([1.11, 0.74, -0.53]), element_std=np.array([0.01, 0.02, 0.1]))
-    >>> _against_element(None, [0, 1, 2], reading)
+    >>> _against_element(reading)
     {2}
     >>> reading.element = np.array([1.11, 0.74, 0.53])  # its share of the element has their sign
-    >>> _against_element(None, [0, 1, 2], reading)
+    >>> _against_element(reading)
     set()
     """
-    stiffness = _other_sign(reading.stiffness, getattr(reading, "stiffness_std", None))
-    element = _other_sign(reading.element, getattr(reading, "element_std", None))
-    return stiffness & element
+    return _other_sign(reading.stiffness, reading.stiffness_std) & _other_sign(reading.element,
+                                                                                reading.element_std)
 
 
 def _other_sign(share, share_std) -> set:
