@@ -24,6 +24,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 from numbers import Integral
+from typing import NamedTuple
 
 import numpy as np
 
@@ -39,7 +40,7 @@ from ._clipped import clipping_report
 from .kinds import Kind
 from .result import pole_table
 
-__all__ = ["Candidate", "read_record", "stable_poles", "fit_candidates", "PERSISTENCE",
+__all__ = ["Candidate", "ConfirmingPole", "read_record", "stable_poles", "fit_candidates", "PERSISTENCE",
            "NONLINEAR_P"]
 
 #: A stable mode of the diagram is a candidate when found at this share of its orders or more (noise poles
@@ -80,6 +81,27 @@ NONLINEAR_P = 1e-6
 NONLINEAR_RATIO = 1.5
 
 
+class ConfirmingPole(NamedTuple):
+    """The stable mode of the survey's diagram that confirms a candidate, and the stretch the diagram read.
+
+    Attributes
+    ----------
+    frequency_hz, damping_ratio : float
+        The stable mode's median natural frequency and damping ratio over its orders.
+    frequency_spread_hz, damping_ratio_spread : float
+        How far its orders' poles scatter about them
+        (:attr:`~sindy_impulse.poles.stabilisation.StableMode.frequency_spread_hz`).
+    window_s : float
+        The length of the free decay the diagram read (its first :data:`SEED_SAMPLES` at most), seconds.
+    """
+
+    frequency_hz: float
+    damping_ratio: float
+    frequency_spread_hz: float
+    damping_ratio_spread: float
+    window_s: float
+
+
 @dataclass
 class Candidate:
     """One mode of the free decay as the decay fit sees it, and what the survey makes of it.
@@ -96,6 +118,9 @@ class Candidate:
         Its spectral peak over the noise floor.
     lack_of_fit, lack_of_fit_p : float
         Residual power over the noise near the mode, and how probable that is from noise alone.
+    pole : ConfirmingPole or None
+        The stable mode of the diagram (found at :data:`SEED_PERSISTENCE` of its orders) within its
+        half-power band that confirms it (the one nearest to it), or None.
     stable : bool
         A stable mode of the diagram (found at :data:`SEED_PERSISTENCE` of its orders) lies within its
         half-power band.
@@ -127,6 +152,7 @@ class Candidate:
     evidence: dict = field(default_factory=dict, repr=False)
     band_hz: tuple | None = None
     noise_std: float = 0.0
+    pole: ConfirmingPole | None = None
 
     @property
     def damped_frequency_hz(self) -> float:
@@ -639,7 +665,8 @@ def _candidates(fit, table) -> list:
     stable = [m for m in table.modes() if m.n_orders >= SEED_PERSISTENCE * len(table.orders)]
     # the diagram reads the decay's first SEED_SAMPLES: where a mode's frequency moves with its amplitude,
     # its pole lies where the mode was then, within that stretch's resolution of the whole decay's component
-    resolution = fit.fs / min(fit.n_samples, SEED_SAMPLES)
+    window = min(fit.n_samples, SEED_SAMPLES) / fit.fs
+    resolution = 1.0 / window
     # a pole confirms the component nearest to it only (a broad component's half-power band holds its
     # neighbours' poles too)
     f_all = np.asarray(fit.frequency_hz, float)
@@ -647,12 +674,16 @@ def _candidates(fit, table) -> list:
     out = []
     for k in range(len(fit)):
         f, zeta = float(fit.frequency_hz[k]), float(fit.damping_ratio[k])
-        near = any(abs(m.frequency_hz - f) <= max(zeta * f, 1.5 * resolution)
-                   for j, m in nearest if j == k)
+        reach = max(zeta * f, 1.5 * resolution)
+        near = [m for j, m in nearest if j == k and abs(m.frequency_hz - f) <= reach]
+        pole = min(near, key=lambda m: abs(m.frequency_hz - f), default=None)
         out.append(Candidate(f, zeta, float(fit.frequency_std_hz[k]), float(fit.damping_ratio_std[k]),
                              float(fit.decay_rate[k]), float(fit.decay_rate_std[k]), fit.amplitude[k],
                              float(fit.height_db[k]), float(fit.lack_of_fit[k]), float(fit.lack_of_fit_p[k]),
-                             near, noise_std=float(fit.noise_std[k])))
+                             pole is not None, noise_std=float(fit.noise_std[k]),
+                             pole=None if pole is None else ConfirmingPole(
+                                 pole.frequency_hz, pole.damping_ratio, pole.frequency_spread_hz,
+                                 pole.damping_ratio_spread, window)))
     return out
 
 

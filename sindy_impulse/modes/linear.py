@@ -30,7 +30,8 @@ from .band_fit import SENSOR_POWER, fit_error_of
 from .result import Mode
 from .signals import band_signal, free_decay
 
-__all__ = ["linear_mode", "envelope_mode", "linear_amplitude", "oscillator_model", "shape_of", "residue_of",
+__all__ = ["linear_mode", "pole_instead", "POLE_SIGMAS", "LACK_P", "envelope_mode", "linear_amplitude",
+           "oscillator_model", "shape_of", "residue_of",
            "impulse_of", "with_values_of"]
 
 def _states(state, k: int):
@@ -100,17 +101,79 @@ def _fixed_mode(state, k: int, terms: dict, source: str, **values) -> Mode | Non
                 coefficients_std=coefficients_std, source=source, **values)
 
 
+#: A candidate's decay fit and its stable pole disagree where they lie more than this many standard
+#: deviations of their difference apart, in frequency or damping ratio (:func:`pole_instead`) ...
+POLE_SIGMAS = 3.0
+#: ... and the decay fit's model lacks something near the mode where what it leaves there is this
+#: improbable from noise alone (:attr:`~.candidates.Candidate.lack_of_fit_p`).
+LACK_P = 0.01
+
+
+def pole_instead(cand) -> bool:
+    """Whether candidate ``cand`` reports its stable pole's values instead of its decay fit's.
+
+    The decay fit's components are the candidates only. Where its model lacks something the record holds
+    near a mode (what it leaves there is improbable from noise alone, :data:`LACK_P`), a strongly damped
+    mode, whose information lies in its first samples, absorbs it (the hit's tail, a component under the
+    threshold), where the diagram's higher orders give it poles of their own. Where such a mode also dies
+    out within the stretch the diagram read (its amplitude at the decay's start falls to the noise there),
+    the pole and the fit read the same samples with the same noise, the pole's standard deviation taken
+    as the fit's or its orders' scatter, whichever is larger, and a difference beyond
+    :data:`POLE_SIGMAS` of theirs is the fit's bias: the pole's values are reported. A mode that outlives
+    the stretch keeps the decay fit's values (they read the whole decay, the pole its beginning), as does
+    one the fit explains (the fit is then the sharper reading: a lightly damped mode's pole may lie
+    several of the fit's standard deviations off).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as C
+    >>> from sindy_impulse.modes.candidates import ConfirmingPole
+    >>> short = ConfirmingPole(1096.5, 0.1227, 0.4, 5e-4, window_s=0.05)  # a 12 % mode dies in 2 ms
+    >>> cand = C(frequency_hz=1089.9, frequency_std_hz=0.54, damping_ratio=0.1225, damping_ratio_std=6e-4,
+    ...          decay_rate=840.0, amplitude=[2.3], noise_std=1e-3, lack_of_fit_p=3e-4, pole=short)
+    >>> pole_instead(cand)
+    True
+    >>> pole_instead(C(**{**vars(cand), "pole": short._replace(frequency_hz=1090.5)}))  # they agree
+    False
+    >>> pole_instead(C(**{**vars(cand), "pole": short._replace(window_s=0.005)}))  # it outlives the stretch
+    False
+    >>> pole_instead(C(**{**vars(cand), "lack_of_fit_p": 0.5}))  # the fit explains it
+    False
+    """
+    pole = cand.pole
+    if pole is None or not cand.noise_std > 0 or not cand.decay_rate > 0 or not cand.lack_of_fit_p < LACK_P:
+        return False
+    level = abs(cand.amplitude[0]) / cand.noise_std
+    if level > 1 and cand.decay_rate * pole.window_s < math.log(level):
+        return False
+    # the pole's standard deviation: the fit's (the same samples' noise), at least its orders' scatter
+    f_std = math.hypot(cand.frequency_std_hz, max(cand.frequency_std_hz, pole.frequency_spread_hz))
+    z_std = math.hypot(cand.damping_ratio_std, max(cand.damping_ratio_std, pole.damping_ratio_spread))
+    return bool(abs(pole.frequency_hz - cand.frequency_hz) > POLE_SIGMAS * f_std
+                or abs(pole.damping_ratio - cand.damping_ratio) > POLE_SIGMAS * z_std)
+
+
 def linear_mode(state, k: int) -> Mode | None:
     """The :class:`Mode` of linear candidate ``k`` (see the module): the oscillator of its poles, ``k =
     omega_n^2`` (its std ``2 omega_n`` times the frequency's), ``c = 2 sigma``; None when the survey's
-    estimator cannot carry an oscillator (its library lacks ``y`` or ``dy``)."""
+    estimator cannot carry an oscillator (its library lacks ``y`` or ``dy``). Its values are the decay
+    fit's, or its stable pole's where :func:`pole_instead` says so (with the decay fit's standard
+    deviations and a note)."""
     cand = state.candidates[k]
-    omega = 2 * np.pi * cand.frequency_hz
+    frequency, zeta, rate, note = cand.frequency_hz, cand.damping_ratio, cand.decay_rate, ""
+    if pole_instead(cand):
+        frequency, zeta = cand.pole.frequency_hz, cand.pole.damping_ratio
+        rate = 2 * np.pi * frequency * zeta
+        note = (f"the decay fit ({cand.frequency_hz:.6g} Hz, {100 * cand.damping_ratio:.4g} %) leaves "
+                "something near the mode unexplained and disagrees with its stable pole beyond "
+                f"{POLE_SIGMAS:g} standard deviations of their difference; the mode dies out within the "
+                "stretch the diagram read: the stable pole's values are reported")
+    omega = 2 * np.pi * frequency
     terms = {(1, 0): (omega**2, 2 * omega * 2 * np.pi * cand.frequency_std_hz),
-             (0, 1): (2 * cand.decay_rate, 2 * cand.decay_rate_std)}
-    return _fixed_mode(state, k, terms, "poles", frequency_hz=cand.frequency_hz,
-                       damping_ratio=cand.damping_ratio, frequency_std_hz=cand.frequency_std_hz,
-                       damping_ratio_std=cand.damping_ratio_std)
+             (0, 1): (2 * rate, 2 * cand.decay_rate_std)}
+    return _fixed_mode(state, k, terms, "poles", frequency_hz=frequency, damping_ratio=zeta,
+                       frequency_std_hz=cand.frequency_std_hz, damping_ratio_std=cand.damping_ratio_std,
+                       uncertainty_note=note)
 
 
 def envelope_mode(state, k: int, e) -> Mode | None:

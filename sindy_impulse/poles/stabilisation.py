@@ -52,11 +52,17 @@ class StableMode:
         Medians over the cluster's poles (undamped natural frequency, damping ratio).
     n_orders : int
         Orders with a pole in the cluster.
+    frequency_spread_hz, damping_ratio_spread : float
+        How far its poles scatter about the medians (1.4826 times their median absolute deviation; 0 for
+        one pole): a floor under the medians' standard deviations (the orders read the same samples, so
+        their scatter is the model order's share of the error, not the noise's).
     """
 
     frequency_hz: float
     damping_ratio: float
     n_orders: int
+    frequency_spread_hz: float = 0.0
+    damping_ratio_spread: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -105,10 +111,14 @@ class PoleTable:
         sort = np.argsort(f)
         f, zeta, k = f[sort], zeta[sort], k[sort]
         breaks = np.flatnonzero(np.diff(f) > FREQUENCY_TOL * f[1:]) + 1
-        return [
-            StableMode(float(np.median(f[g])), float(np.median(zeta[g])), int(np.unique(k[g]).size))
-            for g in np.split(np.arange(f.size), breaks)
-        ]
+        return [_stable_mode(f[g], zeta[g], k[g]) for g in np.split(np.arange(f.size), breaks)]
+
+
+def _stable_mode(f: np.ndarray, zeta: np.ndarray, orders: np.ndarray) -> StableMode:
+    """One cluster's :class:`StableMode`: medians, the orders it spans, the scatter about the medians."""
+    fm, zm = float(np.median(f)), float(np.median(zeta))
+    return StableMode(fm, zm, int(np.unique(orders).size), float(1.4826 * np.median(np.abs(f - fm))),
+                      float(1.4826 * np.median(np.abs(zeta - zm))))
 
 
 def mac_matrix(shapes_a: np.ndarray, shapes_b: np.ndarray) -> np.ndarray:
