@@ -30,6 +30,7 @@ import numpy as np
 
 from .._utils.params import Interval, check_param
 from ..poles.decay_fit import MAX_DAMPING, MISFIT_REACH, MISFIT_SHARE, fit_decay, missing_peaks
+from ..poles.esprit import MAX_ROWS
 from ..preprocessing._record import check_signal_1d
 from ..preprocessing.partition import HARMONIC_NEAR, at_harmonic_place, peak_bands, resolved
 from ..preprocessing.peaks import SpectralPeaks, spectral_peaks
@@ -91,15 +92,16 @@ class ConfirmingPole(NamedTuple):
     frequency_spread_hz, damping_ratio_spread : float
         How far its orders' poles scatter about them
         (:attr:`~sindy_impulse.poles.stabilisation.StableMode.frequency_spread_hz`).
-    window_s : float
-        The length of the free decay the diagram read (its first :data:`SEED_SAMPLES` at most), seconds.
+    span_s : float
+        The span of one column of the diagram's Hankel matrix, seconds: ``L = min(MAX_ROWS, n // 3)``
+        samples of the ``n`` it read (the free decay's first :data:`SEED_SAMPLES` at most).
     """
 
     frequency_hz: float
     damping_ratio: float
     frequency_spread_hz: float
     damping_ratio_spread: float
-    window_s: float
+    span_s: float
 
 
 @dataclass
@@ -665,8 +667,9 @@ def _candidates(fit, table) -> list:
     stable = [m for m in table.modes() if m.n_orders >= SEED_PERSISTENCE * len(table.orders)]
     # the diagram reads the decay's first SEED_SAMPLES: where a mode's frequency moves with its amplitude,
     # its pole lies where the mode was then, within that stretch's resolution of the whole decay's component
-    window = min(fit.n_samples, SEED_SAMPLES) / fit.fs
-    resolution = 1.0 / window
+    read = min(fit.n_samples, SEED_SAMPLES)
+    resolution = fit.fs / read
+    span = max(min(MAX_ROWS, read // 3), 3) / fit.fs  # the diagram's Hankel rows (:class:`SignalSpace`)
     # a pole confirms the component nearest to it only (a broad component's half-power band holds its
     # neighbours' poles too)
     f_all = np.asarray(fit.frequency_hz, float)
@@ -683,7 +686,7 @@ def _candidates(fit, table) -> list:
                              pole is not None, noise_std=float(fit.noise_std[k]),
                              pole=None if pole is None else ConfirmingPole(
                                  pole.frequency_hz, pole.damping_ratio, pole.frequency_spread_hz,
-                                 pole.damping_ratio_spread, window)))
+                                 pole.damping_ratio_spread, span)))
     return out
 
 

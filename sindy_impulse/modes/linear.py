@@ -122,19 +122,19 @@ def pole_instead(cand) -> bool:
     higher orders give it poles of their own. (Where the fit leaves a large share, the mode is no damped
     sinusoid, and its pole is no sharper a reading of it: a flutter rig's 2.74 Hz mode, its residual a
     third of its power, has poles 50 % more damped than the classical diagram's.) Where such a mode also dies
-    out within the stretch the diagram read (its amplitude at the decay's start falls to the noise there),
-    the pole and the fit read the same samples with the same noise, the pole's standard deviation taken
-    as the fit's or its orders' scatter, whichever is larger, and a difference beyond
-    :data:`POLE_SIGMAS` of theirs is the fit's bias: the pole's values are reported. A mode that outlives
-    the stretch keeps the decay fit's values (they read the whole decay, the pole its beginning), as does
-    one the fit explains (the fit is then the sharper reading: a lightly damped mode's pole may lie
-    several of the fit's standard deviations off).
+    out within one column of the diagram's Hankel matrix (its amplitude at the decay's start falls to the
+    noise within its rows), every column holds its whole decay, the pole is about as sharp as the fit
+    (its standard deviation taken as the fit's or its orders' scatter, whichever is larger), and a
+    difference beyond :data:`POLE_SIGMAS` of theirs is the fit's bias: the pole's values are reported. A
+    mode that outlives the rows keeps the decay fit's values (the pole reads it through windows shorter
+    than it: a lightly damped mode's pole lies several of the fit's standard deviations off, and moves
+    from one hit of a structure to the next), as does one the fit explains.
 
     Examples
     --------
     >>> from types import SimpleNamespace as C
     >>> from sindy_impulse.modes.candidates import ConfirmingPole
-    >>> short = ConfirmingPole(1096.5, 0.1227, 0.4, 5e-4, window_s=0.05)  # a 12 % mode dies in 2 ms
+    >>> short = ConfirmingPole(1096.5, 0.1227, 0.4, 5e-4, span_s=0.017)  # a 12 % mode dies in 7 ms
     >>> cand = C(frequency_hz=1089.9, frequency_std_hz=0.54, damping_ratio=0.1225, damping_ratio_std=6e-4,
     ...          decay_rate=840.0, amplitude=[2.3], noise_std=1e-3, lack_of_fit=1.6, lack_of_fit_p=3e-4,
     ...          pole=short)
@@ -142,7 +142,7 @@ def pole_instead(cand) -> bool:
     True
     >>> pole_instead(C(**{**vars(cand), "pole": short._replace(frequency_hz=1090.5)}))  # they agree
     False
-    >>> pole_instead(C(**{**vars(cand), "pole": short._replace(window_s=0.005)}))  # it outlives the stretch
+    >>> pole_instead(C(**{**vars(cand), "pole": short._replace(span_s=0.005)}))  # it outlives the rows
     False
     >>> pole_instead(C(**{**vars(cand), "lack_of_fit_p": 0.5}))  # the fit explains it
     False
@@ -153,7 +153,7 @@ def pole_instead(cand) -> bool:
     if pole is None or not cand.noise_std > 0 or not cand.decay_rate > 0 or not cand.lack_of_fit_p < LACK_P:
         return False
     level = abs(cand.amplitude[0]) / cand.noise_std
-    if level > 1 and cand.decay_rate * pole.window_s < math.log(level):
+    if level > 1 and cand.decay_rate * pole.span_s < math.log(level):
         return False
     if not cand.lack_of_fit - 1.0 < LACK_SHARE * level**2:
         return False
@@ -178,7 +178,7 @@ def linear_mode(state, k: int) -> Mode | None:
         note = (f"the decay fit ({cand.frequency_hz:.6g} Hz, {100 * cand.damping_ratio:.4g} %) leaves "
                 "something near the mode unexplained and disagrees with its stable pole beyond "
                 f"{POLE_SIGMAS:g} standard deviations of their difference; the mode dies out within the "
-                "stretch the diagram read: the stable pole's values are reported")
+                "diagram's Hankel rows: the stable pole's values are reported")
     omega = 2 * np.pi * frequency
     terms = {(1, 0): (omega**2, 2 * omega * 2 * np.pi * cand.frequency_std_hz),
              (0, 1): (2 * rate, 2 * cand.decay_rate_std)}

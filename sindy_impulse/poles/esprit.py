@@ -27,7 +27,10 @@ from .._utils.params import Interval, check_param
 from .._utils.powers import complex_powers
 from .._utils.validation import check_signal, check_time
 
-__all__ = ["esprit", "EspritModes", "SignalSpace"]
+__all__ = ["esprit", "EspritModes", "SignalSpace", "MAX_ROWS"]
+
+#: Most rows ``L`` of the Hankel matrix by default (``L = min(MAX_ROWS, n // 3)``).
+MAX_ROWS = 512
 
 #: Singular values below this fraction of the largest are rounding (the Gram matrix squares them).
 _RELATIVE_FLOOR = 1e-7
@@ -254,7 +257,7 @@ def esprit(
     *,
     fs: float | None = None,
     order: int | None = None,
-    max_rows: int = 512,
+    max_rows: int = MAX_ROWS,
     min_snr_db: float = 10.0,
     subtract_tail_mean: float | None = None,
 ) -> EspritModes:

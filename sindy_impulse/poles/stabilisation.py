@@ -23,7 +23,7 @@ import numpy as np
 from .._utils.params import Interval, check_param
 from .._utils.threads import one_thread
 from .._utils.validation import check_signal
-from .esprit import SignalSpace, _sampling_step
+from .esprit import MAX_ROWS, SignalSpace, _sampling_step
 
 __all__ = [
     "stabilisation", "PoleTable", "StableMode", "ORDERS", "FREQUENCY_TOL", "DAMPING_TOL", "MAC_TOL",
@@ -160,7 +160,7 @@ def stabilisation(
     fs: float | None = None,
     orders=ORDERS,
     min_orders: int = MIN_ORDERS,
-    max_rows: int = 512,
+    max_rows: int = MAX_ROWS,
     min_snr_db: float = 10.0,
 ) -> PoleTable:
     """The stabilisation diagram of a free decay: physical ESPRIT poles at each order, stable or not.
