@@ -123,7 +123,7 @@ def _unsupported(state, k: int, out) -> bool:
     if not (isinstance(out, Mode) and out.source == "poles" and out.fit_error > MAX_FIT_ERROR):
         return False
     unconfirmed = not cand.stable and not cand.explained
-    return unconfirmed or not out.damping_ratio > TONE_SIGMAS * out.damping_ratio_std
+    return unconfirmed or _unmeasured(out)
 
 
 def _supported(state, k: int, out):
@@ -206,18 +206,10 @@ def _measured(state, k: int, out):
     not (a softening mode read 7.5 % under its equation's). Terms that carry the amplitudes of the modes
     that move it (the joint reading's ``drivers``) do not: while a strongly damped mode dies out, the
     lightly damped modes that move it hardly decay, and its linear decay reads its damping at one shift.
-
-    Examples
-    --------
-    >>> from types import SimpleNamespace as M
-    >>> _unmeasured(M(damping_ratio=0.0029, damping_ratio_std=0.022))
-    True
-    >>> _unmeasured(M(damping_ratio=0.0113, damping_ratio_std=0.0005))
-    False
     """
-    cand = state.candidates[k]
     from ._nonlinear import has_nonlinear_terms
 
+    cand = state.candidates[k]
     if not (isinstance(out, Mode) and out.source in ("equation", "envelope") and _unmeasured(out)
             and cand.stable and not _unmeasured(cand)):
         return out
@@ -236,7 +228,16 @@ def _measured(state, k: int, out):
 
 def _unmeasured(values) -> bool:
     """Whether a damping ratio lies within :data:`~.classify.TONE_SIGMAS` of its standard deviations of
-    zero."""
+    zero: the record does not measure the decay.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as M
+    >>> _unmeasured(M(damping_ratio=0.0029, damping_ratio_std=0.0022))
+    True
+    >>> _unmeasured(M(damping_ratio=0.0113, damping_ratio_std=0.0005))
+    False
+    """
     return not values.damping_ratio > TONE_SIGMAS * values.damping_ratio_std
 
 
