@@ -123,9 +123,6 @@ class Candidate:
     pole : ConfirmingPole or None
         The stable mode of the diagram (found at :data:`SEED_PERSISTENCE` of its orders) within its
         half-power band that confirms it (the one nearest to it), or None.
-    stable : bool
-        A stable mode of the diagram (found at :data:`SEED_PERSISTENCE` of its orders) lies within its
-        half-power band.
     kind : Kind
         What it is (stage ``classify``).
     parent : int or None
@@ -148,13 +145,17 @@ class Candidate:
     height_db: float
     lack_of_fit: float
     lack_of_fit_p: float
-    stable: bool = False
     kind: Kind = Kind.LINEAR
     parent: int | None = None
     evidence: dict = field(default_factory=dict, repr=False)
     band_hz: tuple | None = None
     noise_std: float = 0.0
     pole: ConfirmingPole | None = None
+
+    @property
+    def stable(self) -> bool:
+        """Whether a stable mode of the diagram confirms it (:attr:`pole`)."""
+        return self.pole is not None
 
     @property
     def damped_frequency_hz(self) -> float:
@@ -683,7 +684,7 @@ def _candidates(fit, table) -> list:
         out.append(Candidate(f, zeta, float(fit.frequency_std_hz[k]), float(fit.damping_ratio_std[k]),
                              float(fit.decay_rate[k]), float(fit.decay_rate_std[k]), fit.amplitude[k],
                              float(fit.height_db[k]), float(fit.lack_of_fit[k]), float(fit.lack_of_fit_p[k]),
-                             pole is not None, noise_std=float(fit.noise_std[k]),
+                             noise_std=float(fit.noise_std[k]),
                              pole=None if pole is None else ConfirmingPole(
                                  pole.frequency_hz, pole.damping_ratio, pole.frequency_spread_hz,
                                  pole.damping_ratio_spread, span)))
